@@ -1,0 +1,61 @@
+"""One typed config tree: every parameter declared once with default, range, unit, meaning.
+
+    from pico_studio.core.config import Config, load_config, dump_yaml, with_value
+    cfg = load_config("tuned.yaml")          # partial files merge over defaults
+    cfg = with_value(cfg, "map.heightmap.resolution", 0.05)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pico_studio.core.config.io import (
+    changed_params,
+    dump_yaml,
+    from_dict,
+    get_value,
+    load_yaml,
+    loads_yaml,
+    save_yaml,
+    to_dict,
+    with_value,
+)
+from pico_studio.core.config.spec import (
+    ParamInfo,
+    ParamSpec,
+    SectionInfo,
+    param,
+    params,
+    section,
+    walk,
+)
+from pico_studio.core.config.tree import Config
+
+__all__ = [
+    "Config",
+    "ParamInfo",
+    "ParamSpec",
+    "SectionInfo",
+    "changed_params",
+    "dump_yaml",
+    "from_dict",
+    "get_value",
+    "load_config",
+    "loads_config",
+    "param",
+    "params",
+    "save_yaml",
+    "section",
+    "to_dict",
+    "walk",
+    "with_value",
+]
+
+
+def load_config(path: str | Path | None = None) -> Config:
+    """The defaults, or a (partial) YAML file merged over them."""
+    return Config() if path is None else load_yaml(Config, path)
+
+
+def loads_config(text: str, *, file: str | None = None) -> Config:
+    return loads_yaml(Config, text, file=file)

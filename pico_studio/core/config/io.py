@@ -1,0 +1,157 @@
+"""Build, validate, change and save config trees: YAML in and out, one value at a time.
+
+All of it is derived from the declarations (`spec.param` / `spec.section`): unknown keys are
+rejected with a "did you mean", out-of-range values name the field and the allowed range,
+and partial files merge over the defaults.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+from pathlib import Path
+from typing import Any, TypeVar
+
+import yaml
+
+from pico_studio.core.config.spec import ParamInfo, SectionInfo, coerce, params, walk
+from pico_studio.errors import ConfigError
+
+T = TypeVar("T")
+
+
+def _did_you_mean(key: str, options: list[str]) -> str:
+    close = difflib.get_close_matches(key, options, n=1, cutoff=0.5)
+    return f"; did you mean '{close[0]}'?" if close else f"; known keys: {', '.join(options)}"
+
+
+def from_dict(cls: type[T], data: Any, *, file: str | Path | None = None, prefix: str = "") -> T:
+    """A section of type `cls` from a (partial) nested dict, validated; missing keys default."""
+    here = prefix.rstrip(".") or "(top level)"
+    if data is None:
+        data = {}
+    if not isinstance(data, dict):
+        raise ConfigError(f"must be a mapping of keys to values, got {data!r}", file=file, field=here)
+    fields = {f.name: f for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
+    kwargs: dict[str, Any] = {}
+    for key, value in data.items():
+        path = f"{prefix}{key}"
+        if key not in fields:
+            raise ConfigError(
+                "unknown key" + _did_you_mean(str(key), list(fields)), file=file, field=path
+            )
+        f = fields[key]
+        if "pico_studio.section" in f.metadata:
+            sub_cls = f.default_factory  # type: ignore[misc]
+            kwargs[key] = from_dict(sub_cls, value, file=file, prefix=path + ".")  # type: ignore[arg-type]
+        else:
+            try:
+                kwargs[key] = coerce(f.metadata["pico_studio.param"], value)
+            except ValueError as e:
+                raise ConfigError(str(e), file=file, field=path) from None
+    obj = cls(**kwargs)
+    _check(obj, file=file, prefix=prefix)
+    return obj
+
+
+def _check(obj: Any, *, file: str | Path | None, prefix: str) -> None:
+    """Run a section's own cross-field `check()` (if it has one): it returns problems."""
+    check = getattr(obj, "check", None)
+    if check is None:
+        return
+    for field, problem in check():
+        raise ConfigError(problem, file=file, field=f"{prefix}{field}")
+
+
+def to_dict(obj: Any) -> dict[str, Any]:
+    """Nested plain dict of every value (sections as dicts)."""
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(obj):
+        v = getattr(obj, f.name)
+        out[f.name] = to_dict(v) if dataclasses.is_dataclass(v) else v
+    return out
+
+
+def load_yaml(cls: type[T], path: str | Path) -> T:
+    """Read a (partial) YAML file over the defaults of `cls`."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as e:
+        raise ConfigError(f"cannot read: {e.strerror or e}", file=p) from None
+    return loads_yaml(cls, text, file=p)
+
+
+def loads_yaml(cls: type[T], text: str, *, file: str | Path | None = None) -> T:
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(e, "problem", None) or str(e)
+        raise ConfigError(f"not valid YAML{where}: {problem}", file=file) from None
+    return from_dict(cls, data, file=file)
+
+
+def dump_yaml(obj: Any, *, comments: bool = True) -> str:
+    """YAML text of the whole tree; with comments each value carries its meaning and range."""
+    lines: list[str] = []
+    for item in walk(obj):
+        depth = item.path.count(".")
+        indent = "  " * depth
+        name = item.path.rsplit(".", 1)[-1]
+        if isinstance(item, SectionInfo):
+            if comments:
+                lines.append(f"{indent}# {item.help}")
+            lines.append(f"{indent}{name}:")
+        else:
+            value = yaml.safe_dump(item.value, default_flow_style=True).strip()
+            if value.endswith("\n..."):
+                value = value[: -len("\n...")]
+            value = value.removesuffix("...").strip()
+            line = f"{indent}{name}: {value}"
+            if comments:
+                line += f"  # {item.spec.describe()}"
+            lines.append(line)
+    return "\n".join(lines) + "\n"
+
+
+def save_yaml(obj: Any, path: str | Path, *, comments: bool = True) -> Path:
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    p.write_text(dump_yaml(obj, comments=comments), encoding="utf-8")
+    return p
+
+
+def get_value(obj: Any, path: str) -> Any:
+    for part in path.split("."):
+        obj = getattr(obj, part)
+    return obj
+
+
+def with_value(obj: T, path: str, value: Any) -> T:
+    """A copy of the tree with one parameter changed, validated like a file would be."""
+    info = {p.path: p for p in params(obj)}.get(path)
+    if info is None:
+        raise ConfigError("unknown parameter" + _did_you_mean(path, [p.path for p in params(obj)]), field=path)
+    try:
+        new_value = coerce(info.spec, value)
+    except ValueError as e:
+        raise ConfigError(str(e), field=path) from None
+    return _replace_path(obj, path.split("."), new_value, prefix="")
+
+
+def _replace_path(obj: Any, parts: list[str], value: Any, prefix: str) -> Any:
+    head = parts[0]
+    if len(parts) == 1:
+        new = dataclasses.replace(obj, **{head: value})
+    else:
+        child = _replace_path(getattr(obj, head), parts[1:], value, prefix + head + ".")
+        new = dataclasses.replace(obj, **{head: child})
+    _check(new, file=None, prefix=prefix)
+    return new
+
+
+def changed_params(obj: Any) -> list[ParamInfo]:
+    """The parameters whose value differs from the declared default."""
+    return [p for p in params(obj) if p.value != p.spec.default]

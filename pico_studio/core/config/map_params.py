@@ -1,0 +1,41 @@
+"""Parameters of map loading: how heightmap images become vector walls and doors."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from pico_studio.core.config.spec import param, section
+
+
+@dataclass(frozen=True)
+class HeightmapParams:
+    resolution: float = param(
+        0.025, lo=0.001, hi=1.0, step=0.001, unit="m/px",
+        help="Pixel size of a heightmap image that has no map_server YAML",
+    )
+    simplify_tolerance: float = param(
+        1.0, lo=0.0, hi=10.0, step=0.25, unit="px",
+        help="Douglas-Peucker tolerance when turning wall contours into segments",
+    )
+    min_speck_area: int = param(
+        4, lo=0, hi=1000, step=1, unit="px",
+        help="Occupied blobs smaller than this are stray pixels: dropped and reported",
+    )
+    door_grey_low: int = param(
+        50, lo=0, hi=255, step=1, unit="grey",
+        help="Grey values strictly above this (and below door_grey_high) are doors",
+    )
+    door_grey_high: int = param(
+        205, lo=0, hi=255, step=1, unit="grey",
+        help="Grey values strictly below this (and above door_grey_low) are doors",
+    )
+
+    def check(self) -> list[tuple[str, str]]:
+        if self.door_grey_low >= self.door_grey_high:
+            return [("door_grey_low", f"must be below door_grey_high ({self.door_grey_high})")]
+        return []
+
+
+@dataclass(frozen=True)
+class MapParams:
+    heightmap: HeightmapParams = section(HeightmapParams, "Heightmap images: vectorising walls and doors")

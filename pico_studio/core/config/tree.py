@@ -1,0 +1,17 @@
+"""The root of the config tree: one section per area, each declared in its own module.
+
+Adding an area = declaring its section dataclass in a module of this package and adding one
+`section(...)` line here. Sliders, YAML and validation pick it up from there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.spec import section
+
+
+@dataclass(frozen=True)
+class Config:
+    map: MapParams = section(MapParams, "Map loading")

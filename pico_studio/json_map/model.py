@@ -1,0 +1,139 @@
+"""The global map model: points plus index-pair segments, as the challenge's JSON has it.
+
+Geometry is numpy: `points` (P, 2) and `walls` (N, 2) point indices; every polygon
+(cabinet/table, door, start area) is a (K, 2) array of point-index segments, and for a
+cabinet or table the first segment is its front. Heightmaps are vectorised into the same
+model, so everything downstream sees one kind of map.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+
+@dataclass
+class GlobalMap:
+    points: np.ndarray  # (P, 2) float64, metres
+    walls: np.ndarray  # (N, 2) int64, indices into points
+    objects: list[np.ndarray] = field(default_factory=list)  # cabinets/tables, (K, 2) each
+    object_key: str = "cabinets"  # which JSON key `objects` came from: "cabinets" or "tables"
+    doors: list[np.ndarray] = field(default_factory=list)  # door polygons, (K, 2) each
+    start_area: list[np.ndarray] = field(default_factory=list)  # usually one polygon
+    finish: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
+    extra: dict[str, Any] = field(default_factory=dict)  # unknown top-level keys, kept verbatim
+    point_extras: list[dict[str, Any]] = field(default_factory=list)  # e.g. "_comment" per point
+    key_order: list[str] = field(default_factory=list)  # top-level key order of the source file
+    source: Path | None = None
+    warnings: list[str] = field(default_factory=list)
+
+    # ----- derived geometry -------------------------------------------------------------
+    def segments_of(self, pairs: np.ndarray) -> np.ndarray:
+        """(K, 2) index pairs -> (K, 4) float segments."""
+        if len(pairs) == 0:
+            return np.zeros((0, 4))
+        return np.hstack([self.points[pairs[:, 0]], self.points[pairs[:, 1]]])
+
+    @property
+    def wall_segments(self) -> np.ndarray:
+        return self.segments_of(self.walls)
+
+    def polygon_vertices(self, polygon: np.ndarray) -> np.ndarray:
+        """A closed polygon's vertices in loop order (K, 2), starting at its first segment.
+
+        Hand-written files list a polygon's segments in any order and direction (the official
+        example does), so the loop is chained rather than read off segment by segment.
+        """
+        order = cycle_vertices(polygon)
+        return self.points[order if order is not None else polygon[:, 0]]
+
+    @property
+    def object_polygons(self) -> list[np.ndarray]:
+        return [self.polygon_vertices(p) for p in self.objects]
+
+    @property
+    def object_fronts(self) -> np.ndarray:
+        """(M, 4): the front segment (the first one) of every cabinet or table."""
+        if not self.objects:
+            return np.zeros((0, 4))
+        return np.vstack([self.segments_of(p[:1]) for p in self.objects])
+
+    @property
+    def door_polygons(self) -> list[np.ndarray]:
+        return [self.polygon_vertices(p) for p in self.doors]
+
+    @property
+    def start_polygons(self) -> list[np.ndarray]:
+        return [self.polygon_vertices(p) for p in self.start_area]
+
+    @property
+    def finish_segments(self) -> np.ndarray:
+        return self.segments_of(self.finish)
+
+    @property
+    def solid_segments(self) -> np.ndarray:
+        """Everything a laser sees when all doors are closed: walls, then object edges."""
+        parts = [self.wall_segments] + [self.segments_of(p) for p in self.objects]
+        return np.vstack(parts) if parts else np.zeros((0, 4))
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) over every point that a segment uses."""
+        used = self.used_point_indices()
+        pts = self.points[used] if len(used) else self.points
+        if len(pts) == 0:
+            return (0.0, 0.0, 0.0, 0.0)
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        return (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+
+    @property
+    def extent(self) -> tuple[float, float]:
+        x0, y0, x1, y1 = self.bounds
+        return (x1 - x0, y1 - y0)
+
+    def used_point_indices(self) -> np.ndarray:
+        groups = [self.walls.reshape(-1), self.finish.reshape(-1)]
+        groups += [p.reshape(-1) for p in self.objects + self.doors + self.start_area]
+        return np.unique(np.concatenate(groups)) if groups else np.zeros(0, dtype=np.int64)
+
+    @property
+    def start_center(self) -> tuple[float, float] | None:
+        """Centre of the first start-area polygon, or None when the map has none."""
+        if not self.start_area:
+            return None
+        c = self.polygon_vertices(self.start_area[0]).mean(axis=0)
+        return (float(c[0]), float(c[1]))
+
+    def counts(self) -> dict[str, int]:
+        return {
+            "points": int(len(self.points)),
+            "walls": int(len(self.walls)),
+            self.object_key: len(self.objects),
+            "doors": len(self.doors),
+            "start_area": len(self.start_area),
+        }
+
+
+def cycle_vertices(pairs: np.ndarray) -> np.ndarray | None:
+    """Point indices of the one closed loop the segments form (from the first segment on),
+    or None when they do not form exactly one loop."""
+    if len(pairs) < 3:
+        return None
+    remaining = [tuple(map(int, p)) for p in pairs[1:]]
+    order = [int(pairs[0, 0]), int(pairs[0, 1])]
+    while remaining:
+        tail = order[-1]
+        for k, (a, b) in enumerate(remaining):
+            if tail in (a, b):
+                order.append(b if a == tail else a)
+                remaining.pop(k)
+                break
+        else:
+            return None
+    if order[-1] != order[0] or len(set(order[:-1])) != len(pairs):
+        return None
+    return np.array(order[:-1], dtype=np.int64)
+
