@@ -9,9 +9,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.sources_params import SourcesParams
 from pico_studio.core.config.spec import section
 
 
 @dataclass(frozen=True)
 class Config:
     map: MapParams = section(MapParams, "Map loading")
+    sources: SourcesParams = section(SourcesParams, "Data sources: recordings and the live robot")
