@@ -37,6 +37,7 @@ from rosbags.typesys import Stores, get_typestore
 from pico_studio.core.config.sources_params import ReplayParams, SourcesParams, TopicParams
 from pico_studio.core.io import BaseReference, LaserData, OdometryData
 from pico_studio.errors import SourceError
+from pico_studio.sources.convert import beam_layout_problem, yaw_from_quaternion
 from pico_studio.sources.replay import Recording, Replay, TimedPose
 
 LASER_TYPE = "sensor_msgs/msg/LaserScan"
@@ -254,7 +255,7 @@ class _Decoder:
         ranges = np.asarray(msg.ranges, dtype=float)
         n = len(ranges)
         a0, a1, inc = float(msg.angle_min), float(msg.angle_max), float(msg.angle_increment)
-        problem = _beam_layout_problem(n, a0, a1, inc, self.replay)
+        problem = beam_layout_problem(n, a0, a1, inc, self.replay)
         if problem is not None:
             field, text = problem
             self.warnings.append(f"{where}: {field}: {text}; scan skipped")
@@ -286,29 +287,3 @@ def _stamp(msg: Any, time_ns: int) -> float:
     if header is not None and (header.stamp.sec or header.stamp.nanosec):
         return (header.stamp.sec * 1_000_000_000 + header.stamp.nanosec) / 1e9
     return time_ns / 1e9
-
-
-def _beam_layout_problem(
-    n: int, a0: float, a1: float, inc: float, replay: ReplayParams
-) -> tuple[str, str] | None:
-    """(field, problem) when a scan's angle fields cannot describe its `n` beams."""
-    if n == 0:
-        return "ranges", "empty"
-    if not (math.isfinite(a0) and math.isfinite(a1) and math.isfinite(inc)):
-        return "angle_min/angle_max/angle_increment", f"not finite ({a0}, {a1}, {inc})"
-    if inc == 0.0 and n > 1:
-        return "angle_increment", f"is 0 for {n} beams"
-    if replay.check_beam_layout and n > 1:
-        expected = (a1 - a0) / inc + 1
-        if abs(expected - n) > replay.beam_count_tolerance:
-            return (
-                "angle_increment",
-                f"(angle_max - angle_min) / angle_increment + 1 = {expected:.1f} beams "
-                f"({a0:.4f} .. {a1:.4f} by {inc:.6f}) but ranges holds {n}",
-            )
-    return None
-
-
-def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
-    """The rotation about z of a quaternion (REP 103: x forward, y left, z up)."""
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
