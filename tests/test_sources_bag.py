@@ -205,3 +205,16 @@ def test_copy_of_real_bag_with_active_suffix_is_guessed(real_bag: Path, tmp_path
     active = tmp_path / "run.bag.active"
     shutil.copy(real_bag, active)
     assert open_source(str(active)).frame_count == 243
+
+
+def test_loop_that_advances_before_it_reads_meets_the_first_frame(real_bag: Path) -> None:
+    """The emc loop (and the session) sleeps, then reads: frame 0 must not be skipped."""
+    replay = open_bag(real_bag)
+    replay.advance(0.05)
+    first = replay.read_laser()
+    assert first is not None and replay.frame_index == 0
+    replay.seek(10)
+    replay.advance(0.05)
+    assert replay.read_laser() is replay.frame(10).laser
+    replay.advance(0.05)  # from here on the cursor moves
+    assert replay.now() == pytest.approx(replay.frame_times[10] + 0.05)

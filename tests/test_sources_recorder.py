@@ -118,3 +118,37 @@ def test_rosbag_info_reads_a_recording(recordings_dir: Path, tmp_path: Path) -> 
         "type: geometry_msgs/Twist", "type: geometry_msgs/PoseStamped", "messages: 40",
     ):
         assert line in out
+
+
+def test_record_a_session_frame(tmp_path: Path) -> None:
+    """`record(frame, command)`: what the session loop hands its recorder each tick."""
+    from dataclasses import dataclass
+
+    from pico_studio.core.io import Frame
+
+    @dataclass(frozen=True)
+    class Command:
+        vx: float
+        vy: float
+        va: float
+        open_door: bool = False
+
+    path = tmp_path / "session.bag"
+    with BagRecorder(path) as rec:
+        for i in range(1, 6):
+            t = 0.05 * i
+            frame = Frame(
+                laser=_scan(t), odometry=OdometryData(0.01 * i, 0.0, 0.0, t), time=t,
+                truth={"pose": (1.0 + 0.01 * i, 2.0, 0.1), "collisions": 0},
+            )
+            rec.record(frame, Command(0.2, 0.0, 0.1, open_door=(i == 3)))
+        rec.record(Frame(laser=None, odometry=None, time=0.3), None)  # a tick with nothing new
+    replay = open_bag(path)
+    assert replay.frame_count == 5
+    assert replay.summary()["topics"] == {
+        "/pico/cmd_vel": 5, "/pico/laser": 5, "/pico/odom": 5, "/pico/open_door": 1, "/pico/true_pose": 5,
+    }
+    replay.seek(2)
+    replay.read_laser()
+    assert replay.truth_pose() == pytest.approx((1.03, 2.0, 0.1))
+    assert replay.frame_times == pytest.approx([0.05, 0.10, 0.15, 0.20, 0.25])

@@ -27,7 +27,7 @@ from rosbags.typesys import Stores, get_typestore
 
 from pico_studio.core.config.sources_params import TopicParams
 from pico_studio.core.geometry import compose
-from pico_studio.core.io import BaseReference, LaserData, OdometryData
+from pico_studio.core.io import BaseReference, Frame, LaserData, OdometryData
 from pico_studio.errors import SourceError
 
 _TS = get_typestore(Stores.ROS1_NOETIC)
@@ -63,6 +63,21 @@ class BagRecorder:
         self.closed = False
 
     # --- what a run records --------------------------------------------------------------
+
+    def record(self, frame: Frame, command: Any = None) -> None:
+        """One tick of a session: the new laser and odometry readings, the command sent
+        (anything with vx, vy, va and optionally open_door) and the true pose if known."""
+        if frame.laser is not None:
+            self.record_laser(frame.laser)
+        if frame.odometry is not None:
+            self.record_odometry(frame.odometry)
+        pose = frame.truth.get("pose") if frame.truth else None
+        if pose is not None:
+            self.record_true_pose(frame.time, tuple(float(v) for v in pose))  # type: ignore[arg-type]
+        if command is not None:
+            self.record_base_reference(BaseReference(command.vx, command.vy, command.va, frame.time))
+            if getattr(command, "open_door", False):
+                self.record_open_door(frame.time)
 
     def record_laser(self, scan: LaserData) -> None:
         t = scan.timestamp

@@ -81,6 +81,7 @@ class Replay:
         if i < self._next_scan:
             return None
         self.scans_dropped += i - self._next_scan
+        self._held = False
         self._next_scan = i + 1
         self._frame = i
         return self.recording.scans[i]
@@ -107,8 +108,14 @@ class Replay:
         return self._cursor
 
     def advance(self, dt: float) -> None:
+        """Move the cursor `dt` seconds on — except right after opening or `seek`, while the
+        frame sought has not been read: a loop that advances before it reads (the emc loop
+        sleeps, then reads) must meet that frame first, not the one `dt` later."""
         if not dt >= 0.0:
             raise ValueError(f"advance(dt) needs dt >= 0, got {dt!r}")
+        if self._held:
+            self._held = False
+            return
         self._cursor += dt
 
     # --- timeline ------------------------------------------------------------------------
@@ -151,6 +158,7 @@ class Replay:
         self._next_scan = index
         self._next_odom = max(self._last_at(self._odom_t, self._cursor), 0)
         self._frame = index - 1
+        self._held = True
 
     def seek_time(self, t: float) -> None:
         """Put the cursor at time `t`: the next reads return the newest readings at or before it."""
