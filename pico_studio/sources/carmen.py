@@ -31,7 +31,6 @@ from pathlib import Path
 import numpy as np
 
 from pico_studio.core.config.sources_params import CarmenParams, SourcesParams
-from pico_studio.core.geometry import wrap_angle
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.errors import SourceError
 from pico_studio.sources.replay import Recording, Replay, TimedPose
@@ -119,7 +118,7 @@ def _flaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[floa
         raise _BadLine(
             "fields", f"with num_readings {n} needs {expected} fields, found {len(tokens)}"
         )
-    ranges = np.array([_number(tokens, 2 + i, f"range[{i}]") for i in range(n)])
+    ranges = _numbers(tokens, 2, n, "range")
     x, y, theta, ox, oy, otheta = (
         _number(tokens, 2 + n + k, name)
         for k, name in enumerate(("x", "y", "theta", "odom_x", "odom_y", "odom_theta"))
@@ -132,14 +131,14 @@ def _flaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[floa
         angle_min=angle_min, angle_max=angle_min + (n - 1) * increment,
         angle_increment=increment, timestamp=t, ranges=ranges,
     )
-    return scan, (x, y, float(wrap_angle(theta))), OdometryData(ox, oy, float(wrap_angle(otheta)), t)
+    return scan, (x, y, _wrap(theta)), OdometryData(ox, oy, _wrap(otheta), t)
 
 
 def _odom(tokens: list[str]) -> OdometryData:
     if len(tokens) != _ODOM_FIELDS:
         raise _BadLine("fields", f"needs {_ODOM_FIELDS} fields, found {len(tokens)}")
     x, y, theta = (_number(tokens, k, name) for k, name in ((1, "x"), (2, "y"), (3, "theta")))
-    return OdometryData(x, y, float(wrap_angle(theta)), _number(tokens, 7, "ipc_timestamp"))
+    return OdometryData(x, y, _wrap(theta), _number(tokens, 7, "ipc_timestamp"))
 
 
 def _number(tokens: list[str], index: int, field: str) -> float:
@@ -151,3 +150,22 @@ def _number(tokens: list[str], index: int, field: str) -> float:
     if not math.isfinite(value):
         raise _BadLine(field, f"must be finite, got {tokens[index]!r}")
     return value
+
+
+def _numbers(tokens: list[str], start: int, n: int, field: str) -> np.ndarray:
+    """tokens[start:start+n] as floats in one go; the first bad one named when it fails."""
+    try:
+        values = np.array(tokens[start : start + n], dtype=float)
+    except ValueError:
+        values = np.array([_number(tokens, start + i, f"{field}[{i}]") for i in range(n)])
+    bad = np.flatnonzero(~np.isfinite(values))
+    if len(bad):
+        raise _BadLine(f"{field}[{bad[0]}]", f"must be finite, got {tokens[start + bad[0]]!r}")
+    return values
+
+
+def _wrap(a: float) -> float:
+    """Wrap one angle to (-pi, pi] (the scalar twin of core.geometry.wrap_angle, which is
+    vectorised and too slow called once per line)."""
+    w = math.remainder(a, 2 * math.pi)
+    return math.pi if w == -math.pi else w
