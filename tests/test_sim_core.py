@@ -283,3 +283,13 @@ def test_real_sim_configs_load() -> None:
 
 def test_params_are_frozen_dataclasses() -> None:
     assert dataclasses.is_dataclass(SimParams())
+
+
+def test_realtime_pacing_waits_for_the_wall_clock() -> None:
+    import time
+
+    sim = Simulator(box_map(), params(realtime=True), initial_pose=(5, 5, 0))
+    t = time.perf_counter()
+    for _ in range(4):
+        sim.advance(0.05)
+    assert time.perf_counter() - t >= 0.15  # paced: never ahead of the wall clock by a step
