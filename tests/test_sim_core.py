@@ -293,3 +293,14 @@ def test_realtime_pacing_waits_for_the_wall_clock() -> None:
     for _ in range(4):
         sim.advance(0.05)
     assert time.perf_counter() - t >= 0.15  # paced: never ahead of the wall clock by a step
+
+
+def test_hokuyo_rate_and_custom_rates() -> None:
+    sim = Simulator(box_map(), params(laser__profile="hokuyo", odometry__rate_hz=100.0), initial_pose=(5, 5, 0))
+    sim.read_laser(), sim.read_odometry()
+    scans = odoms = 0
+    for _ in range(200):  # 2 s in 10 ms steps
+        sim.advance(0.01)
+        scans += sim.read_laser() is not None
+        odoms += sim.read_odometry() is not None
+    assert scans == 72 and odoms == 200
