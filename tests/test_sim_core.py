@@ -248,6 +248,8 @@ def test_start_area_centre_and_default_free_place() -> None:
     sim = Simulator(r)
     c = r.start_center
     assert c is not None and sim.truth.pose == (c[0], c[1], 0.0)
+    team = Simulator(load_any_map("examples/maps/hospital_2019_with_nodes.json"))
+    assert team.truth.pose == (5.0, 2.5, 0.0)  # the centre of its `start` polygon
     h = load_any_map("examples/maps/hospital_2019.json")
     a, b = Simulator(h), Simulator(h)
     assert a.truth.pose == b.truth.pose  # deterministic
