@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pico_studio.sim.doors import door_frame
 from pico_studio.sim.raycast import cast_rays
 
 _FACING = math.cos(math.radians(45))  # a gap is "straight ahead" of an end within 45 degrees
@@ -183,12 +184,8 @@ def door_openings(
 
 
 def _door_centre_line(v: np.ndarray) -> np.ndarray:
-    edges = np.roll(v, -1, axis=0) - v
-    axis = edges[np.argmax(np.hypot(edges[:, 0], edges[:, 1]))]
-    axis = axis / np.hypot(*axis)
-    c = v.mean(axis=0)
-    along = (v - c) @ axis
-    return np.concatenate([c + axis * along.min(), c + axis * along.max()])
+    c, axis, size, _ = door_frame(v)
+    return np.concatenate([c - axis * size / 2, c + axis * size / 2])
 
 
 def _paired_gaps(
