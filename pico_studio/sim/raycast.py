@@ -51,8 +51,7 @@ class Fan:
         # 2. the angular span of each: [lo, hi], or for a segment behind the sensor that
         #    crosses the +-pi cut, the two pieces [hi, pi] and [-pi, lo]
         span = np.angle(z)
-        span.sort(axis=1)
-        lo, hi = span[:, 0], span[:, 1]
+        lo, hi = np.minimum(span[:, 0], span[:, 1]), np.maximum(span[:, 0], span[:, 1])
         wrap = (hi - lo) > math.pi
         start = np.concatenate([np.where(wrap, hi, lo), np.where(wrap, -math.pi, math.pi)])
         stop = np.concatenate([np.where(wrap, math.pi, hi), np.where(wrap, lo, -math.pi)])

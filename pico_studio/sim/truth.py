@@ -141,13 +141,15 @@ class GroundTruth:
 
     def _in_view(self, points: np.ndarray, segments: np.ndarray) -> np.ndarray:
         """In the field of view and not occluded by `segments`."""
-        if len(points) == 0:
-            return np.zeros(0, dtype=bool)
+        seen = self._in_fov(points)
+        if not seen.any():
+            return seen
         x, y, _ = self.pose
-        d = points - (x, y)
+        d = points[seen] - (x, y)
         dist = np.hypot(d[:, 0], d[:, 1])
         free = cast_rays((x, y), np.arctan2(d[:, 1], d[:, 0]), segments)
-        return self._in_fov(points) & (free >= dist - self._sim.params.truth.visible_tolerance)
+        seen[seen] = free >= dist - self._sim.params.truth.visible_tolerance
+        return seen
 
     def _visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
         laser = self._sim.laser

@@ -96,32 +96,40 @@ class World:
         every solid segment, if that distance is at least `clearance`; ties go to the lowest x,
         then the lowest y (deterministic). None when there is no such place.
 
-        The segments are drawn into an image and OpenCV's distance transform gives every grid
-        point's clearance; candidates are then taken farthest first until one is enclosed
-        (rays in every direction hit something) and its exact clearance is enough."""
+        The segments are drawn into an image (with a free margin around the map);
+        OpenCV's distance transform gives every grid point's clearance, and the free space's
+        4-connected components tell inside from outside: the component of the margin is
+        outside. Candidates are taken farthest first until one is enclosed (rays in every
+        direction hit something) and its exact clearance is enough. A map whose outer wall
+        is open has no inside component; then every free point is a candidate."""
         x0, y0, x1, y1 = self.map.bounds
         step = self.params.start_grid
-        w, h = int(math.ceil((x1 - x0) / step)) + 1, int(math.ceil((y1 - y0) / step)) + 1
-        if w < 2 or h < 2:
+        pad = 2
+        w, h = int(math.ceil((x1 - x0) / step)) + 1 + 2 * pad, int(math.ceil((y1 - y0) / step)) + 1 + 2 * pad
+        if w < 2 * pad + 2 or h < 2 * pad + 2:
             return None
+        ox, oy = x0 - pad * step, y0 - pad * step  # the map point of pixel (0, 0)
         segs = self.segments()
         img = np.full((h, w), 255, np.uint8)
-        pix = np.round((segs - (x0, y0, x0, y0)) / step).astype(np.int32)
+        pix = np.round((segs - (ox, oy, ox, oy)) / step).astype(np.int32)
         for a, b, c, d in pix:
             cv2.line(img, (int(a), int(b)), (int(c), int(d)), 0, 1)
         dist = cv2.distanceTransform(img, cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * step
-        rows, cols = np.nonzero(dist >= clearance)
+        _, labels = cv2.connectedComponents(img, connectivity=4)
+        ok = dist >= clearance
+        inside = ok & (labels != labels[0, 0])
+        rows, cols = np.nonzero(inside if inside.any() else ok)
         if len(rows) == 0:
             return None
         order = np.lexsort((rows, cols, -dist[rows, cols]))
         for k in order[:_MAX_START_CANDIDATES]:
-            p = (x0 + float(cols[k]) * step, y0 + float(rows[k]) * step)
+            p = (ox + float(cols[k]) * step, oy + float(rows[k]) * step)
             if self.enclosed(p) and _distance_to_segments(np.array([p]), segs)[0] >= clearance:
                 return p
         return None
 
 
-_MAX_START_CANDIDATES = 20000  # bounds the search on maps that are mostly outside space
+_MAX_START_CANDIDATES = 2000  # bounds the search on an open map (no inside component)
 
 
 def _distance_to_segments(points: np.ndarray, segments: np.ndarray) -> np.ndarray:
