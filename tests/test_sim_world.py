@@ -131,3 +131,15 @@ def test_free_form_room_of_many_segments() -> None:
     sim.advance(10.0)
     assert sim.truth.collisions == 1 and 2.8 < np.hypot(*sim.truth.pose[:2]) < 3.0
     assert len(sim.truth.visible_corners().points) == 0  # a smooth wall has no corners
+
+
+def test_truth_lists_doors_and_moving_objects_where_they_are() -> None:
+    sim = Simulator(door_map(), sim_config=sim_config_from_dict(obj_config(trigger_radius=9.0)), initial_pose=(4.1, 4.5, 0.0))
+    (outline, opened), = sim.truth.doors()
+    assert not opened and np.allclose(outline.mean(axis=0), (5.0, 4.5))
+    sim.open_door()
+    sim.advance(1.0)
+    (outline, opened), = sim.truth.doors()
+    assert opened and np.hypot(*(outline.mean(axis=0) - (5.0, 4.5))) == pytest.approx(0.3)
+    (box,) = sim.truth.moving_objects()
+    assert box.shape == (4, 2) and box.mean(axis=0)[1] == pytest.approx(8.0 - 0.5)

@@ -78,6 +78,14 @@ class GroundTruth:
         """Every solid segment of the world as it is now (walls, objects, doors, moving objects)."""
         return self._sim.world.segments().copy()
 
+    def doors(self) -> list[tuple[np.ndarray, bool]]:
+        """Every sliding door as it is now: (outline vertices (K, 2), opened?)."""
+        return [(d.vertices + d.offset * d.axis, d.opening) for d in self._sim.world.doors]
+
+    def moving_objects(self) -> list[np.ndarray]:
+        """Every moving object's box as it is now: corners (4, 2)."""
+        return [m.corners() for m in self._sim.world.moving]
+
     def scan_hits(self) -> tuple[np.ndarray, np.ndarray]:
         """Noise-free ranges of the latest scan and the world segment index each beam hit (-1: none)."""
         return self._sim.laser.true_ranges.copy(), self._sim.laser.true_hits.copy()
