@@ -306,3 +306,17 @@ def test_hokuyo_rate_and_custom_rates() -> None:
         scans += sim.read_laser() is not None
         odoms += sim.read_odometry() is not None
     assert scans == 72 and odoms == 200
+
+
+def test_random_driving_never_ends_inside_or_through_a_wall() -> None:
+    m = load_any_map("examples/maps/hospital_2019.json")
+    rng = np.random.default_rng(5)
+    sim = Simulator(m, sim_config=sim_config_from_dict({"disable_speedcap": True}), seed=5)
+    segs = sim.world.segments()
+    for k in range(600):  # 60 s, a new random command (up to 3 m/s, 4 rad/s) every 0.5 s
+        if k % 5 == 0:
+            sim.send_base_reference(*rng.uniform(-3, 3, 2), rng.uniform(-4, 4))
+        sim.advance(0.1)
+        assert not sim.base.collides(sim.truth.pose, segs).any()
+        assert sim.world.enclosed(sim.truth.pose[:2])
+    assert sim.truth.collisions > 5  # it did hit things, and was stopped every time

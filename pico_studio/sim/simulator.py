@@ -92,6 +92,7 @@ class Simulator:
         self._new_odom: OdometryData | None = None
         self._wall_start: float | None = None
         self.steps = 0
+        self._closed = False
         self._emit_due(0.0)
 
     @classmethod
@@ -166,7 +167,11 @@ class Simulator:
         self.world.request_open_door(self.base.pose[:2])
 
     def ok(self) -> bool:
-        return True
+        """True until `close()`: a simulator never runs out by itself."""
+        return not self._closed
+
+    def close(self) -> None:
+        self._closed = True
 
     def now(self) -> float:
         return self._t
