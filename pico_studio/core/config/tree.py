@@ -9,9 +9,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.perception_params import PerceptionParams
 from pico_studio.core.config.spec import section
 
 
 @dataclass(frozen=True)
 class Config:
     map: MapParams = section(MapParams, "Map loading")
+    perception: PerceptionParams = section(PerceptionParams, "Perceptor: laser + odometry to world model")
