@@ -33,7 +33,13 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.core.geometry import compose, invert, relative, transform_points, transform_segments
+from pico_studio.core.geometry import (
+    compose,
+    invert,
+    relative,
+    transform_points,
+    transform_segments,
+)
 from pico_studio.core.world_model import FLOATING, WorldModel
 
 Pose = tuple[float, float, float]

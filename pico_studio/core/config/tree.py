@@ -9,9 +9,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.perception_params import PerceptionParams
 from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.config.sources_params import SourcesParams
-from pico_studio.core.config.perception_params import PerceptionParams
 from pico_studio.core.config.spec import section
 
 
