@@ -243,10 +243,12 @@ def zero_to_map(wm: WorldModel, true_pose: Pose) -> Pose:
 
 
 def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
-                true_zero: Pose | None = None) -> FrameScore:
+                true_zero: Pose | None = None, true_vertices: np.ndarray | None = None) -> FrameScore:
     """Score one world model against the simulator's truth for the same frame.
 
-    `true_zero`: the true pose at the frame the perceptor took as zero (for the pose error)."""
+    `true_zero`: the true pose at the frame the perceptor took as zero (for the pose error);
+    `true_vertices`: every corner of the static geometry (for the end-point error; default
+    the corners in view)."""
     true_pose = tuple(truth.pose)
     z = zero_to_map(wm, true_pose)
     walls = transform_segments(np.asarray(wm.local_map.walls, dtype=float), z)
@@ -261,7 +263,7 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
         doors=doors,
         solid=truth.segments(),
         visible_walls=truth.visible_walls(),
-        true_vertices=truth.corner_points() if hasattr(truth, "corner_points") else vc.points,
+        true_vertices=vc.points if true_vertices is None else true_vertices,
         visible_corners=vc.points,
         visible_convex=vc.convex,
         openings=truth.door_openings(),
