@@ -71,6 +71,7 @@ class FrameScore:
     corners_ok: int = 0
     truth_corners: int = 0
     truth_corners_ok: int = 0
+    corners_paired: int = 0  # detected corners paired one to one with a true corner in view
     convexity_ok: int = 0
     doors: int = 0
     doors_ok: int = 0
@@ -105,7 +106,7 @@ class RunScore:
             "endpoint_error_m": _ratio(t.endpoint_err_sum, t.endpoints, empty=0.0),
             "corner_precision": _ratio(t.corners_ok, t.corners),
             "corner_recall": _ratio(t.truth_corners_ok, t.truth_corners),
-            "convexity_accuracy": _ratio(t.convexity_ok, t.corners_ok),
+            "convexity_accuracy": _ratio(t.convexity_ok, t.corners_paired),
             "door_precision": _ratio(t.doors_ok, t.doors),
             "door_recall": _ratio(t.truth_doors_ok, t.truth_doors),
             "doors_detected": t.doors,
@@ -223,7 +224,7 @@ def score_arrays(
             s.endpoint_err_sum, s.endpoints = float(d.sum()), len(d)
     pairs = match_points(corners, visible_corners, tol.corner_distance)
     s.corners, s.truth_corners = len(corners), len(visible_corners)
-    s.corners_ok = s.truth_corners_ok = len(pairs)
+    s.corners_ok = s.truth_corners_ok = s.corners_paired = len(pairs)
     s.convexity_ok = sum(bool(corner_convex[i]) == bool(visible_convex[j]) for i, j in pairs)
     # a detected corner next to a true corner that is just out of view is still a true corner
     if len(corners) > len(pairs) and len(true_vertices):

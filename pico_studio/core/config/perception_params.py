@@ -84,6 +84,13 @@ class ScanParams:
         0.12, lo=0.0, hi=1.0, step=0.01, unit="rad",
         help="Neighbouring segments of one cluster closer than this in angle are merged",
     )
+    seen_margin: float = param(
+        0.04, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="A wall's end was seen when a point just past it lies this far behind the wall's line",
+    )
+    seen_points: int = param(
+        4, lo=1, hi=50, step=1, help="How many points past a wall's end are checked for that",
+    )
 
 
 @dataclass(frozen=True)
