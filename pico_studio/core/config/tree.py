@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.config.sources_params import SourcesParams
 from pico_studio.core.config.spec import section
 
@@ -16,4 +17,5 @@ from pico_studio.core.config.spec import section
 @dataclass(frozen=True)
 class Config:
     map: MapParams = section(MapParams, "Map loading")
+    sim: SimParams = section(SimParams, "The simulator")
     sources: SourcesParams = section(SourcesParams, "Data sources: recordings and the live robot")
