@@ -238,6 +238,28 @@ def test_stale_data_is_reported_and_stops_the_base(ros: RosRig) -> None:
     assert twist["linear"]["x"] == 0.0
 
 
+def test_run_command_on_the_live_robot(ros: RosRig, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """`pico-studio run --source ros` against the master, recording what it saw."""
+    import json
+
+    from pico_studio.cli import main
+
+    config = tmp_path / "robot.yaml"
+    config.write_text(f"sources:\n  ros:\n    master_uri: {ros.uri}\n")
+    out = tmp_path / "live.bag"
+    player = ros.start("rosbag", "play", "-q", "-l", "-d", "1", str(BAG))
+    try:
+        _collect(ros.source, 3)
+        code = main(["run", "--source", "ros", "--config", str(config), "--seconds", "1.5",
+                     "--behaviour", "drive:0.1,0,0", "--record", str(out), "--json"])
+    finally:
+        ros.stop(player)
+    assert code == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["master_up"] and report["frames_read"] >= 20
+    assert open_bag(out).frame_count == report["frames_read"]
+
+
 def test_master_going_away_is_reported_and_survived(ros: RosRig) -> None:
     master = ros.procs[0]
     ros.stop(master)
