@@ -238,6 +238,21 @@ def test_stale_data_is_reported_and_stops_the_base(ros: RosRig) -> None:
     assert twist["linear"]["x"] == 0.0
 
 
+def test_scan_with_a_wrong_beam_layout_is_skipped_with_a_warning(ros: RosRig) -> None:
+    before = ros.source.skipped_scans
+    bad = ros.start(
+        "rostopic", "pub", "-r", "5", "/pico/laser", "sensor_msgs/LaserScan",
+        "{angle_min: -1.0, angle_max: 1.0, angle_increment: 0.5, range_max: 10.0, ranges: [1, 1, 1]}",
+    )
+    try:
+        _wait("the bad scan to arrive", lambda: ros.source.skipped_scans > before)
+    finally:
+        ros.stop(bad)
+    scan = ros.source.read_laser()  # a bad scan never reaches the reader
+    assert scan is None or len(scan.ranges) == 1081
+    assert any("/pico/laser" in w and "angle_increment" in w and "ranges holds 3" in w for w in ros.source.warnings)
+
+
 def test_run_command_on_the_live_robot(ros: RosRig, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """`pico-studio run --source ros` against the master, recording what it saw."""
     import json
