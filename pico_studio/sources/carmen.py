@@ -14,6 +14,10 @@ One message a line, the last three fields always `ipc_timestamp ipc_hostname log
   line with timestamp 0 follows each FLASER repeating the corrected pose: it has no time
   and is not odometry, so it is ignored. A log without timed ODOM lines uses the FLASER's
   `odom_*` fields instead.
+* ROBOTLASER1 (the newer CARMEN scan line) carries its own start angle, resolution and
+  maximum range, and the robot pose, used like FLASER's.
+* With `sources.carmen.pose_is_truth` off (raw, uncorrected logs, whose scan poses are
+  odometry) the replay offers no ground truth.
 * Anything else (PARAM, SYNC, NEFF, RLASER, TRUEPOS, comments) is ignored.
 
 A line with the wrong number of fields or a field that is not a number is skipped with a
@@ -66,8 +70,9 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
         if not tokens or tokens[0].startswith("#"):
             continue
         try:
-            if tokens[0] == "FLASER":
-                scan, pose, odom = _flaser(tokens, cfg)
+            if tokens[0] in ("FLASER", "ROBOTLASER1"):
+                parse = _flaser if tokens[0] == "FLASER" else _robotlaser
+                scan, pose, odom = parse(tokens, cfg)
                 scans.append(scan)
                 truth.append(TimedPose(scan.timestamp, pose))
                 flaser_odometry.append(odom)
@@ -80,15 +85,18 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
         except _BadLine as e:
             warnings.append(f"{path}: line {number}: {tokens[0]} {e}; line skipped")
     if not scans and not warnings:
-        raise SourceError("holds no FLASER line: not a CARMEN log with front laser scans", file=path)
+        raise SourceError(
+            "holds no FLASER or ROBOTLASER1 line: not a CARMEN log with front laser scans", file=path
+        )
     return Recording(
         name=str(path),
         scans=scans,
         odometry=odometry or flaser_odometry,
-        truth=truth,
+        truth=truth if cfg.pose_is_truth else [],
         warnings=warnings,
         info={
-            "odometry_from": "ODOM lines" if odometry else "FLASER odom fields",
+            "odometry_from": "ODOM lines" if odometry else "the scan lines' odometry",
+            "truth_from": "the scan lines' pose" if cfg.pose_is_truth else None,
             "untimed_odom_lines_ignored": untimed_odom,
         },
     )
@@ -132,6 +140,42 @@ def _flaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[floa
         angle_increment=increment, timestamp=t, ranges=ranges,
     )
     return scan, (x, y, _wrap(theta)), OdometryData(ox, oy, _wrap(otheta), t)
+
+
+def _robotlaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[float, float, float], OdometryData]:
+    """ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range
+    accuracy remission_mode n r1..rn m e1..em laser_x laser_y laser_theta robot_x robot_y
+    robot_theta tv rv forward_safety_dist side_safety_dist turn_axis timestamp host logger_timestamp
+
+    The angles are in the line itself; the robot pose is the pose (truth in a corrected
+    log, else odometry) and, without ODOM lines, the odometry."""
+    n = _count(tokens, 8, "num_readings")
+    if n < 1:
+        raise _BadLine("num_readings", "must be at least 1")
+    m = _count(tokens, 9 + n, "num_remissions")
+    expected = 10 + n + m + 6 + 5 + _TAIL
+    if len(tokens) != expected:
+        raise _BadLine(
+            "fields", f"with num_readings {n} and num_remissions {m} needs {expected} fields, found {len(tokens)}"
+        )
+    start, increment, range_max = (_number(tokens, k, name) for k, name in (
+        (2, "start_angle"), (4, "angular_resolution"), (5, "maximum_range")))
+    ranges = _numbers(tokens, 9, n, "range")
+    k = 10 + n + m
+    x, y, theta = (_number(tokens, k + 3 + j, name) for j, name in enumerate(("robot_x", "robot_y", "robot_theta")))
+    t = _number(tokens, k + 11, "timestamp")
+    scan = LaserData(
+        range_min=cfg.range_min, range_max=range_max, angle_min=start,
+        angle_max=start + (n - 1) * increment, angle_increment=increment, timestamp=t, ranges=ranges,
+    )
+    return scan, (x, y, _wrap(theta)), OdometryData(x, y, _wrap(theta), t)
+
+
+def _count(tokens: list[str], index: int, field: str) -> int:
+    value = _number(tokens, index, field)
+    if value != int(value) or value < 0:
+        raise _BadLine(field, f"must be a whole number, got {tokens[index]!r}")
+    return int(value)
 
 
 def _odom(tokens: list[str]) -> OdometryData:

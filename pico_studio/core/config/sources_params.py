@@ -85,6 +85,11 @@ class CarmenParams:
     range_min: float = param(
         0.0, lo=0.0, hi=1.0, step=0.01, unit="m", help="Shortest valid range of a CARMEN scan"
     )
+    pose_is_truth: bool = param(
+        True,
+        help="The scan lines' pose is the corrected (SLAM) pose, offered as ground truth; "
+        "off for raw logs, where it is only odometry",
+    )
 
 
 @dataclass(frozen=True)
