@@ -151,6 +151,7 @@ def ros(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RosRig]:
         "ROS_LOG_DIR": str(home / "log"),
     }
     rig = RosRig(port, env, home)
+    os.environ.setdefault("ROS_HOME", str(home))  # the in-process node's logs, when HOME has none
     try:
         rig.start_master()
         params = SourcesParams(
