@@ -218,3 +218,15 @@ def test_loop_that_advances_before_it_reads_meets_the_first_frame(real_bag: Path
     assert replay.read_laser() is replay.frame(10).laser
     replay.advance(0.05)  # from here on the cursor moves
     assert replay.now() == pytest.approx(replay.frame_times[10] + 0.05)
+
+
+def test_laser_topic_of_the_wrong_type_is_a_clear_error(tmp_path: Path) -> None:
+    from pico_studio.core.io import BaseReference
+
+    path = tmp_path / "twist_on_laser.bag"
+    with BagRecorder(path, TopicParams(laser="/scan", base_reference="/pico/laser")) as rec:
+        rec.record_base_reference(BaseReference(0.1, 0.0, 0.0, 1.0))
+    with pytest.raises(SourceError) as err:
+        open_bag(path)
+    text = str(err.value)
+    assert "no usable laser scan" in text and "geometry_msgs/msg/Twist" in text and "LaserScan" in text

@@ -37,7 +37,7 @@ def test_intel_log_plays_with_corrected_pose_as_truth(intel: Path) -> None:
     # odometry is the raw ODOM line at the scan's time, not the corrected pose
     odom = replay.read_odometry()
     assert odom is not None and (odom.x, odom.y, odom.a) == pytest.approx((0.698035, -0.0132843, -0.460915))
-    assert replay.summary()["untimed_odom_lines_ignored"] == 841
+    assert replay.summary()["odom_pose_copies_ignored"] == 910
 
 
 def test_intel_odometry_is_its_own_series_not_the_truth(intel: Path) -> None:

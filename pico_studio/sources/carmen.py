@@ -11,9 +11,10 @@ One message a line, the last three fields always `ipc_timestamp ipc_hostname log
   log it is the SLAM-corrected pose, which the replay offers as ground truth. Angles are
   wrapped to (-pi, pi] (the logs hold some just beyond pi).
 * ODOM: the raw wheel odometry, used as the robot's odometry. In corrected logs an ODOM
-  line with timestamp 0 follows each FLASER repeating the corrected pose: it has no time
-  and is not odometry, so it is ignored. A log without timed ODOM lines uses the FLASER's
-  `odom_*` fields instead.
+  line follows each FLASER repeating its corrected pose, with timestamp 0 or garbage
+  (6e-62, 2.79 in the middle of a run at 2683 s): it is not odometry, so an ODOM line with
+  timestamp 0 or with exactly the pose of the scan line before it is ignored. A log
+  without other ODOM lines uses the FLASER's `odom_*` fields instead.
 * ROBOTLASER1 (the newer CARMEN scan line) carries its own start angle, resolution and
   maximum range, and the robot pose, used like FLASER's.
 * With `sources.carmen.pose_is_truth` off (raw, uncorrected logs, whose scan poses are
@@ -64,7 +65,8 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
     truth: list[TimedPose] = []
     flaser_odometry: list[OdometryData] = []
     odometry: list[OdometryData] = []
-    untimed_odom = 0
+    pose_copies = 0
+    last_pose_tokens: list[str] = []
     for number, line in _lines(path, warnings):
         tokens = line.split()
         if not tokens or tokens[0].startswith("#"):
@@ -73,13 +75,14 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
             if tokens[0] in ("FLASER", "ROBOTLASER1"):
                 parse = _flaser if tokens[0] == "FLASER" else _robotlaser
                 scan, pose, odom = parse(tokens, cfg)
+                last_pose_tokens = _pose_tokens(tokens)
                 scans.append(scan)
                 truth.append(TimedPose(scan.timestamp, pose))
                 flaser_odometry.append(odom)
             elif tokens[0] == "ODOM":
                 reading = _odom(tokens)
-                if reading.timestamp == 0.0:
-                    untimed_odom += 1
+                if reading.timestamp == 0.0 or (truth and tokens[1:4] == last_pose_tokens):
+                    pose_copies += 1
                 else:
                     odometry.append(reading)
         except _BadLine as e:
@@ -88,6 +91,7 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
         raise SourceError(
             "holds no FLASER or ROBOTLASER1 line: not a CARMEN log with front laser scans", file=path
         )
+    odometry, clamped = _in_log_order(odometry)
     return Recording(
         name=str(path),
         scans=scans,
@@ -97,7 +101,8 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
         info={
             "odometry_from": "ODOM lines" if odometry else "the scan lines' odometry",
             "truth_from": "the scan lines' pose" if cfg.pose_is_truth else None,
-            "untimed_odom_lines_ignored": untimed_odom,
+            "odom_pose_copies_ignored": pose_copies,
+            "odom_stamps_clamped": clamped,
         },
     )
 
@@ -140,6 +145,31 @@ def _flaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[floa
         angle_increment=increment, timestamp=t, ranges=ranges,
     )
     return scan, (x, y, _wrap(theta)), OdometryData(ox, oy, _wrap(otheta), t)
+
+
+def _in_log_order(readings: list[OdometryData]) -> tuple[list[OdometryData], int]:
+    """The readings with stamps made non-decreasing in the log's order, and how many had
+    to be moved: ODOM stamps jitter (a reading stamped 0.3 s before the one logged just
+    ahead of it), and sorting by them would make the odometry jump back and forth."""
+    out: list[OdometryData] = []
+    clamped = 0
+    latest = -math.inf
+    for r in readings:
+        if r.timestamp < latest:
+            r = OdometryData(r.x, r.y, r.a, latest, r.form)
+            clamped += 1
+        latest = r.timestamp
+        out.append(r)
+    return out, clamped
+
+
+def _pose_tokens(tokens: list[str]) -> list[str]:
+    """The x y theta fields of a scan line, as written (to spot ODOM copies of them)."""
+    if tokens[0] == "FLASER":
+        n = int(float(tokens[1]))
+        return tokens[2 + n : 5 + n]
+    n, m = int(float(tokens[8])), int(float(tokens[9 + int(float(tokens[8]))]))
+    return tokens[13 + n + m : 16 + n + m]
 
 
 def _robotlaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[float, float, float], OdometryData]:
