@@ -53,6 +53,19 @@ def test_intel_odometry_is_its_own_series_not_the_truth(intel: Path) -> None:
     assert differ > 800
 
 
+def test_intel_odometry_keeps_the_log_order(intel: Path) -> None:
+    """Jittering ODOM stamps and the corrected-pose copies (some with garbage stamps) must
+    not make the odometry jump: readings come in log order, each step a short one."""
+    replay = open_carmen(intel)
+    odom = replay.recording.odometry
+    stamps = np.array([o.timestamp for o in odom])
+    steps = np.hypot(np.diff([o.x for o in odom]), np.diff([o.y for o in odom]))
+    assert np.all(np.diff(stamps) >= 0)
+    assert steps.max() < 0.3  # the robot moves < 0.3 m between two readings in this log
+    info = replay.summary()
+    assert info["odom_pose_copies_ignored"] == 910 and info["odometry_readings"] == 14541 - 910
+
+
 def test_whole_intel_log_through_the_loop(intel: Path) -> None:
     replay = open_carmen(intel)
     scans = 0

@@ -13,7 +13,9 @@ One message a line, the last three fields always `ipc_timestamp ipc_hostname log
 * ODOM: the raw wheel odometry, used as the robot's odometry. In corrected logs an ODOM
   line follows each FLASER repeating its corrected pose, with timestamp 0 or garbage
   (6e-62, 2.79 in the middle of a run at 2683 s): it is not odometry, so an ODOM line with
-  timestamp 0 or with exactly the pose of the scan line before it is ignored. A log
+  timestamp 0 or with exactly the pose of the scan line before it is ignored. ODOM stamps
+  jitter against the log's order; a reading stamped after something logged later takes
+  that earlier stamp, so the replay delivers odometry in the order it was logged. A log
   without other ODOM lines uses the FLASER's `odom_*` fields instead.
 * ROBOTLASER1 (the newer CARMEN scan line) carries its own start angle, resolution and
   maximum range, and the robot pose, used like FLASER's.
@@ -66,6 +68,7 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
     flaser_odometry: list[OdometryData] = []
     odometry: list[OdometryData] = []
     pose_copies = 0
+    scans_before: list[int] = []
     last_pose_tokens: list[str] = []
     for number, line in _lines(path, warnings):
         tokens = line.split()
@@ -85,13 +88,14 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
                     pose_copies += 1
                 else:
                     odometry.append(reading)
+                    scans_before.append(len(scans))
         except _BadLine as e:
             warnings.append(f"{path}: line {number}: {tokens[0]} {e}; line skipped")
     if not scans and not warnings:
         raise SourceError(
             "holds no FLASER or ROBOTLASER1 line: not a CARMEN log with front laser scans", file=path
         )
-    odometry, clamped = _in_log_order(odometry)
+    odometry, restamped = _in_log_order(odometry, scans_before, scans)
     return Recording(
         name=str(path),
         scans=scans,
@@ -102,7 +106,7 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
             "odometry_from": "ODOM lines" if odometry else "the scan lines' odometry",
             "truth_from": "the scan lines' pose" if cfg.pose_is_truth else None,
             "odom_pose_copies_ignored": pose_copies,
-            "odom_stamps_clamped": clamped,
+            "odom_stamps_moved_to_log_order": restamped,
         },
     )
 
@@ -147,20 +151,27 @@ def _flaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[floa
     return scan, (x, y, _wrap(theta)), OdometryData(ox, oy, _wrap(otheta), t)
 
 
-def _in_log_order(readings: list[OdometryData]) -> tuple[list[OdometryData], int]:
-    """The readings with stamps made non-decreasing in the log's order, and how many had
-    to be moved: ODOM stamps jitter (a reading stamped 0.3 s before the one logged just
-    ahead of it), and sorting by them would make the odometry jump back and forth."""
-    out: list[OdometryData] = []
-    clamped = 0
-    latest = -math.inf
-    for r in readings:
-        if r.timestamp < latest:
-            r = OdometryData(r.x, r.y, r.a, latest, r.form)
-            clamped += 1
-        latest = r.timestamp
-        out.append(r)
-    return out, clamped
+def _in_log_order(
+    readings: list[OdometryData], scans_before: list[int], scans: list[LaserData]
+) -> tuple[list[OdometryData], int]:
+    """The readings re-stamped, where needed, so that time agrees with the log's order,
+    and how many were: ODOM stamps jitter (a reading stamped 0.3 s before the one logged
+    just ahead of it; one logged before a scan stamped after it). Sorting by them would
+    make the odometry jump back and forth, so a reading takes the earliest stamp of
+    anything logged after it (later readings and scans) when that is earlier than its own.
+    `scans_before[i]` is how many scans were logged before reading i."""
+    out = list(readings)
+    changed = 0
+    bound = math.inf
+    for i in range(len(out) - 1, -1, -1):
+        k = scans_before[i]
+        if k < len(scans):
+            bound = min(bound, scans[k].timestamp)
+        if out[i].timestamp > bound:
+            out[i] = OdometryData(out[i].x, out[i].y, out[i].a, bound, out[i].form)
+            changed += 1
+        bound = min(bound, out[i].timestamp)
+    return out, changed
 
 
 def _pose_tokens(tokens: list[str]) -> list[str]:
