@@ -25,7 +25,9 @@ LIVE_CONNECT_TIMEOUT = 10.0  # seconds to wait for the robot's master before giv
 
 
 def open_recorder(args: argparse.Namespace, cfg: Config) -> BagRecorder | None:
-    return BagRecorder(args.record, cfg.sources.topics) if args.record else None
+    if not args.record:
+        return None
+    return BagRecorder(args.record, cfg.sources.topics, compression=cfg.sources.recorder.compression)
 
 
 def recorded(recorder: BagRecorder | None) -> dict[str, Any] | None:

@@ -93,8 +93,17 @@ class CarmenParams:
 
 
 @dataclass(frozen=True)
+class RecorderParams:
+    compression: str = param(
+        "none", choices=("none", "lz4", "bz2"),
+        help="Chunk compression of recorded bags (lz4: ~fast, bz2: smallest; ROS tools read all three)",
+    )
+
+
+@dataclass(frozen=True)
 class SourcesParams:
     topics: TopicParams = section(TopicParams, "ROS topic names (live robot and bags)")
     ros: LiveRosParams = section(LiveRosParams, "The live ROS 1 connection (--source ros)")
     replay: ReplayParams = section(ReplayParams, "Replay of recordings (bags and CARMEN logs)")
     carmen: CarmenParams = section(CarmenParams, "CARMEN log files (FLASER/ODOM lines)")
+    recorder: RecorderParams = section(RecorderParams, "Recording runs as ROS 1 bags")
