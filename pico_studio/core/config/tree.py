@@ -10,10 +10,16 @@ from dataclasses import dataclass
 
 from pico_studio.core.config.behaviour_params import BehaviourParams
 from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.perception_params import PerceptionParams
+from pico_studio.core.config.sim_params import SimParams
+from pico_studio.core.config.sources_params import SourcesParams
 from pico_studio.core.config.spec import section
 
 
 @dataclass(frozen=True)
 class Config:
     map: MapParams = section(MapParams, "Map loading")
+    sim: SimParams = section(SimParams, "The simulator")
+    sources: SourcesParams = section(SourcesParams, "Data sources: recordings and the live robot")
+    perception: PerceptionParams = section(PerceptionParams, "Perceptor: laser + odometry to world model")
     behaviour: BehaviourParams = section(BehaviourParams, "Reference behaviours: escape room, room finder, hospital")
