@@ -8,7 +8,8 @@ States:
     approach    drive to a point `approach_offset` in front of the entrance's mouth, re-checking
                 the entrance every `recheck_every` steps; after `lost_after` misses: scan again
     align       face straight out through the mouth
-    hallway     drive on, centred between the hallway walls, until no wall is near
+    hallway     drive on, centred between the hallway walls, until no wall is near ahead or
+                beside (nothing within `free_range` over the front half)
     out         drive `out_distance` more, then stop: done
 bubbleRobot overrides any state when something comes closer than the bubble.
 
@@ -104,7 +105,9 @@ class EscapeRoom(BehaviourBase):
         self._free_heading: float | None = None
 
     # ---- perception of the entrance, in the odometry frame ----
-    def _detect(self) -> Opening | None:
+    def _detect(self, near: np.ndarray | None = None) -> Opening | None:
+        """The entrance seen in this scan (odometry frame): the nearest opening, or with
+        `near` the opening closest to that point."""
         assert self.scan is not None and self.pose is not None
         if self.source == "world_model":
             ent = getattr(self.world_model, "entrance", None)
@@ -120,6 +123,11 @@ class EscapeRoom(BehaviourBase):
             if not found:
                 return None
             local = found[0]
+            if near is not None:
+                to_local = np.array(near) - np.array(self.pose[:2])
+                c, s_ = math.cos(-self.pose[2]), math.sin(-self.pose[2])
+                near_local = np.array([c * to_local[0] - s_ * to_local[1], s_ * to_local[0] + c * to_local[1]])
+                local = min(found, key=lambda o: float(np.hypot(*(o.centre - near_local))))
         centre = transform_points(local.centre[None, :], self.pose)[0]
         c, s = math.cos(self.pose[2]), math.sin(self.pose[2])
         normal = np.array([c * local.normal[0] - s * local.normal[1], s * local.normal[0] + c * local.normal[1]])
@@ -222,12 +230,14 @@ class EscapeRoom(BehaviourBase):
 
     def _recheck(self) -> bool:
         """Every few steps: refresh the entrance; False when it is lost (rescan)."""
+        assert self._entrance is not None and self.pose is not None
         self._steps += 1
         if self._steps % self.p.recheck_every:
             return True
-        e = self._detect()
-        assert self._entrance is not None
-        if e is not None and np.hypot(*(e.centre - self._entrance.centre)) < self.p.gap_max:
+        if math.hypot(*(self._approach_point() - np.array(self.pose[:2]))) < self.p.approach_offset:
+            return True  # this close the mouth is seen edge-on: trust the estimate
+        e = self._detect(near=self._entrance.centre)
+        if e is not None and np.hypot(*(e.centre - self._entrance.centre)) < self.p.recheck_radius:
             self._set_entrance(Opening((self._entrance.centre + e.centre) / 2,
                                        self._entrance.normal, e.width))
             self._misses = 0
@@ -263,7 +273,7 @@ class EscapeRoom(BehaviourBase):
 
     def _hallway(self) -> Command:
         assert self.scan is not None and self.pose is not None and self._entrance is not None
-        if self.scan.points.size and np.hypot(*self.scan.points.T).min() > self.p.free_range:
+        if self.scan.min_in(-math.pi / 2, math.pi / 2) > self.p.free_range:
             self._drive_from = (self.pose[0], self.pose[1])
             self._state = "out"
             return Command(vx=self.p.drive_speed)

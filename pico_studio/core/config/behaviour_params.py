@@ -47,6 +47,8 @@ class EscapeRoomParams:
                              help="Laser ranges beyond this are treated as no return (open space)")
     recheck_every: int = param(10, lo=1, hi=200, step=1, unit="steps",
                                help="Re-check the entrance every this many control steps while driving")
+    recheck_radius: float = param(0.35, lo=0.05, hi=2.0, step=0.01, unit="m",
+                                  help="A re-check confirms the entrance when it is seen within this of the estimate")
     lost_after: int = param(3, lo=1, hi=50, step=1, unit="checks",
                             help="Rescan the room after this many failed re-checks in a row")
     face_tolerance: float = param(0.12, lo=0.01, hi=1.0, step=0.01, unit="rad",
