@@ -140,8 +140,15 @@ def room_finder_world(seed: int) -> World:
                           "objects": 2 if person else 1})
         pts.append(tuple(a + d * L))
         b.polyline(pts)
-    margin = 0.6
-    x = rng.uniform(margin + 0.4, w - margin - 0.4)
-    y = rng.uniform(margin + 0.4, h - margin - 0.4)
+    # not facing a room (seed 000's assumption): along both axes the robot's perpendicular
+    # foot on each wall stays half a panel clear of every opening
+    spans = [(k, s0) for k, ss in by_wall.items() for s0 in ss]
+    margin = 1.0
+    for _ in range(1000):
+        x = rng.uniform(margin, w - margin)
+        y = rng.uniform(margin, h - margin)
+        feet = {0: x, 1: y, 2: w - x, 3: h - y}
+        if all(not (s0 - PANEL / 2 <= feet[k] <= s0 + 1.5 * PANEL) for k, s0 in spans):
+            break
     a = rng.uniform(-math.pi, math.pi)
     return World(map=b.build(), start=(float(x), float(y), float(a)), rooms=rooms, seed=seed)

@@ -89,6 +89,8 @@ class RoomFinderParams:
                                  help="Keep the right-hand wall at this distance")
     side_beam_angle: float = param(0.35, lo=0.05, hi=1.0, step=0.01, unit="rad",
                                    help="The two right beams are at -90 deg +- this angle")
+    max_wall_angle: float = param(0.3, lo=0.05, hi=1.0, step=0.01, unit="rad",
+                                  help="Two right beams whose wall is at a larger angle than this see no one wall")
     align_gain: float = param(1.5, lo=0.0, hi=10.0, step=0.1, unit="1/s",
                               help="Turn gain keeping the robot parallel to the right wall")
     distance_gain: float = param(1.0, lo=0.0, hi=10.0, step=0.1, unit="1/s",
@@ -115,6 +117,8 @@ class RoomFinderParams:
                                help="Half-width of the fan looking into a room to count objects")
     scan_fov: float = param(1.5708, lo=0.5, hi=2.0, step=0.01, unit="rad",
                             help="Half-width of the initial scan for the nearest wall (90 deg: a 180 deg scan)")
+    rescan_margin: float = param(0.2, lo=0.0, hi=1.0, step=0.01, unit="rad",
+                                 help="Nearest point this close to the scan's edge: turn there and scan again")
     corners: int = param(4, lo=1, hi=16, step=1, unit="corners",
                          help="Stop after turning this many corners past the start corner (4: every wall once)")
 
