@@ -10,8 +10,10 @@ from dataclasses import dataclass
 
 from pico_studio.core.config.map_params import MapParams
 from pico_studio.core.config.spec import section
+from pico_studio.core.config.ui_params import UiParams
 
 
 @dataclass(frozen=True)
 class Config:
     map: MapParams = section(MapParams, "Map loading")
+    ui: UiParams = section(UiParams, "The web UI (pico-studio serve)")

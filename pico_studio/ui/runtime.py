@@ -1,0 +1,300 @@
+"""The live core behind the web page, without any viser: source, perceptor, behaviour, timeline.
+
+`Studio` is what the page drives. One `tick(dt)` is one control period, in the order of the
+session loop: advance the source, read, perceive, behave, send the base reference, record.
+Every frame goes on the timeline with the perceptor state before it, so `reprocess()` can re-run
+the (pure) perceptor on the frame under the cursor with the current parameters.
+
+Thread safety: the page's callbacks and the 20 Hz loop run on different threads; every public
+method takes `self.lock`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from pico_studio.core.behaviours.wander import Wander
+from pico_studio.core.config import Config, get_value, with_value
+from pico_studio.core.geometry import compose, invert
+from pico_studio.core.io import BaseReference, RobotIO
+from pico_studio.errors import UserError
+from pico_studio.json_map import GlobalMap
+from pico_studio.ui.timeline import FrameRecord, Pose, Timeline
+
+try:  # the perceptor is its own part; until it is merged the page shows the raw laser only
+    from pico_studio.core.perception import PerceptorState, perceive
+except ImportError:  # pragma: no cover - depends on what has been merged
+    PerceptorState = None
+    perceive = None
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class SourceBundle:
+    """A data source plus what it knows beside the RobotIO interface."""
+
+    source: RobotIO
+    truth_pose: Callable[[], Pose | None]  # map-frame ground truth, or None
+    truth: Any = None  # the simulator's `sim.truth`, for scoring
+    kind: str = "sim"
+
+
+SourceFactory = Callable[[Config, GlobalMap | None], SourceBundle]
+
+BEHAVIOURS = ("wander", "teleop", "stop")  # what the behaviour dropdown offers
+
+
+class Studio:
+    def __init__(
+        self,
+        cfg: Config,
+        global_map: GlobalMap | None,
+        make_source: SourceFactory,
+        behaviour: str = "wander",
+        map_name: str = "",
+    ):
+        self.lock = threading.RLock()
+        self.cfg = cfg
+        self.global_map = global_map
+        self.map_name = map_name
+        self._make_source = make_source
+        self.behaviour_name = behaviour if behaviour in BEHAVIOURS else "wander"
+        self.playing = True
+        self.speed = 1.0
+        self.cursor: int | None = None  # timeline position shown; None = follow the live frame
+        self.perceive_ms: deque[float] = deque(maxlen=50)
+        self.perceive_walltimes: deque[float] = deque(maxlen=50)
+        self.reset()
+
+    # ----- lifecycle -----------------------------------------------------------------------
+    def reset(self) -> None:
+        """A fresh source (new simulator from the current config), perceptor and timeline."""
+        with self.lock:
+            bundle = self._make_source(self.cfg, self.global_map)
+            self.bundle = bundle
+            self.source = bundle.source
+            ui = self.cfg.ui
+            self.timeline = Timeline(round(ui.timeline_seconds * ui.rate_hz))
+            self.state = PerceptorState.initial() if PerceptorState is not None else None
+            self.wander = Wander(ui.wander)
+            self.teleop_command: BaseReference | None = None
+            self.teleop_until = 0.0
+            self.cursor = None
+            self.frame_count = 0
+            self.perceive_ms.clear()
+            self.perceive_walltimes.clear()
+            self.last_command = BaseReference(0.0, 0.0, 0.0)
+
+    def set_map(self, global_map: GlobalMap, name: str) -> None:
+        """Switch the world to another map (the simulator restarts in it)."""
+        with self.lock:
+            old = (self.global_map, self.map_name)
+            self.global_map, self.map_name = global_map, name
+            try:
+                self.reset()
+            except Exception:
+                self.global_map, self.map_name = old
+                self.reset()
+                raise
+
+    # ----- the loop ----------------------------------------------------------------------
+    def tick(self, dt: float) -> FrameRecord | None:
+        """One control period: advance, read, perceive, behave, send, record."""
+        with self.lock:
+            if not self.source.ok():
+                self.playing = False
+                return None
+            self.source.advance(dt)  # type: ignore[attr-defined]
+            laser = self.source.read_laser()
+            odom = self.source.read_odometry()
+            if laser is None and odom is None:
+                return None
+            frame = FrameRecord(
+                index=self.frame_count,
+                time=self.source.now(),
+                laser=laser,
+                odometry=odom,
+                truth_pose=self.bundle.truth_pose(),
+                state_before=self.state,
+            )
+            self.frame_count += 1
+            self.state = self._perceive(frame, live=True)
+            cmd = self._behave(frame)
+            frame.command = cmd
+            self.source.send_base_reference(cmd.vx, cmd.vy, cmd.va)
+            self.last_command = cmd
+            self.timeline.append(frame)
+            return frame
+
+    def _perceive(self, frame: FrameRecord, *, live: bool) -> Any:
+        """Run the perceptor on one frame with the current params; returns the state after."""
+        if perceive is None:
+            return None
+        t0 = time.perf_counter()
+        try:
+            wm, state_after = perceive(frame.state_before, frame.laser, frame.odometry, self.cfg.perception)  # type: ignore[attr-defined]
+        except UserError as e:
+            frame.errors = [str(e)]
+            return frame.state_before
+        ms = (time.perf_counter() - t0) * 1000.0
+        frame.wm = wm
+        frame.errors = []
+        self.perceive_ms.append(ms)
+        if live:
+            self.perceive_walltimes.append(time.monotonic())
+        return state_after
+
+    def _behave(self, frame: FrameRecord) -> BaseReference:
+        now = frame.time
+        name = self.behaviour_name
+        if name == "teleop":
+            frame.behaviour_state = "teleop"
+            if self.teleop_command is not None and time.monotonic() < self.teleop_until:
+                return BaseReference(self.teleop_command.vx, self.teleop_command.vy, self.teleop_command.va, now)
+            return BaseReference(0.0, 0.0, 0.0, now)
+        if name == "wander":
+            cmd = self.wander.step(frame.laser, now) if frame.laser is not None else self.last_command
+            frame.behaviour_state = f"wander: {self.wander.state}"
+            return cmd
+        frame.behaviour_state = "stopped"
+        return BaseReference(0.0, 0.0, 0.0, now)
+
+    # ----- controls ------------------------------------------------------------------------
+    def teleop(self, vx: float, vy: float, va: float) -> None:
+        """Drive by hand for `ui.teleop_hold` seconds (switches the behaviour to teleop)."""
+        with self.lock:
+            self.behaviour_name = "teleop"
+            self.teleop_command = BaseReference(vx, vy, va)
+            self.teleop_until = time.monotonic() + self.cfg.ui.teleop_hold
+
+    def set_behaviour(self, name: str) -> None:
+        if name not in BEHAVIOURS:
+            raise UserError(f"unknown behaviour {name!r}; choose one of {', '.join(BEHAVIOURS)}", field="behaviour")
+        with self.lock:
+            self.behaviour_name = name
+            if name == "wander":
+                self.wander = Wander(self.cfg.ui.wander)
+
+    def open_door(self) -> None:
+        with self.lock:
+            self.source.open_door()
+
+    def set_param(self, path: str, value: Any) -> None:
+        """Change one parameter (validated); perception changes re-process the shown frame."""
+        with self.lock:
+            self.set_config(with_value(self.cfg, path, value))
+
+    def set_config(self, cfg: Config) -> None:
+        with self.lock:
+            self.cfg = cfg
+            self.wander.params = cfg.ui.wander
+            self.reprocess()
+
+    def reprocess(self) -> FrameRecord | None:
+        """Re-run the perceptor on the frame under the cursor with the current parameters.
+
+        On the live frame the result also becomes the state the loop carries on from, so the
+        new values take effect from here on."""
+        with self.lock:
+            frame = self.shown()
+            if frame is None:
+                return None
+            state_after = self._perceive(frame, live=False)
+            if frame is self.timeline.latest:
+                self.state = state_after
+            return frame
+
+    def scrub(self, position: int | None) -> FrameRecord | None:
+        """Show timeline position `position` (None: the live frame), re-processed."""
+        with self.lock:
+            self.cursor = None if position is None else self.timeline.clamp(position)
+            return self.reprocess()
+
+    def shown(self) -> FrameRecord | None:
+        with self.lock:
+            if not len(self.timeline):
+                return None
+            if self.cursor is None:
+                return self.timeline.latest
+            return self.timeline[self.timeline.clamp(self.cursor)]
+
+    # ----- what the page shows ------------------------------------------------------------------
+    def robot_pose_in_map(self, frame: FrameRecord) -> Pose:
+        """Where robot-frame data (laser, current map) is drawn: the localised pose, else the
+        ground truth, else the perceptor's zero frame put on the map origin."""
+        wm = frame.wm
+        g = getattr(wm, "global_pose", None)
+        if g is not None:
+            return tuple(map(float, g))  # type: ignore[return-value]
+        if frame.truth_pose is not None:
+            return frame.truth_pose
+        if wm is not None:
+            return tuple(map(float, wm.pose))  # type: ignore[return-value]
+        o = frame.odometry
+        return (o.x, o.y, o.a) if o is not None and o.form == "absolute" else (0.0, 0.0, 0.0)
+
+    def zero_frame_in_map(self, frame: FrameRecord) -> Pose | None:
+        """The map-frame pose of the perceptor's zero frame (where the local map is drawn)."""
+        wm = frame.wm
+        if wm is None:
+            return None
+        robot = self.robot_pose_in_map(frame)
+        return compose(robot, invert(tuple(map(float, wm.pose))))  # type: ignore[arg-type]
+
+    def metrics(self) -> dict[str, Any]:
+        """Perception rate and per-stage times, and scores against the truth when simulated."""
+        with self.lock:
+            out: dict[str, Any] = {"frames": len(self.timeline), "perceptor": perceive is not None}
+            w = list(self.perceive_walltimes)
+            out["hz"] = (len(w) - 1) / (w[-1] - w[0]) if len(w) > 2 and w[-1] > w[0] else 0.0
+            out["ms"] = self.perceive_ms[-1] if self.perceive_ms else math.nan
+            frame = self.shown()
+            wm = frame.wm if frame is not None else None
+            out["stages"] = dict(getattr(wm, "timings_ms", {}) or {})
+            out["warnings"] = list(getattr(wm, "warnings", []) or []) + (frame.errors if frame else [])
+            out["counts"] = _counts(wm)
+            out["scores"] = self._scores(frame)
+            return out
+
+    def _scores(self, frame: FrameRecord | None) -> dict[str, float]:
+        if frame is None or frame.wm is None or self.bundle.truth is None:
+            return {}
+        try:
+            from pico_studio.sim import scoring  # type: ignore[attr-defined]
+        except ImportError:
+            return {}
+        # Scoring compares with the truth *now*; only meaningful for the live frame.
+        if frame is not self.timeline.latest:
+            return {}
+        try:
+            result = scoring.score(frame.wm, self.bundle.truth)
+        except Exception as e:  # a scoring bug must not take the page down
+            log.warning("scoring failed: %s", e)
+            return {}
+        return {k: float(v) for k, v in (result.items() if isinstance(result, dict) else vars(result).items()) if isinstance(v, (int, float))}
+
+    def param(self, path: str) -> Any:
+        return get_value(self.cfg, path)
+
+
+def _counts(wm: Any) -> dict[str, int]:
+    if wm is None:
+        return {}
+    out: dict[str, int] = {}
+    for name in ("current_map", "corners", "doors", "possible_doors"):
+        v = getattr(wm, name, None)
+        if v is not None:
+            out[name] = len(v)
+    lm = getattr(wm, "local_map", None)
+    walls = getattr(lm, "walls", None) if lm is not None else None
+    if walls is not None:
+        out["local_walls"] = len(walls)
+    return out
