@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.config.spec import section
 from pico_studio.core.config.ui_params import UiParams
 
@@ -16,4 +17,5 @@ from pico_studio.core.config.ui_params import UiParams
 @dataclass(frozen=True)
 class Config:
     map: MapParams = section(MapParams, "Map loading")
+    sim: SimParams = section(SimParams, "The simulator")
     ui: UiParams = section(UiParams, "The web UI (pico-studio serve)")
