@@ -32,13 +32,14 @@ from pico_studio.errors import MapError, UserError
 from pico_studio.ui import style
 from pico_studio.ui.config_panel import ConfigPanel
 from pico_studio.ui.inspect import measure_text, nearest_feature, ray_to_ground
-from pico_studio.ui.layers import SceneLayers
+from pico_studio.ui.layers import SceneLayers, line_colors
 from pico_studio.ui.runtime import BEHAVIOURS, Studio
 from pico_studio.ui.scene_data import LAYERS, frame_prims, map_prims
 from pico_studio.ui.sources import example_maps, load_any_map
 
 log = logging.getLogger(__name__)
 CAMERA_MARGIN = 1.1  # the map fills ~90% of the view
+PANEL_PX = 420  # the control panel (control_width="large") covers this much of the view's right side
 
 
 @dataclass
@@ -192,10 +193,14 @@ class StudioApp:
 
     # ----- camera -------------------------------------------------------------------------------
     def _view(self, client: viser.ClientHandle, cx: float, cy: float, span_x: float, span_y: float) -> None:
+        """Look straight down at (cx, cy) so that span_x x span_y fits beside the panel."""
         fov = self.studio.cfg.ui.camera_fov
-        aspect = client.camera.aspect if client.camera.aspect > 0 else 1.5
-        span = max(span_y, span_x / aspect) * CAMERA_MARGIN
-        height = span / (2.0 * math.tan(fov / 2.0))
+        w = client.camera.image_width or 1200
+        h = client.camera.image_height or 800
+        panel = PANEL_PX if w > 2 * PANEL_PX else 0
+        view_h = max(span_y, span_x * h / (w - panel)) * CAMERA_MARGIN  # world metres, vertically
+        cx += 0.5 * panel * view_h / h  # centre the map in the part the panel leaves free
+        height = view_h / (2.0 * math.tan(fov / 2.0))
         with client.atomic():
             client.camera.fov = fov
             client.camera.up_direction = (0.0, 1.0, 0.0)
@@ -220,10 +225,10 @@ class StudioApp:
     def _on_connect(self, client: viser.ClientHandle) -> None:
         tab = TabState(client)
         tab.tools["measure"] = client.scene.add_line_segments(
-            "/tools/measure", np.zeros((1, 2, 3), np.float32), style.MEASURE, thickness=0.04, visible=False
+            "/tools/measure", np.zeros((1, 2, 3), np.float32), line_colors(style.MEASURE), thickness=0.04, visible=False
         )
         tab.tools["inspect"] = client.scene.add_line_segments(
-            "/tools/inspect", np.zeros((1, 2, 3), np.float32), style.INSPECT, thickness=0.12, visible=False
+            "/tools/inspect", np.zeros((1, 2, 3), np.float32), line_colors(style.INSPECT), thickness=0.12, visible=False
         )
         tab.tools["inspect_point"] = client.scene.add_point_cloud(
             "/tools/inspect_point", np.zeros((1, 3), np.float32), np.array(style.INSPECT, np.uint8),

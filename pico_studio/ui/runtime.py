@@ -1,7 +1,7 @@
 """The live core behind the web page, without any viser: source, perceptor, behaviour, timeline.
 
-`Studio` is what the page drives. One `tick(dt)` is one control period, in the order of the
-session loop: advance the source, read, perceive, behave, send the base reference, record.
+`Studio` is what the page drives. One `tick(dt)` is one `Session.tick` (advance the source,
+read, perceive, behave, send the base reference).
 Every frame goes on the timeline with the perceptor state before it, so `reprocess()` can re-run
 the (pure) perceptor on the frame under the cursor with the current parameters.
 
@@ -23,9 +23,10 @@ from typing import Any
 from pico_studio.core.behaviours.wander import Wander
 from pico_studio.core.config import Config, get_value, with_value
 from pico_studio.core.geometry import compose, invert
-from pico_studio.core.io import BaseReference, RobotIO
+from pico_studio.core.io import BaseReference, Frame, LaserData, OdometryData, RobotIO
 from pico_studio.errors import UserError
 from pico_studio.json_map import GlobalMap
+from pico_studio.session import Session
 from pico_studio.ui.timeline import FrameRecord, Pose, Timeline
 
 try:  # the perceptor is its own part; until it is merged the page shows the raw laser only
@@ -92,6 +93,13 @@ class Studio:
             self.perceive_ms.clear()
             self.perceive_walltimes.clear()
             self.last_command = BaseReference(0.0, 0.0, 0.0)
+            self._pending: FrameRecord | None = None
+            self.session = Session(
+                self.source,
+                perceptor=_SessionPerceptor(self._session_perceive),
+                behaviour=self._session_behave,
+                history=1,  # the timeline keeps the frames (with perceptor state) instead
+            )
 
     def set_map(self, global_map: GlobalMap, name: str) -> None:
         """Switch the world to another map (the simulator restarts in it)."""
@@ -107,32 +115,42 @@ class Studio:
 
     # ----- the loop ----------------------------------------------------------------------
     def tick(self, dt: float) -> FrameRecord | None:
-        """One control period: advance, read, perceive, behave, send, record."""
+        """One control period through the session loop (advance, read, perceive, behave,
+        send); a frame with a new scan goes on the timeline."""
         with self.lock:
             if not self.source.ok():
                 self.playing = False
                 return None
-            self.source.advance(dt)  # type: ignore[attr-defined]
-            laser = self.source.read_laser()
-            odom = self.source.read_odometry()
-            if laser is None and odom is None:
-                return None
-            frame = FrameRecord(
-                index=self.frame_count,
-                time=self.source.now(),
-                laser=laser,
-                odometry=odom,
-                truth_pose=self.bundle.truth_pose(),
-                state_before=self.state,
-            )
-            self.frame_count += 1
-            self.state = self._perceive(frame, live=True)
-            cmd = self._behave(frame)
-            frame.command = cmd
-            self.source.send_base_reference(cmd.vx, cmd.vy, cmd.va)
-            self.last_command = cmd
-            self.timeline.append(frame)
+            self._pending = None
+            self.session.tick(dt)
+            frame, self._pending = self._pending, None
+            if frame is not None:
+                self.timeline.append(frame)
             return frame
+
+    def _session_perceive(self, laser: LaserData, odometry: OdometryData | None) -> Any:
+        """The session's perceptor: the pure perceptor, remembering the state before the frame."""
+        frame = FrameRecord(
+            index=self.frame_count,
+            time=self.source.now(),
+            laser=laser,
+            odometry=odometry,
+            truth_pose=self.bundle.truth_pose(),
+            state_before=self.state,
+        )
+        self.frame_count += 1
+        self.state = self._perceive(frame, live=True)
+        self._pending = frame
+        return frame.wm
+
+    def _session_behave(self, _frame: Frame, _wm: Any) -> BaseReference | None:
+        frame = self._pending
+        if frame is None:  # no new scan this tick: keep driving as before
+            return None
+        cmd = self._behave(frame)
+        frame.command = cmd
+        self.last_command = cmd
+        return cmd
 
     def _perceive(self, frame: FrameRecord, *, live: bool) -> Any:
         """Run the perceptor on one frame with the current params; returns the state after."""
@@ -283,6 +301,13 @@ class Studio:
 
     def param(self, path: str) -> Any:
         return get_value(self.cfg, path)
+
+
+@dataclass
+class _SessionPerceptor:
+    """Adapter: the session calls `step(laser, odometry)`; the studio runs the pure perceptor."""
+
+    step: Callable[[LaserData, OdometryData | None], Any]
 
 
 def _counts(wm: Any) -> dict[str, int]:
