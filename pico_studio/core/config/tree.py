@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.perception_params import PerceptionParams
 from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.config.spec import section
 from pico_studio.core.config.ui_params import UiParams
@@ -18,4 +19,5 @@ from pico_studio.core.config.ui_params import UiParams
 class Config:
     map: MapParams = section(MapParams, "Map loading")
     sim: SimParams = section(SimParams, "The simulator")
+    perception: PerceptionParams = section(PerceptionParams, "Perceptor: laser + odometry to world model")
     ui: UiParams = section(UiParams, "The web UI (pico-studio serve)")
