@@ -30,15 +30,16 @@ import viser
 from pico_studio.core.config import Config, dump_yaml, loads_config
 from pico_studio.errors import MapError, UserError
 from pico_studio.ui import style
+from pico_studio.ui.colour import line_uniform
 from pico_studio.ui.config_panel import ConfigPanel
 from pico_studio.ui.inspect import measure_text, nearest_feature, ray_to_ground
-from pico_studio.ui.layers import SceneLayers, line_colors
+from pico_studio.ui.layers import SceneLayers
 from pico_studio.ui.runtime import BEHAVIOURS, Studio
 from pico_studio.ui.scene_data import LAYERS, frame_prims, map_prims
 from pico_studio.ui.sources import example_maps, load_any_map
 
 log = logging.getLogger(__name__)
-CAMERA_MARGIN = 1.1  # the map fills ~90% of the view
+CAMERA_MARGIN = 1.15  # the map fills ~85% of the view
 PANEL_PX = 420  # the control panel (control_width="large") covers this much of the view's right side
 
 
@@ -168,10 +169,10 @@ class StudioApp:
 
     def _status_text(self, frame: Any) -> str:
         s = self.studio
-        if frame is None:
-            return f"**{s.map_name}** — no frame yet"
-        live = "live" if s.cursor is None else f"timeline frame {frame.index}"
         state = "playing" if s.playing else "paused"
+        if frame is None:
+            return f"**{s.map_name}** · {state} · no frame yet"
+        live = "live" if s.cursor is None else f"timeline frame {frame.index}"
         return f"**{s.map_name}** · {state} · {live} · t = {frame.time:.2f} s · behaviour: {frame.behaviour_state or s.behaviour_name}"
 
     def _metrics_text(self, m: dict[str, Any]) -> str:
@@ -225,10 +226,10 @@ class StudioApp:
     def _on_connect(self, client: viser.ClientHandle) -> None:
         tab = TabState(client)
         tab.tools["measure"] = client.scene.add_line_segments(
-            "/tools/measure", np.zeros((1, 2, 3), np.float32), line_colors(style.MEASURE), thickness=0.04, visible=False
+            "/tools/measure", np.zeros((1, 2, 3), np.float32), line_uniform(style.MEASURE), thickness=0.04, visible=False
         )
         tab.tools["inspect"] = client.scene.add_line_segments(
-            "/tools/inspect", np.zeros((1, 2, 3), np.float32), line_colors(style.INSPECT), thickness=0.12, visible=False
+            "/tools/inspect", np.zeros((1, 2, 3), np.float32), line_uniform(style.INSPECT), thickness=0.12, visible=False
         )
         tab.tools["inspect_point"] = client.scene.add_point_cloud(
             "/tools/inspect_point", np.zeros((1, 3), np.float32), np.array(style.INSPECT, np.uint8),

@@ -11,17 +11,11 @@ from __future__ import annotations
 import numpy as np
 import viser
 
+from pico_studio.ui.colour import line_uniform, line_vertex
 from pico_studio.ui.scene_data import LAYERS, PRIM_SPECS, Prim, PrimSpec
 
 _DUMMY_SEG = np.zeros((1, 2, 3), dtype=np.float32)
 
-
-def line_colors(rgb: np.ndarray | tuple[int, int, int]) -> np.ndarray:
-    """sRGB colours as viser's line segments want them: they are shaded as linear values and
-    encoded to sRGB on screen, so without this a dark grey wall would show as a light grey."""
-    c = np.asarray(rgb, dtype=np.float64) / 255.0
-    linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-    return np.round(linear * 255.0).astype(np.uint8)
 _DUMMY_PT = np.zeros((1, 3), dtype=np.float32)
 
 
@@ -48,7 +42,7 @@ class SceneLayers:
         pos = (0.0, 0.0, _z_of(spec.name))
         if spec.kind == "segments":
             return self.server.scene.add_line_segments(
-                name, _DUMMY_SEG, line_colors(spec.color), thickness=spec.thickness, position=pos, visible=False
+                name, _DUMMY_SEG, line_uniform(spec.color), thickness=spec.thickness, position=pos, visible=False
             )
         return self.server.scene.add_point_cloud(
             name, _DUMMY_PT, np.array(spec.color, dtype=np.uint8), point_size=spec.point_size,
@@ -77,23 +71,17 @@ class SceneLayers:
             if spec.kind == "segments":
                 pts = np.zeros((n, 2, 3), dtype=np.float32)
                 pts[:, :, :2] = np.asarray(prim.data, dtype=np.float32).reshape(n, 2, 2)
-                colors = (
-                    np.repeat(line_colors(prim.colors)[:, None, :], 2, axis=1)
-                    if prim.colors is not None
-                    else np.broadcast_to(line_colors(spec.color), (n, 2, 3))
-                )
+                # one colour per node stays a (3,) colour; only multi-coloured prims send
+                # per-vertex colours (switching a node between the two is not reliable)
+                if prim.colors is not None:
+                    h.colors = np.ascontiguousarray(np.repeat(line_vertex(prim.colors)[:, None, :], 2, axis=1))
                 h.points = pts  # type: ignore[union-attr]
-                h.colors = np.ascontiguousarray(colors)
             else:
                 pts = np.zeros((n, 3), dtype=np.float32)
                 pts[:, :2] = np.asarray(prim.data, dtype=np.float32)
-                colors = (
-                    np.asarray(prim.colors, np.uint8)
-                    if prim.colors is not None
-                    else np.broadcast_to(np.array(spec.color, np.uint8), (n, 3))
-                )
+                if prim.colors is not None:
+                    h.colors = np.ascontiguousarray(np.asarray(prim.colors, np.uint8))
                 h.points = pts  # type: ignore[union-attr]
-                h.colors = np.ascontiguousarray(colors)
         h.visible = self.visible[self.layer_of(name)] and n > 0
 
     def set_layer_visible(self, key: str, on: bool) -> None:

@@ -66,12 +66,12 @@ LAYERS: tuple[LayerSpec, ...] = (
     ), static=True),
     LayerSpec("trail", "Trail", (PrimSpec("trail", S, style.TRAIL, 0.02),)),
     LayerSpec("combined", "Combined map", (PrimSpec("combined", S, style.COMBINED_MATCHED, 0.06),)),
-    LayerSpec("current", "Current map segments", (PrimSpec("current", S, style.CURRENT_MAP),)),
     LayerSpec("local", "Local map", (
         PrimSpec("local_walls", S, style.LOCAL_WALL),
-        PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=0.09),
-        PrimSpec("corners", P, style.ENDPOINT[2], point_size=0.14),
+        PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=0.07),
+        PrimSpec("corners", P, style.ENDPOINT[2], point_size=0.11),
     )),
+    LayerSpec("current", "Current map segments", (PrimSpec("current", S, style.CURRENT_MAP),)),
     LayerSpec("doors", "Doors and possible doors", (
         PrimSpec("doors", S, style.DOOR, 0.08),
         PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 0.06),

@@ -1,7 +1,8 @@
 """Fixed, legible colours of every layer (on the page's white background) and the legend.
 
 One place for them: the layers draw with these, the legend lists them, the browser test looks
-for their pixels.
+for their pixels. Line colours are kept within what the page's tone curve can show (see
+`colour.py`), so they appear as declared.
 """
 
 from __future__ import annotations
@@ -11,9 +12,9 @@ RGB = tuple[int, int, int]
 # global map
 MAP_WALL: RGB = (40, 40, 40)
 MAP_OBJECT: RGB = (150, 100, 50)
-MAP_OBJECT_FRONT: RGB = (255, 140, 0)
+MAP_OBJECT_FRONT: RGB = (240, 135, 30)
 MAP_DOOR: RGB = (0, 150, 150)
-MAP_START: RGB = (100, 160, 255)
+MAP_START: RGB = (60, 150, 225)
 # perception
 LASER: RGB = (230, 30, 30)
 CURRENT_MAP: RGB = (200, 0, 200)
@@ -27,18 +28,18 @@ ENDPOINT: dict[int, RGB] = {
 ENDPOINT_NAMES = {0: "floating", 1: "connected", 2: "convex", 3: "concave"}
 COMBINED_MATCHED: RGB = (0, 170, 0)
 COMBINED_UNMATCHED: RGB = (220, 0, 80)
-DOOR: RGB = (0, 200, 0)
-POSSIBLE_DOOR: RGB = (220, 180, 0)
+DOOR: RGB = (60, 190, 40)
+POSSIBLE_DOOR: RGB = (220, 180, 40)
 ROBOT_TRUE: RGB = (0, 0, 0)
-ROBOT_ESTIMATE: RGB = (0, 90, 255)
+ROBOT_ESTIMATE: RGB = (20, 90, 225)
 TRAIL: RGB = (170, 170, 170)
-PROXIMITY: RGB = (255, 100, 150)
-PROXIMITY_FLAGGED: RGB = (255, 0, 0)
+PROXIMITY: RGB = (240, 95, 150)
+PROXIMITY_FLAGGED: RGB = (245, 20, 20)
 BEHAVIOUR_TARGET: RGB = (160, 0, 255)
 BEHAVIOUR_PLAN: RGB = (0, 120, 60)
-ENTRANCE: RGB = (0, 190, 190)
-MEASURE: RGB = (255, 0, 255)
-INSPECT: RGB = (255, 215, 0)
+ENTRANCE: RGB = (50, 180, 190)
+MEASURE: RGB = (230, 40, 220)
+INSPECT: RGB = (230, 200, 80)
 
 # line thickness in metres (world units: stays put when zooming)
 THICK_MAP = 0.05
