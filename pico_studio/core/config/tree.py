@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from pico_studio.core.config.map_params import MapParams
 from pico_studio.core.config.perception_params import PerceptionParams
 from pico_studio.core.config.sim_params import SimParams
+from pico_studio.core.config.sources_params import SourcesParams
 from pico_studio.core.config.spec import section
 from pico_studio.core.config.ui_params import UiParams
 
@@ -20,4 +21,5 @@ class Config:
     map: MapParams = section(MapParams, "Map loading")
     sim: SimParams = section(SimParams, "The simulator")
     perception: PerceptionParams = section(PerceptionParams, "Perceptor: laser + odometry to world model")
+    sources: SourcesParams = section(SourcesParams, "Data sources: recordings and the live robot")
     ui: UiParams = section(UiParams, "The web UI (pico-studio serve)")
