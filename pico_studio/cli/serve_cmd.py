@@ -14,7 +14,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--sim-config", help="simulator config JSON (initial pose, moving objects, ...)")
     p.add_argument("--config", help="a (partial) config YAML to start from")
     p.add_argument("--behaviour", default="wander", help="what drives the robot: wander (default), teleop, stop")
-    p.add_argument("--source", default="sim", help="sim (default), bag:FILE, carmen:FILE or ros")
+    p.add_argument("--source", default="sim", help="sim (default), bag:FILE, carmen:FILE or ros (a replay drives nothing: behaviours are ignored)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
     p.add_argument("--port", type=int, default=8080, help="port (default 8080)")
     p.add_argument("--seed", type=int, default=None, help="simulator random seed")
@@ -36,11 +36,14 @@ def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioAp
     )
 
     cfg = load_config(args.config)
-    map_path = Path(args.map) if args.map else DEFAULT_MAP
-    global_map = load_any_map(map_path, cfg)
-    sim_config = args.sim_config if args.sim_config else (sim_config_for(map_path) if not args.map else None)
+    simulated = args.source == "sim"
+    # a recording has no map of its own: only the one asked for (the example is the sim's)
+    map_path = Path(args.map) if args.map else (DEFAULT_MAP if simulated else None)
+    global_map = load_any_map(map_path, cfg) if map_path is not None else None
+    sim_config = args.sim_config if args.sim_config else (sim_config_for(map_path) if simulated and not args.map else None)
     factory = make_source_factory(args.source, sim_config, args.seed)
-    studio = Studio(cfg, global_map, factory, behaviour=args.behaviour, map_name=map_path.name)
+    name = map_path.name if map_path is not None else args.source
+    studio = Studio(cfg, global_map, factory, behaviour=args.behaviour, map_name=name)
     studio.playing = not args.paused
     return StudioApp(studio, host=args.host, port=args.port, export_dir=args.export_dir, verbose=verbose)
 

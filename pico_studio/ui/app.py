@@ -76,6 +76,8 @@ class StudioApp:
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self._build_gui()
+        if studio.global_map is None:  # a recording without a map: keep the robot in view
+            self.follow.value = True
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(lambda c: self.tabs.pop(c.client_id, None))
         self.server.scene.on_click()(self._guard("click", self._on_click))

@@ -180,10 +180,18 @@ class Studio:
             return BaseReference(0.0, 0.0, 0.0, now)
         if name == "wander":
             cmd = self.wander.step(frame.laser, now) if frame.laser is not None else self.last_command
-            frame.behaviour_state = f"wander: {self.wander.state}"
+            self._note_behaviour(frame, self.wander)
             return cmd
         frame.behaviour_state = "stopped"
         return BaseReference(0.0, 0.0, 0.0, now)
+
+    @staticmethod
+    def _note_behaviour(frame: FrameRecord, behaviour: Any) -> None:
+        """What the page shows of a behaviour: its `state`, and its `target` (x, y) and `plan`
+        (K, 2) in the zero frame when it has them (see docs/ARCHITECTURE.md, the web UI)."""
+        frame.behaviour_state = f"{getattr(behaviour, 'name', '')}: {getattr(behaviour, 'state', '')}"
+        frame.behaviour_target = getattr(behaviour, "target", None)
+        frame.behaviour_plan = getattr(behaviour, "plan", None)
 
     # ----- controls ------------------------------------------------------------------------
     def teleop(self, vx: float, vy: float, va: float) -> None:

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from pico_studio.core.config import Config
-from pico_studio.errors import MapError, SourceError
+from pico_studio.errors import MapError
 from pico_studio.json_map import GlobalMap
 from pico_studio.ui.runtime import SourceBundle, SourceFactory
 
@@ -52,12 +52,12 @@ def load_any_map(path: str | Path, cfg: Config) -> GlobalMap:
 
 def make_source_factory(spec: str, sim_config: str | Path | None, seed: int | None = None) -> SourceFactory:
     """A factory the Studio calls on every reset: a fresh source from the current config."""
-    if spec == "sim":
+    from pico_studio.sources import parse_source
+
+    parsed = parse_source(spec)  # bad spellings fail here, before any server starts
+    if parsed.kind == "sim":
         return _sim_factory(sim_config, seed)
-    kind, _, arg = spec.partition(":")
-    if kind not in ("bag", "carmen", "ros") or (kind != "ros" and not arg):
-        raise SourceError(f"unknown source {spec!r}; use sim, bag:FILE, carmen:FILE or ros", field="--source")
-    return _replay_factory(kind, arg)
+    return _replay_factory(str(parsed))
 
 
 def _sim_factory(sim_config: str | Path | None, seed: int | None) -> SourceFactory:
@@ -73,14 +73,14 @@ def _sim_factory(sim_config: str | Path | None, seed: int | None) -> SourceFacto
     return make
 
 
-def _replay_factory(kind: str, arg: str) -> SourceFactory:
+def _replay_factory(spec: str) -> SourceFactory:
     def make(cfg: Config, global_map: GlobalMap | None) -> SourceBundle:
-        try:
-            from pico_studio import sources  # type: ignore[attr-defined]
-        except ImportError:
-            raise SourceError(f"the {kind} source is not available in this build (recordings part not merged)", field="--source") from None
-        source: Any = sources.open_source(f"{kind}:{arg}" if arg else kind, getattr(cfg, "sources", None))
+        from pico_studio.sources import open_source
+
+        source: Any = open_source(spec, cfg.sources)
         truth = getattr(source, "truth_pose", None)
-        return SourceBundle(source=source, truth_pose=truth if callable(truth) else (lambda: None), truth=None, kind=kind)
+        return SourceBundle(
+            source=source, truth_pose=truth if callable(truth) else (lambda: None), truth=None, kind=spec.split(":")[0]
+        )
 
     return make
