@@ -25,6 +25,7 @@ from tests.ui_browser_helpers import (
     colour_near,
     count_colour,
     free_port,
+    input_of,
     screenshot,
     set_number,
     visible_on_screen,
@@ -185,3 +186,36 @@ def test_a_second_tab_sees_the_scene(app, browser) -> None:
     second.keyboard.press("w")
     assert wait_until(lambda: app.studio.behaviour_name == "teleop"), "the W key did not drive the robot"
     second.close()
+
+
+def test_import_yaml_sets_the_sliders_and_a_bad_one_is_reported(app, page, tmp_path: Path) -> None:
+    page.get_by_role("tab", name="Config").click()
+    good = tmp_path / "tuned.yaml"
+    good.write_text("perception:\n  scan:\n    min_length: 0.3\n")
+    with page.expect_file_chooser() as chooser:
+        page.get_by_role("button", name=re.compile("Import config")).click()
+    chooser.value.set_files(str(good))
+    assert wait_until(lambda: app.studio.cfg.perception.scan.min_length == 0.3)
+    assert wait_until(lambda: input_of(page, "min_length").input_value() == "0.3")
+    bad = tmp_path / "typo.yaml"
+    bad.write_text("perception:\n  scan:\n    min_lenght: 0.3\n")
+    with page.expect_file_chooser() as chooser:
+        page.get_by_role("button", name=re.compile("Import config")).click()
+    chooser.value.set_files(str(bad))
+    page.get_by_text(re.compile("did you mean 'min_length'")).first.wait_for(timeout=20000)
+    assert app.studio.cfg.perception.scan.min_length == 0.3  # the tuned config is kept
+
+
+def test_click_on_a_wall_shows_its_numbers(app, page) -> None:
+    page.get_by_role("tab", name="Tools").click()
+    client = _client(app)
+    img = screenshot(page)
+    segs = app.studio.global_map.wall_segments
+    lengths = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
+    for i in np.argsort(-lengths):
+        mid = (segs[i, :2] + segs[i, 2:]) / 2
+        px = world_to_pixel(client, *mid)
+        if visible_on_screen(px, (img.shape[1], img.shape[0])):
+            break
+    page.mouse.click(*px)
+    page.get_by_text(re.compile(r"wall.*length .* m.*from the click")).first.wait_for(timeout=20000)
