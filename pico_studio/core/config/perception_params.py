@@ -84,6 +84,13 @@ class ScanParams:
         0.12, lo=0.0, hi=1.0, step=0.01, unit="rad",
         help="Neighbouring segments of one cluster closer than this in angle are merged",
     )
+    seen_margin: float = param(
+        0.04, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="A wall's end was seen when a point just past it lies this far behind the wall's line",
+    )
+    seen_points: int = param(
+        4, lo=1, hi=50, step=1, help="How many points past a wall's end are checked for that",
+    )
 
 
 @dataclass(frozen=True)
@@ -97,7 +104,7 @@ class SplitMergeParams:
 @dataclass(frozen=True)
 class AngleClusterParams:
     lookahead: int = param(
-        3, lo=1, hi=20, step=1, help="The direction of point i is taken towards point i + lookahead",
+        6, lo=1, hi=30, step=1, help="The direction of point i is taken towards point i + lookahead",
     )
     angle_tolerance: float = param(
         0.35, lo=0.01, hi=1.5, step=0.01, unit="rad",
@@ -160,6 +167,10 @@ class MergeParams:
     connect_min_angle: float = param(
         0.5, lo=0.0, hi=1.57, step=0.01, unit="rad",
         help="Only walls at least this far from parallel are connected into a corner",
+    )
+    min_length: float = param(
+        0.06, lo=0.0, hi=2.0, step=0.01, unit="m",
+        help="Local walls shorter than this (e.g. squeezed between two corners) are dropped",
     )
     max_weight: float = param(
         10.0, lo=1.0, hi=1000.0, step=1.0,

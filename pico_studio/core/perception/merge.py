@@ -19,7 +19,7 @@ with the pose instead, and every comparison is made there. One step:
    towards the previous corner by the end's weight (its number of consecutive connected
    scans, at most `max_weight`), so one noisy scan cannot move a well-seen corner far. An end
    near the inside of another wall (a T, e.g. a cabinet against a wall) connects too.
-6. **Drop**: walls the laser passed through `miss_limit` scans in a row (a door opened, an
+6. **Drop**: walls shorter than `min_length`; walls the laser passed through `miss_limit` scans in a row (a door opened, an
    object moved); tentative walls not seen again within `tentative_life` scans; walls beyond
    `keep_radius`; beyond `max_walls`, the least seen. What is shown are walls seen at least
    `confirm_hits` times and connected to another wall — or seen `unconnected_hits` times —
@@ -117,6 +117,7 @@ def merge(
     keep = (w.missed < params.miss_limit) & ~(tentative & ~linked & (age > params.tentative_life))
     keep &= ~(tentative & linked & (age > 4 * params.tentative_life))
     keep &= _within(w.walls, pose, params.keep_radius)
+    keep &= np.hypot(w.walls[:, 2] - w.walls[:, 0], w.walls[:, 3] - w.walls[:, 1]) >= params.min_length
     if keep.sum() > params.max_walls:
         order = np.argsort(-(w.hits + 0.5 * linked))
         cap = np.zeros(len(keep), dtype=bool)
@@ -290,7 +291,10 @@ def _connect(w: _Work, params: MergeParams) -> np.ndarray:
     np.fill_diagonal(t_join, False)
     old_weight = w.end_weight.copy()
     new_weight = np.zeros_like(w.end_weight)
-    cost = np.where(end_end, dist_i + dist_k, np.inf)
+    # tentative walls connect last: a sliver seen once must not steal a corner from walls
+    # seen many times
+    weak = (w.hits < params.confirm_hits) * params.connect_radius
+    cost = np.where(end_end, dist_i + dist_k + weak[:, None] + weak[None, :], np.inf)
     cost = np.minimum(cost, cost.T)
     order = np.argsort(cost, axis=None)
     for flat in order[: int(np.isfinite(cost).sum())].tolist():

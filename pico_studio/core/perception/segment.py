@@ -98,7 +98,33 @@ def finish_pieces(scan: ScanPoints, pieces: np.ndarray, params: PerceptionParams
     seen1 = (pieces[:, 1] == c_last) & scan.end_seen[cid, 1]
     kind[:, 0] = np.where(seen0, END_SEEN, kind[:, 0])
     kind[:, 1] = np.where(seen1, END_SEEN, kind[:, 1])
+    behind0, behind1 = _looked_past(pts, pieces, seg, scan.clusters[cid], p.seen_margin, p.seen_points)
+    kind[:, 0] = np.where((kind[:, 0] != END_JOINT) & behind0, END_SEEN, kind[:, 0])
+    kind[:, 1] = np.where((kind[:, 1] != END_JOINT) & behind1, END_SEEN, kind[:, 1])
     return Segments(seg[keep], pieces[keep], cid[keep], kind[keep], rms[keep])
+
+
+def _looked_past(
+    pts: np.ndarray, pieces: np.ndarray, seg: np.ndarray, clusters: np.ndarray, margin: float, k: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per piece end: does one of the next `k` points of its cluster past that end lie more
+    than `margin` behind the piece's line (on the side away from the robot)? Then the laser
+    looked past the end — a convex end, e.g. a jamb whose end cap is seen at a grazing angle.
+    A point in front of the line is a concave corner or an occluder: not seen."""
+    d = seg[:, 2:4] - seg[:, 0:2]
+    n = np.column_stack([-d[:, 1], d[:, 0]]) / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)[:, None]
+    # robot (origin) side of each line: sign of n . (0 - a)
+    robot_side = np.sign(-(n * seg[:, 0:2]).sum(axis=1))
+    out = []
+    for col, step in ((0, -1), (1, 1)):
+        base = pieces[:, col]
+        off = step * np.arange(1, k + 1)
+        idx = base[:, None] + off[None, :]
+        inside = (idx >= clusters[:, 0:1]) & (idx < clusters[:, 1:2])
+        q = pts[np.clip(idx, 0, len(pts) - 1)]
+        depth = ((q - seg[:, None, 0:2]) * n[:, None, :]).sum(-1) * -robot_side[:, None]
+        out.append((inside & (depth > margin)).any(axis=1))
+    return out[0], out[1]
 
 
 def _wrap_half(a: np.ndarray) -> np.ndarray:
