@@ -89,6 +89,17 @@ def test_laser_points_are_drawn_on_the_walls() -> None:
     assert len(prims["combined"]) == 0  # WorldModel.combined is None until localisation lands
 
 
+def test_live_frames_are_scored_against_the_truth() -> None:
+    s = _studio()
+    for _ in range(30):
+        s.tick(0.05)
+    scores = s.metrics()["scores"]
+    assert 0.5 < scores["run"]["wall P"] <= 1.0 and 0.0 <= scores["frame"]["wall R"] <= 1.0
+    assert scores["frame"]["pose err m"] < 0.05  # exact odometry in the default simulator
+    s.scrub(5)
+    assert s.metrics()["scores"] == {}  # an old frame: the truth is no longer its truth
+
+
 def test_map_layer_has_every_wall_and_cabinet_front() -> None:
     m = load_json_map(DEFAULT_MAP)
     prims = map_prims(m)

@@ -179,17 +179,16 @@ class StudioApp:
 
     def _metrics_text(self, m: dict[str, Any]) -> str:
         lines = []
-        if not m["perceptor"]:
-            lines.append("Perceptor: not available in this build — showing the raw laser.")
-        else:
-            ms = "–" if math.isnan(m["ms"]) else f"{m['ms']:.1f} ms"
-            lines.append(f"**Perception** {m['hz']:.1f} Hz · last frame {ms}")
-            if m["stages"]:
-                lines.append("Stages: " + " · ".join(f"{k} {v:.2f} ms" for k, v in m["stages"].items()))
-            if m["counts"]:
-                lines.append("Counts: " + " · ".join(f"{k.replace('_', ' ')} {v}" for k, v in m["counts"].items()))
-        if m["scores"]:
-            lines.append("**Ground truth**: " + " · ".join(f"{k.replace('_', ' ')} {v:.3g}" for k, v in m["scores"].items()))
+        ms = "–" if math.isnan(m["ms"]) else f"{m['ms']:.1f} ms"
+        lines.append(f"**Perception** {m['hz']:.1f} Hz · last frame {ms}")
+        if m["stages"]:
+            lines.append("Stages: " + " · ".join(f"{k} {v:.2f} ms" for k, v in m["stages"].items()))
+        if m["counts"]:
+            lines.append("Counts: " + " · ".join(f"{k.replace('_', ' ')} {v}" for k, v in m["counts"].items()))
+        for which, title in (("frame", "this frame"), ("run", "since reset")):
+            figures = m["scores"].get(which)
+            if figures:
+                lines.append(f"**Truth, {title}**: " + " · ".join(f"{k} {v:.2f}" for k, v in figures.items()))
         if m["warnings"]:
             lines.append("Warnings: " + "; ".join(m["warnings"][:5]))
         return "\n\n".join(lines)

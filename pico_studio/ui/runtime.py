@@ -24,16 +24,16 @@ from pico_studio.core.behaviours.wander import Wander
 from pico_studio.core.config import Config, get_value, with_value
 from pico_studio.core.geometry import compose, invert
 from pico_studio.core.io import BaseReference, Frame, LaserData, OdometryData, RobotIO
+from pico_studio.core.perception import PerceptorState, perceive
 from pico_studio.errors import UserError
 from pico_studio.json_map import GlobalMap
 from pico_studio.session import Session
 from pico_studio.ui.timeline import FrameRecord, Pose, Timeline
 
-try:  # the perceptor is its own part; until it is merged the page shows the raw laser only
-    from pico_studio.core.perception import PerceptorState, perceive
-except ImportError:  # pragma: no cover - depends on what has been merged
-    PerceptorState = None
-    perceive = None
+try:  # scoring against the simulator's truth lives in sim/ (the UI may import it, core may not)
+    from pico_studio.sim import scoring
+except ImportError:  # pragma: no cover - a build without the simulator
+    scoring = None  # type: ignore[assignment]
 
 log = logging.getLogger(__name__)
 
@@ -84,7 +84,9 @@ class Studio:
             self.source = bundle.source
             ui = self.cfg.ui
             self.timeline = Timeline(round(ui.timeline_seconds * ui.rate_hz))
-            self.state = PerceptorState.initial() if PerceptorState is not None else None
+            self.state = PerceptorState.initial()
+            self.true_zero: Pose | None = None  # true pose when the perceptor took its zero
+            self.run_score = scoring.RunScore() if scoring is not None else None
             self.wander = Wander(ui.wander)
             self.teleop_command: BaseReference | None = None
             self.teleop_until = 0.0
@@ -140,6 +142,9 @@ class Studio:
         )
         self.frame_count += 1
         self.state = self._perceive(frame, live=True)
+        ui = self.cfg.ui
+        if ui.score_rate_hz > 0 and frame.index % max(1, round(ui.rate_hz / ui.score_rate_hz)) == 0:
+            self._score_live(frame, add=True)
         self._pending = frame
         return frame.wm
 
@@ -154,8 +159,6 @@ class Studio:
 
     def _perceive(self, frame: FrameRecord, *, live: bool) -> Any:
         """Run the perceptor on one frame with the current params; returns the state after."""
-        if perceive is None:
-            return None
         t0 = time.perf_counter()
         try:
             wm, state_after = perceive(frame.state_before, frame.laser, frame.odometry, self.cfg.perception)  # type: ignore[attr-defined]
@@ -236,6 +239,8 @@ class Studio:
             state_after = self._perceive(frame, live=False)
             if frame is self.timeline.latest:
                 self.state = state_after
+                if self.cfg.ui.score_rate_hz > 0:
+                    self._score_live(frame, add=False)
             return frame
 
     def scrub(self, position: int | None) -> FrameRecord | None:
@@ -278,7 +283,7 @@ class Studio:
     def metrics(self) -> dict[str, Any]:
         """Perception rate and per-stage times, and scores against the truth when simulated."""
         with self.lock:
-            out: dict[str, Any] = {"frames": len(self.timeline), "perceptor": perceive is not None}
+            out: dict[str, Any] = {"frames": len(self.timeline)}
             w = list(self.perceive_walltimes)
             out["hz"] = (len(w) - 1) / (w[-1] - w[0]) if len(w) > 2 and w[-1] > w[0] else 0.0
             out["ms"] = self.perceive_ms[-1] if self.perceive_ms else math.nan
@@ -290,25 +295,59 @@ class Studio:
             out["scores"] = self._scores(frame)
             return out
 
-    def _scores(self, frame: FrameRecord | None) -> dict[str, float]:
-        if frame is None or frame.wm is None or self.bundle.truth is None:
+    def _scores(self, frame: FrameRecord | None) -> dict[str, dict[str, float]]:
+        """The latest scored frame's and the run's scores (the live frames only: the truth is
+        *now*; a frame on the timeline shows nothing)."""
+        if self.cursor is not None or self.run_score is None or not self.run_score.frames:
             return {}
+        out = {"run": _score_figures(self.run_score.summary())}
+        if frame is not None and frame.score is not None:
+            out["frame"] = _score_figures(_summary([frame.score]))
+        else:
+            out["frame"] = _score_figures(_summary([self.run_score.frames[-1]]))
+        return out
+
+    def _score_live(self, frame: FrameRecord, *, add: bool) -> None:
+        """Score the latest frame's world model against the simulator's truth (if any)."""
+        truth = self.bundle.truth
+        if scoring is None or truth is None or frame.wm is None:
+            return
+        if self.true_zero is None:
+            self.true_zero = frame.truth_pose
         try:
-            from pico_studio.sim import scoring  # type: ignore[attr-defined]
-        except ImportError:
-            return {}
-        # Scoring compares with the truth *now*; only meaningful for the live frame.
-        if frame is not self.timeline.latest:
-            return {}
-        try:
-            result = scoring.score(frame.wm, self.bundle.truth)
+            frame.score = scoring.score_frame(frame.wm, truth, true_zero=self.true_zero)
         except Exception as e:  # a scoring bug must not take the page down
             log.warning("scoring failed: %s", e)
-            return {}
-        return {k: float(v) for k, v in (result.items() if isinstance(result, dict) else vars(result).items()) if isinstance(v, (int, float))}
+            frame.score = None
+            return
+        if add:
+            self.run_score.add(frame.score)
 
     def param(self, path: str) -> Any:
         return get_value(self.cfg, path)
+
+
+SCORE_FIGURES = {  # RunScore.summary() key -> label on the page
+    "wall_precision": "wall P",
+    "wall_recall": "wall R",
+    "corner_precision": "corner P",
+    "corner_recall": "corner R",
+    "door_precision": "door P",
+    "door_recall": "door R",
+    "pose_error_m": "pose err m",
+    "pose_error_rad": "pose err rad",
+}
+
+
+def _summary(frames: list[Any]) -> dict[str, Any]:
+    run = scoring.RunScore()
+    for f in frames:
+        run.add(f)
+    return run.summary()
+
+
+def _score_figures(summary: dict[str, Any]) -> dict[str, float]:
+    return {label: float(summary[key]) for key, label in SCORE_FIGURES.items() if key in summary}
 
 
 @dataclass

@@ -67,6 +67,10 @@ class UiParams:
         0.5, lo=0.05, hi=5.0, step=0.05, unit="s",
         help="How long one teleop press keeps driving before the robot stops by itself",
     )
+    score_rate_hz: float = param(
+        4.0, lo=0.0, hi=50.0, step=0.5, unit="Hz",
+        help="How often live frames are scored against the simulator's truth (costs ~15 ms a frame; 0 = never)",
+    )
     camera_fov: float = param(
         0.17, lo=0.02, hi=1.0, step=0.01, unit="rad",
         help="Field of view of the top-down camera (narrow = nearly orthographic)",
