@@ -160,6 +160,11 @@ def test_config_panel_has_an_input_for_every_parameter_and_reverts_bad_values(tm
         inputs["perception.scan.min_length"].value = 0.5
         assert app.studio.cfg.perception.scan.min_length == 0.5
         assert app.update_ms  # the change was redrawn and timed
+        restaurant = example_maps()["restaurant_2024.json"]
+        app.switch_map(restaurant, restaurant.name, None)
+        assert app.studio.map_name == "restaurant_2024.json"
+        assert app.layers.sizes["map_walls"] == len(app.studio.global_map.walls)
+        assert app.studio.cfg.perception.scan.min_length == 0.5  # tuned values survive a map change
     finally:
         app.stop()
 

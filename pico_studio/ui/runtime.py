@@ -127,8 +127,20 @@ class Studio:
             self.session.tick(dt)
             frame, self._pending = self._pending, None
             if frame is not None:
+                frame.map_xy = self.robot_pose_in_map(frame)[:2]
                 self.timeline.append(frame)
+                self._forget_old_world_models()
             return frame
+
+    def _forget_old_world_models(self, keep: int = 3) -> None:
+        """Old frames keep what re-processing needs (readings, state before), not their world
+        model: a shown frame is re-processed anyway, and 2 minutes of world models would cost
+        hundreds of megabytes."""
+        n = len(self.timeline)
+        if n > keep:
+            old = self.timeline[n - keep - 1]
+            if self.cursor is None or old is not self.shown():
+                old.wm = None
 
     def _session_perceive(self, laser: LaserData, odometry: OdometryData | None) -> Any:
         """The session's perceptor: the pure perceptor, remembering the state before the frame."""

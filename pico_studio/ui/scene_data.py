@@ -213,7 +213,7 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
         # no truth and no localisation: the only pose there is, drawn as the estimate
         out["robot_estimate"] = Prim(S, footprint_segments(robot, length, width))
 
-    trail = [studio.robot_pose_in_map(f)[:2] for f in _trail_frames(studio, frame)]
+    trail = [f.map_xy for f in _trail_frames(studio, frame) if f.map_xy is not None]
     if len(trail) >= 2:
         t = np.asarray(trail)
         segs = np.hstack([t[:-1], t[1:]])
