@@ -45,6 +45,7 @@ class SourceBundle:
     source: RobotIO
     truth_pose: Callable[[], Pose | None]  # map-frame ground truth, or None
     truth: Any = None  # the simulator's `sim.truth`, for scoring
+    world: Callable[[], Any] | None = None  # (K, 4) moving parts of the simulated world, map frame
     kind: str = "sim"
 
 
@@ -151,6 +152,7 @@ class Studio:
             odometry=odometry,
             truth_pose=self.bundle.truth_pose(),
             state_before=self.state,
+            sim_world=self.bundle.world() if self.bundle.world is not None else None,
         )
         self.frame_count += 1
         self.state = self._perceive(frame, live=True)

@@ -64,6 +64,7 @@ LAYERS: tuple[LayerSpec, ...] = (
         PrimSpec("map_fronts", S, style.MAP_OBJECT_FRONT, 2 * style.THICK_MAP),
         PrimSpec("map_doors", S, style.MAP_DOOR, style.THICK_MAP),
     ), static=True),
+    LayerSpec("sim_world", "Simulated doors / moving objects", (PrimSpec("sim_world", S, style.SIM_WORLD, 0.05),)),
     LayerSpec("trail", "Trail", (PrimSpec("trail", S, style.TRAIL, 0.02),)),
     LayerSpec("combined", "Combined map", (PrimSpec("combined", S, style.COMBINED_MATCHED, 0.06),)),
     LayerSpec("local", "Local map", (
@@ -204,6 +205,8 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
     length, width = footprint_size(studio.cfg)
 
     out["laser"] = Prim(P, transform_points(laser_points_robot(frame), robot))
+    if frame.sim_world is not None:
+        out["sim_world"] = Prim(S, frame.sim_world)
     if frame.truth_pose is not None:
         out["robot_true"] = Prim(S, footprint_segments(frame.truth_pose, length, width))
     g = field(wm, "global_pose")

@@ -9,6 +9,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from pico_studio.core.config import Config
 from pico_studio.errors import MapError
 from pico_studio.json_map import GlobalMap
@@ -68,9 +70,19 @@ def _sim_factory(sim_config: str | Path | None, seed: int | None) -> SourceFacto
             raise MapError("the simulator needs a map", field="--map")
         sc = load_sim_config(sim_config) if sim_config is not None else None
         sim = Simulator(global_map, getattr(cfg, "sim", None), sc, seed=seed)
-        return SourceBundle(source=sim, truth_pose=lambda: tuple(sim.truth.pose), truth=sim.truth, kind="sim")
+        return SourceBundle(
+            source=sim, truth_pose=lambda: tuple(sim.truth.pose), truth=sim.truth, kind="sim",
+            world=lambda: sim_world_segments(sim.truth),
+        )
 
     return make
+
+
+def sim_world_segments(truth: Any) -> np.ndarray:
+    """The simulator's sliding doors (where they are now) and moving objects, as segments."""
+    outlines = [v for v, _opened in truth.doors()] + list(truth.moving_objects())
+    segs = [np.hstack([v, np.roll(v, -1, axis=0)]) for v in outlines if len(v) >= 2]
+    return np.vstack(segs) if segs else np.zeros((0, 4))
 
 
 def _replay_factory(spec: str) -> SourceFactory:

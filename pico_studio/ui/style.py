@@ -15,6 +15,7 @@ MAP_OBJECT: RGB = (150, 100, 50)
 MAP_OBJECT_FRONT: RGB = (240, 135, 30)
 MAP_DOOR: RGB = (0, 150, 150)
 MAP_START: RGB = (60, 150, 225)
+SIM_WORLD: RGB = (120, 90, 190)  # the simulator's doors (as they slide) and moving objects
 # perception
 LASER: RGB = (230, 30, 30)
 CURRENT_MAP: RGB = (200, 0, 200)
@@ -58,6 +59,7 @@ def swatch(rgb: RGB, text: str) -> str:
 LEGEND: list[tuple[str, list[tuple[RGB, str]]]] = [
     ("Global map", [(MAP_WALL, "walls"), (MAP_OBJECT, "cabinets / tables"), (MAP_OBJECT_FRONT, "their front"),
                     (MAP_DOOR, "doors"), (MAP_START, "start area")]),
+    ("Simulated world", [(SIM_WORLD, "doors as they are now, moving objects")]),
     ("Laser", [(LASER, "laser points")]),
     ("Current map", [(CURRENT_MAP, "segments of this scan")]),
     ("Local map", [(LOCAL_WALL, "walls")] + [(ENDPOINT[k], f"{ENDPOINT_NAMES[k]} end point / corner") for k in range(4)]),

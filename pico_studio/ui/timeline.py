@@ -31,6 +31,7 @@ class FrameRecord:
     behaviour_target: tuple[float, float] | None = None  # zero frame, when the behaviour has one
     behaviour_plan: Any = None  # (K, 2) zero-frame waypoints, when the behaviour plans
     errors: list[str] = field(default_factory=list)
+    sim_world: Any = None  # (K, 4) the simulator's doors and moving objects now, map frame
     map_xy: tuple[float, float] | None = None  # where the robot was drawn live (for the trail)
     score: Any = None  # scoring.FrameScore against the truth, for the live frame when simulated
 
