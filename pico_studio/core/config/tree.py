@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from pico_studio.core.config.localisation_params import LocalisationParams
 from pico_studio.core.config.map_params import MapParams
 from pico_studio.core.config.spec import section
 
@@ -15,3 +16,4 @@ from pico_studio.core.config.spec import section
 @dataclass(frozen=True)
 class Config:
     map: MapParams = section(MapParams, "Map loading")
+    localisation: LocalisationParams = section(LocalisationParams, "Localisation in the global map and the combined map")
