@@ -10,10 +10,12 @@ from dataclasses import dataclass
 
 from pico_studio.core.config.localisation_params import LocalisationParams
 from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.config.spec import section
 
 
 @dataclass(frozen=True)
 class Config:
     map: MapParams = section(MapParams, "Map loading")
+    sim: SimParams = section(SimParams, "The simulator")
     localisation: LocalisationParams = section(LocalisationParams, "Localisation in the global map and the combined map")
