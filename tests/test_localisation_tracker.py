@@ -100,11 +100,11 @@ def test_kidnapped_robot_is_flagged_lost_and_recovered(restaurant):
 
 
 def test_wrong_map_stays_lost_and_never_raises(restaurant, hospital):
-    cfg = with_value(Config(), "localisation.search.every_steps", 2)
+    cfg = with_value(Config(), "localisation.search.max_cells", 100000)
     loc = Localiser(cfg.localisation, hospital, initial_pose=(1.5, 0.7, 0.0))  # the wrong file
     rng = np.random.default_rng(4)
     segs = Localiser(cfg.localisation, restaurant).lmap.field.segments
-    for _ in range(24):
+    for _ in range(16):
         r = loc.step(scan_from_segments(segs, (1.5, 0.7, 1.0), rng), (0.0, 0.0, 0.0))
         assert r.lost
         assert r.quality < cfg.localisation.tracker.quality_found

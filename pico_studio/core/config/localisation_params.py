@@ -83,22 +83,30 @@ class SearchParams:
     max_cells: int = param(1000000, lo=1000, hi=100000000, step=1000, unit="poses",
                            help="Most candidate poses per search; a wider search uses coarser steps")
     every_steps: int = param(4, lo=1, hi=100, step=1, unit="steps",
-                             help="While lost, search once every this many steps")
+                             help="While lost, search once every this many steps (times the failed searches so far)")
+    max_every_steps: int = param(40, lo=1, hi=10000, step=1, unit="steps",
+                                 help="Longest wait between two searches while lost (caps the back-off)")
 
 
 @dataclass(frozen=True)
 class TrackerParams:
     quality_lost: float = param(0.45, lo=0.0, hi=1.0, step=0.01, unit="",
                                 help="Quality (fraction of beams explained) below which a step is bad")
-    quality_found: float = param(0.7, lo=0.0, hi=1.0, step=0.01, unit="",
-                                 help="Quality at or above which a step is good")
+    quality_found: float = param(0.85, lo=0.0, hi=1.0, step=0.01, unit="",
+                                 help="Quality at or above which a step is good (clears lost; a searched pose is believed)")
+    min_constraint: float = param(0.03, lo=0.0, hi=0.5, step=0.005, unit="",
+                                  help="A good step also needs walls pinning x and y down this well (0 corridor .. 0.5 corner)")
     lost_after: int = param(2, lo=1, hi=100, step=1, unit="steps",
                             help="Consecutive bad steps before the lost flag is raised")
     found_after: int = param(3, lo=1, hi=100, step=1, unit="steps",
                              help="Consecutive good steps before the lost flag is cleared")
-    max_correction: float = param(0.25, lo=0.01, hi=5.0, step=0.01, unit="m",
+    confirm_distance: float = param(
+        0.5, lo=0.0, hi=10.0, step=0.05, unit="m",
+        help="A pose found only by a widened search must keep explaining the scans while the robot travels this far",
+    )
+    max_correction: float = param(0.1, lo=0.01, hi=5.0, step=0.01, unit="m",
                                   help="A correction moving the pose further than this in one step is rejected")
-    max_correction_angle: float = param(0.2, lo=0.01, hi=math.pi, step=0.01, unit="rad",
+    max_correction_angle: float = param(0.1, lo=0.01, hi=math.pi, step=0.01, unit="rad",
                                         help="A correction turning the pose more than this in one step is rejected")
 
     def check(self) -> list[tuple[str, str]]:

@@ -16,6 +16,8 @@ points (nearest-cell lookups of the distance field); the best distinct candidate
 refined and the one explaining most beams wins.
 
 Quality = the fraction of the scan's points within `inlier_distance` of the map.
+Constraint = the smallest eigenvalue of the translation block of J^T W J / sum(W): how
+firmly the matched walls pin the position down (0 in a corridor, up to 0.5 in a corner).
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ class Match:
     quality: float  # fraction of points explained by the map at `pose`
     inliers: int  # number of points used in the last Gauss-Newton step
     converged: bool
+    constraint: float = 0.0  # smallest eigenvalue of the per-point x-y information (0 .. 0.5)
 
 
 def usable_points(points: np.ndarray, max_range: float) -> np.ndarray:
@@ -62,6 +65,7 @@ def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: Matcher
     x = np.array(pose, dtype=float)
     converged = False
     used = 0
+    constraint = 0.0
     for it in range(params.iterations):
         # 1. outlier distance shrinks linearly over the first half of the iterations
         f = min(1.0, it / max(1, params.iterations // 2))
@@ -89,6 +93,8 @@ def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: Matcher
         j = np.column_stack([n[:, 0], n[:, 1], n[:, 0] * -rel[:, 1] + n[:, 1] * rel[:, 0]])
         h = (j * w[:, None]).T @ j
         g = (j * w[:, None]).T @ r
+        # how well the points pin down x and y: ~0 in a featureless corridor
+        constraint = float(np.linalg.eigvalsh(h[:2, :2] / w.sum())[0])
         try:
             dx = -np.linalg.solve(h + 1e-9 * np.eye(3), g)
         except np.linalg.LinAlgError:
@@ -99,7 +105,8 @@ def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: Matcher
             converged = True
             break
     result: Pose = (float(x[0]), float(x[1]), float(x[2]))
-    return Match(result, quality(field, points, result, params.inlier_distance), used, converged)
+    return Match(result, quality(field, points, result, params.inlier_distance), used, converged,
+                 constraint)
 
 
 def search(
@@ -169,7 +176,8 @@ def coarse_candidates(
     xs, ys, hs = search_grid(half_extent, heading_range, params)
     stride = max(1, round((xs[1] - xs[0] if len(xs) > 1 else params.position_step) / field.resolution))
     step = stride * field.resolution
-    reach = float(np.hypot(pts[:, 0], pts[:, 1]).max()) if len(pts) else 0.0
+    # pad by the farthest point, rounded up to whole metres so the cached grid is reused
+    reach = math.ceil(float(np.hypot(pts[:, 0], pts[:, 1]).max()))
     pad = int(math.ceil(reach / step)) + 1
     grid = field.coarse(stride, params.truncation, pad)
     rows, cols = grid.shape[0] - 2 * pad, grid.shape[1] - 2 * pad

@@ -8,11 +8,15 @@ Every step:
    larger than `max_correction` / `max_correction_angle` in one step is not believed (a
    kidnapped robot, a wrong local minimum) and the prediction is kept;
 4. *quality* = fraction of beams explained by the map at the estimate; a step is bad below
-   `quality_lost` and good at or above `quality_found`; `lost` is raised after `lost_after`
-   bad steps in a row and cleared after `found_after` good ones (hysteresis);
-5. *recover*: while lost, every `every_steps` steps search a box around the estimate with any
-   heading; the box widens after every failed search (up to the whole map). A search result
-   is taken when it explains at least `quality_found` of the beams.
+   `quality_lost`, and good at or above `quality_found` with walls that pin the position down
+   (`min_constraint`: a corridor alone does not); `lost` is raised after `lost_after` bad
+   steps in a row and cleared after `found_after` good ones (hysteresis); a pose that only a
+   widened search found (the narrow one failed) must moreover stay good while the robot
+   travels `confirm_distance`: one scan of a dead end fits any dead end of a wrong map;
+5. *recover*: while lost, search a box around the estimate with any heading, at once and then
+   every `every_steps` x (failed searches + 1) steps (at most `max_every_steps`); the box
+   widens after every failed search (up to the whole map). A search result is taken only
+   when it would be a good step, so a wrong map stays lost.
 
 `localise` is a pure function of (state, scan, odometry) like the perceptor, so a recorded
 frame can be re-processed with other parameters; `Tracker` is the thin stateful wrapper.
@@ -51,6 +55,8 @@ class TrackerState:
     good_steps: int = 0
     failed_searches: int = 0
     steps_since_search: int = 0
+    good_from: Pose | None = None  # odometry pose where the current run of good steps began
+    confirm: bool = False  # clearing lost waits for `confirm_distance` of good travel
     seen_hits: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
     @classmethod
@@ -80,50 +86,55 @@ def localise(
 
     # 1. initialise from the prior, retrying (wider) until a good match is found
     if state.pose is None:
+        if state.failed_searches and state.steps_since_search + 1 < _search_wait(state, params):
+            new = replace(state, odom=odom, steps_since_search=state.steps_since_search + 1)
+            return StepResult(None, state.quality, True, False, False), new
+        if len(pts) < 3:  # nothing to search with: not a failed search
+            return StepResult(None, 0.0, True, False, False), replace(state, odom=odom, quality=0.0)
         match = _search_prior(lmap, pts, params, state.failed_searches)
-        if match is None or match.quality < tp.quality_found:
+        if match is None or not _good(match, params):
             new = replace(state, odom=odom, quality=match.quality if match else 0.0,
-                          failed_searches=state.failed_searches + 1)
+                          failed_searches=state.failed_searches + 1, steps_since_search=0)
             return StepResult(None, new.quality, True, True, False), new
-        state = replace(state, pose=match.pose, odom=odom, failed_searches=0)
-        return _finish(state, pts, match.pose, match.quality, lmap, params, searched=True, corrected=True)
+        state = replace(state, pose=match.pose, odom=odom, failed_searches=0,
+                        confirm=state.failed_searches > 0)
+        return _finish(state, pts, match, lmap, params, searched=True, corrected=True)
 
     # 2. predict with the odometry increment
     assert state.odom is not None
     predicted = compose(state.pose, relative(state.odom, odom))
 
     # 3. correct by aligning the scan, unless the correction is implausibly large
-    pose, q, corrected = predicted, 0.0, False
+    best, corrected = Match(predicted, 0.0, 0, False), False
     if len(pts) >= 3:
         m = refine(lmap.field, pts, predicted, params.matcher)
         jump = math.hypot(m.pose[0] - predicted[0], m.pose[1] - predicted[1])
         turn = abs(float(wrap_angle(m.pose[2] - predicted[2])))
         if jump <= tp.max_correction and turn <= tp.max_correction_angle:
-            pose, q, corrected = m.pose, m.quality, True
+            best, corrected = m, True
         else:
-            q = _quality(lmap, pts, predicted, params)
+            best = Match(predicted, _quality(lmap, pts, predicted, params), 0, False)
 
     # 5. recover: while lost, search around the estimate every few steps
     searched = False
-    if state.lost and state.steps_since_search + 1 >= params.search.every_steps:
+    if state.lost and len(pts) >= 3 and state.steps_since_search + 1 >= _search_wait(state, params):
         searched = True
         radius = params.search.lost_radius + params.search.lost_growth * state.failed_searches
-        found = _search_around(lmap, pts, pose, radius, params)
-        if found is not None and found.quality >= tp.quality_found and found.quality > q:
-            pose, q, corrected = found.pose, found.quality, True
-            state = replace(state, failed_searches=0)
+        found = _search_around(lmap, pts, best.pose, radius, params)
+        if found is not None and _good(found, params) and found.quality > best.quality:
+            best, corrected = found, True
+            state = replace(state, failed_searches=0, confirm=state.failed_searches > 0)
         else:
             state = replace(state, failed_searches=state.failed_searches + 1)
-    state = replace(state, pose=pose, odom=odom,
+    state = replace(state, pose=best.pose, odom=odom,
                     steps_since_search=0 if searched else state.steps_since_search + 1)
-    return _finish(state, pts, pose, q, lmap, params, searched=searched, corrected=corrected)
+    return _finish(state, pts, best, lmap, params, searched=searched, corrected=corrected)
 
 
 def _finish(
     state: TrackerState,
     pts: np.ndarray,
-    pose: Pose,
-    q: float,
+    match: Match,
     lmap: LocalisationMap,
     params: LocalisationParams,
     *,
@@ -132,16 +143,24 @@ def _finish(
 ) -> tuple[StepResult, TrackerState]:
     """4. quality hysteresis and the seen-wall counts."""
     tp = params.tracker
+    pose, q = match.pose, match.quality
     bad_steps = state.bad_steps + 1 if q < tp.quality_lost else 0
-    good_steps = state.good_steps + 1 if q >= tp.quality_found else 0
-    lost = state.lost
+    good = _good(match, params)
+    good_steps = state.good_steps + 1 if good else 0
+    good_from = (state.good_from if state.good_steps > 0 else state.odom) if good else None
+    travelled = 0.0
+    if good_from is not None and state.odom is not None:
+        travelled = math.hypot(state.odom[0] - good_from[0], state.odom[1] - good_from[1])
+    lost, confirm = state.lost, state.confirm
     if not lost and bad_steps >= tp.lost_after:
         lost = True
-    elif lost and good_steps >= tp.found_after:
-        lost = False
+    elif lost and good_steps >= tp.found_after and (not confirm or travelled >= tp.confirm_distance):
+        lost, confirm = False, False
     failed = state.failed_searches
+    since_search = state.steps_since_search
     if lost and not state.lost:
-        failed = 0  # a fresh loss starts with the narrow search
+        failed = 0  # a fresh loss starts with the narrow search, at once
+        since_search = params.search.every_steps
 
     hits = state.seen_hits
     if not lost and len(pts):
@@ -151,8 +170,21 @@ def _finish(
         hits = hits + np.bincount(k[k >= 0], minlength=len(hits))[: len(hits)]
 
     new = replace(state, quality=q, lost=lost, bad_steps=bad_steps, good_steps=good_steps,
-                  failed_searches=failed, seen_hits=hits)
+                  failed_searches=failed, steps_since_search=since_search, good_from=good_from,
+                  confirm=confirm, seen_hits=hits)
     return StepResult(pose, q, lost, searched, corrected), new
+
+
+def _search_wait(state: TrackerState, params: LocalisationParams) -> int:
+    """Steps between two searches while lost: longer after every failed one, up to a cap."""
+    sp = params.search
+    return min(sp.every_steps * (1 + state.failed_searches), max(sp.every_steps, sp.max_every_steps))
+
+
+def _good(match: Match, params: LocalisationParams) -> bool:
+    """A good step: most beams explained, by walls that pin the position down."""
+    return (match.quality >= params.tracker.quality_found
+            and match.constraint >= params.tracker.min_constraint)
 
 
 def _quality(lmap: LocalisationMap, pts: np.ndarray, pose: Pose, params: LocalisationParams) -> float:
