@@ -7,14 +7,15 @@ starting frame, by (with th = va h)
 
 (and by (vx h, vy h, 0) when va = 0).
 
-Collisions: the footprint is a box (length along x, width along y) centred on the robot. Far
-from everything (nearest segment beyond the box's circumradius plus the distance about to be
-travelled) the move is taken in one piece. Near obstacles it is cut into sub-steps in which no
-point of the box moves more than `max_substep` (smaller than the box), and each sub-step's box
-is tested against every segment; the first blocked sub-step stops the robot at the last free
-pose, so even a zero-thickness wall cannot be jumped at full speed. A contact counts as one
-collision event until the robot moves freely again; a collision also zeroes the reference
-(the robot is stopped until it is sent a new one).
+Collisions: the footprint is a box (length along x, width along y) centred on the robot.
+While the nearest solid segment is farther than the box's circumradius plus the distance
+about to be travelled, moves are taken in one piece (a clearance budget is kept between moves
+and re-measured when it runs out or the world changes). Near obstacles a move is cut into
+sub-steps in which no point of the box moves more than `max_substep` (smaller than the box),
+and each sub-step's box is tested against the nearby segments; the first blocked sub-step
+stops the robot at the last free pose, so even a zero-thickness wall cannot be jumped at full
+speed. A contact counts as one collision event until the robot moves freely again; a
+collision also zeroes the reference (the robot is stopped until it is sent a new one).
 """
 
 from __future__ import annotations
@@ -25,10 +26,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from pico_studio.core.config.sim_params import BaseParams
-from pico_studio.core.geometry import compose, relative
 from pico_studio.sim.world import KIND_NAMES
 
 Pose = tuple[float, float, float]
+_TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True)
@@ -47,40 +48,46 @@ def twist_displacement(vx: float, vy: float, va: float, h: float) -> Pose:
     return ((vx * s + vy * (c - 1.0)) / va, (vx * (1.0 - c) + vy * s) / va, th)
 
 
+def compose(p: Pose, q: Pose) -> Pose:
+    """p (x) q for plain floats (the hot loop's version of core.geometry.compose)."""
+    c, s = math.cos(p[2]), math.sin(p[2])
+    a = math.remainder(p[2] + q[2], _TWO_PI)
+    return (p[0] + c * q[0] - s * q[1], p[1] + s * q[0] + c * q[1], math.pi if a == -math.pi else a)
+
+
+def relative(p: Pose, q: Pose) -> Pose:
+    """q in p's frame, for plain floats."""
+    c, s = math.cos(p[2]), math.sin(p[2])
+    dx, dy = q[0] - p[0], q[1] - p[1]
+    a = math.remainder(q[2] - p[2], _TWO_PI)
+    return (c * dx + s * dy, -s * dx + c * dy, math.pi if a == -math.pi else a)
+
+
 def box_hits(pose: Pose, half_length: float, half_width: float, segments: np.ndarray) -> np.ndarray:
-    """Which segments (N, 4, map frame) touch the box at `pose`: Liang-Barsky clipping of each
-    segment against the box in the robot frame; the segment touches when the clipped parameter
-    interval [t0, t1] is not empty."""
+    """Which segments (N, 4, map frame) touch the box at `pose`.
+
+    Separating axes for a box and a segment, in the robot frame: they are apart exactly when
+    the segment lies beyond the box along x, along y, or along the segment's own normal n,
+    where the box reaches |n_x| half_length + |n_y| half_width from its centre."""
     c, s = math.cos(pose[2]), math.sin(pose[2])
-    px = segments[:, 0] - pose[0]
-    py = segments[:, 1] - pose[1]
-    qx = segments[:, 2] - pose[0]
-    qy = segments[:, 3] - pose[1]
-    x1, y1 = c * px + s * py, -s * px + c * py
-    x2, y2 = c * qx + s * qy, -s * qx + c * qy
-    dx, dy = x2 - x1, y2 - y1
-    t0 = np.zeros(len(segments))
-    t1 = np.ones(len(segments))
-    ok = np.ones(len(segments), dtype=bool)
-    for p, q in ((-dx, x1 + half_length), (dx, half_length - x1), (-dy, y1 + half_width), (dy, half_width - y1)):
-        parallel = np.abs(p) < 1e-15
-        ok &= ~(parallel & (q < 0))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            r = q / p
-        t0 = np.where(~parallel & (p < 0), np.maximum(t0, r), t0)
-        t1 = np.where(~parallel & (p > 0), np.minimum(t1, r), t1)
-    return ok & (t0 <= t1)
+    local = ((segments.reshape(-1, 2) - pose[:2]) @ np.array([[c, -s], [s, c]])).reshape(-1, 4)
+    xs, ys = local[:, 0::2], local[:, 1::2]
+    apart = (xs.min(1) > half_length) | (xs.max(1) < -half_length)
+    apart |= (ys.min(1) > half_width) | (ys.max(1) < -half_width)
+    dx, dy = xs[:, 1] - xs[:, 0], ys[:, 1] - ys[:, 0]
+    cross = xs[:, 0] * ys[:, 1] - ys[:, 0] * xs[:, 1]  # |d| times the distance to the line
+    apart |= np.abs(cross) > np.abs(dy) * half_length + np.abs(dx) * half_width
+    return ~apart
 
 
-def nearest_distance(xy: tuple[float, float], segments: np.ndarray) -> float:
-    if len(segments) == 0:
-        return math.inf
+def segment_distances(xy: tuple[float, float], segments: np.ndarray) -> np.ndarray:
+    """Distance from the point to every segment."""
     a = segments[:, 0:2]
     ab = segments[:, 2:4] - a
-    p = np.asarray(xy)
-    t = np.clip(((p - a) * ab).sum(1) / np.maximum((ab**2).sum(1), 1e-18), 0.0, 1.0)
-    d = p - (a + t[:, None] * ab)
-    return float(np.sqrt((d**2).sum(1).min()))
+    ap = np.asarray(xy) - a
+    t = np.clip((ap * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-18), 0.0, 1.0)
+    d = ap - t[:, None] * ab
+    return np.sqrt((d * d).sum(1))
 
 
 class Base:
@@ -95,6 +102,8 @@ class Base:
         self.collisions: list[CollisionEvent] = []
         self.in_contact = False
         self.distance = 0.0  # true path length travelled (arc length of the centre)
+        self._budget = -1.0  # how far a box point may still move before clearance is re-measured
+        self._budget_world = -1  # the world version the budget was measured in
 
     def set_reference(self, vx: float, vy: float, va: float) -> None:
         if self.speed_cap:
@@ -105,23 +114,30 @@ class Base:
     def collides(self, pose: Pose, segments: np.ndarray) -> np.ndarray:
         return box_hits(pose, self.half_length, self.half_width, segments)
 
-    def move(self, h: float, segments: np.ndarray, kinds: np.ndarray, time: float) -> Pose:
+    def move(self, h: float, segments: np.ndarray, kinds: np.ndarray, time: float, world_version: int = 0) -> Pose:
         """Drive the current reference for h seconds; returns the realised motion (dx, dy, da)
         in the starting robot frame."""
         vx, vy, va = self.reference
-        if h <= 0.0 or (vx == 0.0 and vy == 0.0 and va == 0.0):
+        if h <= 0.0 or (vx == 0.0 and vy == 0.0 and va == 0.0) or len(segments) == 0:
+            if len(segments) == 0 and h > 0.0:
+                return self._free_move(twist_displacement(vx, vy, va, h), math.hypot(vx, vy) * h)
             return (0.0, 0.0, 0.0)
         speed = math.hypot(vx, vy)
         travel = speed * h + abs(va) * h * self.radius  # bound on any box point's path
-        start = self.pose
-        if nearest_distance(start[:2], segments) > self.radius + travel:
-            step = twist_displacement(vx, vy, va, h)
-            self.in_contact = False
-            self._arrive(compose(start, step), speed * h)
-            return step
+        if world_version != self._budget_world or self._budget < travel:
+            dist = segment_distances(self.pose[:2], segments)
+            self._budget = float(dist.min()) - self.radius
+            self._budget_world = world_version
+        if self._budget >= travel:
+            self._budget -= travel
+            return self._free_move(twist_displacement(vx, vy, va, h), speed * h)
+        self._budget = -1.0
+        # near something: only segments the box could reach during this move need testing
+        near = np.flatnonzero(dist <= self.radius + travel)
+        segments, kinds = segments[near], kinds[near]
         n = max(1, math.ceil(travel / self.params.max_substep))
         sub = twist_displacement(vx, vy, va, h / n)
-        pose = start
+        start = pose = self.pose
         done = 0
         for _ in range(n):
             candidate = compose(pose, sub)
@@ -137,9 +153,12 @@ class Base:
             done += 1
         else:
             self.in_contact = False
-        self._arrive(pose, speed * h * done / n)
+        self.pose = pose
+        self.distance += speed * h * done / n
         return relative(start, pose)
 
-    def _arrive(self, pose: Pose, distance: float) -> None:
-        self.pose = pose
+    def _free_move(self, step: Pose, distance: float) -> Pose:
+        self.in_contact = False
+        self.pose = compose(self.pose, step)
         self.distance += distance
+        return step

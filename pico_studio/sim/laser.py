@@ -15,12 +15,12 @@ from __future__ import annotations
 import numpy as np
 
 from pico_studio.core.config.sim_params import HokuyoLaserParams, LaserParams, PicoSimLaserParams
-from pico_studio.core.geometry import invert, transform_segments
 from pico_studio.core.io import LaserData
 from pico_studio.errors import ConfigError
 from pico_studio.sim.raycast import Fan
 
 Pose = tuple[float, float, float]
+_NOISE_BLOCK = 64  # scans of noise drawn per random-generator call
 
 
 class Laser:
@@ -36,24 +36,26 @@ class Laser:
         self.fan = Fan(p.angle_min, self.increment, p.beams)
         self.rng = rng
         self.true_ranges = np.full(p.beams, np.inf)  # the last scan without noise (ground truth)
-        self.true_hits = np.full(p.beams, -1)  # which world segment each beam hit, -1 for none
+        self._hits: np.ndarray | None = None
+        self._noise_block = np.zeros((0, p.beams))
+        self._noise_row = 0
 
     def scan(self, pose: Pose, segments: np.ndarray, timestamp: float) -> LaserData:
         p = self.profile
-        local = transform_segments(segments, invert(pose))
-        ranges, hits = self.fan.cast(local, with_hits=True)
-        assert hits is not None
-        none = ~(ranges <= p.range_max)
-        hits[none] = -1
-        self.true_ranges, self.true_hits = ranges, hits
-        noise = self.rng.uniform(-p.noise, p.noise, size=p.beams)
+        ranges = self.fan.cast(segments, pose)
+        none = ranges > p.range_max
+        noise = self._next_noise()
         noisy = ranges + noise
-        if self.params.no_return == "zero":
-            noisy[none] = np.maximum(noise[none], 0.0)
-        elif self.params.no_return == "inf":
-            noisy[none] = np.inf
-        else:
-            noisy[none] = p.range_max
+        if none.any():
+            ranges[none] = np.inf
+            if self.params.no_return == "zero":
+                noisy[none] = np.maximum(noise[none], 0.0)
+            elif self.params.no_return == "inf":
+                noisy[none] = np.inf
+            else:
+                noisy[none] = p.range_max
+        self.true_ranges = ranges
+        self._hits = None
         return LaserData(
             range_min=p.range_min,
             range_max=p.range_max,
@@ -64,3 +66,19 @@ class Laser:
             ranges=noisy,
         )
 
+    def _next_noise(self) -> np.ndarray:
+        """One scan's noise; drawn in blocks of scans (the same stream, fewer calls)."""
+        if self._noise_row >= len(self._noise_block):
+            p = self.profile
+            self._noise_block = self.rng.uniform(-p.noise, p.noise, size=(_NOISE_BLOCK, p.beams))
+            self._noise_row = 0
+        self._noise_row += 1
+        return self._noise_block[self._noise_row - 1]
+
+    @property
+    def true_hits(self) -> np.ndarray:
+        """Which world segment each beam of the last scan hit, -1 for none (computed on demand)."""
+        if self._hits is None:
+            self._hits = self.fan.last_hits(self.true_ranges)
+            self._hits[~np.isfinite(self.true_ranges)] = -1
+        return self._hits

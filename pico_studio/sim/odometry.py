@@ -18,8 +18,9 @@ import math
 import numpy as np
 
 from pico_studio.core.config.sim_params import OdometryParams
-from pico_studio.core.geometry import compose, relative
+from pico_studio.core.geometry import relative
 from pico_studio.core.io import OdometryData
+from pico_studio.sim.base import compose
 
 Pose = tuple[float, float, float]
 

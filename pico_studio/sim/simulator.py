@@ -188,7 +188,7 @@ class Simulator:
     def _integrate(self, h: float) -> None:
         if h <= 0.0:
             return
-        motion = self.base.move(h, self.world.segments(), self.world.kinds(), self._t)
+        motion = self.base.move(h, self.world.segments(), self.world.kinds(), self._t, self.world.version)
         self.odometry.integrate(motion)
         self.world.update(h, self.base.pose[:2])
 

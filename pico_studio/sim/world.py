@@ -39,6 +39,7 @@ class World:
         ]
         self._cache: np.ndarray | None = None
         self._kinds: np.ndarray | None = None
+        self.version = 0  # bumped whenever a door or object moves
 
     # ----- geometry as it is now ----------------------------------------------------------
     def segments(self) -> np.ndarray:
@@ -74,6 +75,7 @@ class World:
             changed = changed or bool((m.pos != before).any())
         if changed:
             self._cache = None
+            self.version += 1
 
     def request_open_door(self, robot_xy: tuple[float, float]) -> bool:
         """Open every closed door the robot is in front of; True if one started opening."""

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from pico_studio.core.config.localisation_params import LocalisationParams
 from pico_studio.core.config.map_params import MapParams
 from pico_studio.core.config.sim_params import SimParams
+from pico_studio.core.config.sources_params import SourcesParams
 from pico_studio.core.config.spec import section
 
 
@@ -19,3 +20,4 @@ class Config:
     map: MapParams = section(MapParams, "Map loading")
     sim: SimParams = section(SimParams, "The simulator")
     localisation: LocalisationParams = section(LocalisationParams, "Localisation in the global map and the combined map")
+    sources: SourcesParams = section(SourcesParams, "Data sources: recordings and the live robot")
