@@ -106,6 +106,7 @@ def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, 
     rng = np.random.default_rng(seed)
 
     rows = []  # t, pos err, head err, lost, ms, searched
+    track: list[tuple[tuple, tuple | None, bool]] = []  # true pose, estimate, lost
     odom = None
     kicked_t = None
     steps = int(round(seconds / DT))
@@ -122,12 +123,16 @@ def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, 
             continue
         r = loc.step(laser_points(laser), odom)
         true = sim.truth.pose
+        track.append((true, r.pose, r.lost))
         if r.pose is None:
             rows.append((t, math.nan, math.nan, r.lost, loc.last_ms, r.searched))
         else:
             rows.append((t, math.hypot(r.pose[0] - true[0], r.pose[1] - true[1]),
                          abs(float(wrap_angle(r.pose[2] - true[2]))), r.lost, loc.last_ms, r.searched))
-    return summarise(name, rows, kicked_t, sim, gain_error, localise_on)
+    out = summarise(name, rows, kicked_t, sim, gain_error, localise_on)
+    out["_track"] = track
+    out["_map"] = global_map
+    return out
 
 
 def summarise(name, rows, kicked_t, sim, gain_error, localise_on) -> dict:
@@ -170,12 +175,43 @@ def summarise(name, rows, kicked_t, sim, gain_error, localise_on) -> dict:
     return out
 
 
+def draw(global_map, track, path: Path, scale: float = 100.0) -> None:
+    """The map (walls black, objects grey), the true path (green) and the estimates (blue;
+    red while lost), the kick as a jump in the green path."""
+    import cv2
+
+    x0, y0, x1, y1 = global_map.bounds
+    margin = 0.3
+    h, w = int((y1 - y0 + 2 * margin) * scale), int((x1 - x0 + 2 * margin) * scale)
+    img = np.full((h, w, 3), 255, np.uint8)
+
+    def px(x: float, y: float) -> tuple[int, int]:
+        return int((x - x0 + margin) * scale), int(h - (y - y0 + margin) * scale)
+
+    for poly in global_map.objects:
+        for s in global_map.segments_of(poly):
+            cv2.line(img, px(*s[:2]), px(*s[2:]), (170, 170, 170), 2, cv2.LINE_AA)
+    for s in global_map.wall_segments:
+        cv2.line(img, px(*s[:2]), px(*s[2:]), (0, 0, 0), 2, cv2.LINE_AA)
+    for (t0, _, _), (t1, _, _) in zip(track, track[1:], strict=False):
+        if math.hypot(t1[0] - t0[0], t1[1] - t0[1]) < 0.2:  # not across the kick
+            cv2.line(img, px(*t0[:2]), px(*t1[:2]), (60, 180, 60), 3, cv2.LINE_AA)
+    for _, est, lost in track[::4]:
+        if est is not None:
+            cv2.circle(img, px(*est[:2]), 2, (0, 0, 230) if lost else (200, 80, 0), -1, cv2.LINE_AA)
+    cv2.putText(img, "true path (green), estimate (blue), estimate while lost (red)", (8, 20),
+                cv2.FONT_HERSHEY_SIMPLEX, 0.5, (0, 0, 0), 1, cv2.LINE_AA)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    cv2.imwrite(str(path), img)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seconds", type=float, default=180.0)
     ap.add_argument("--gain-error", type=float, default=0.002, help="odometry wheel-gain error (sim default 0.002)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--png-dir", default="", help="draw each run's map and paths here (e.g. docs)")
     args = ap.parse_args()
     results = []
     t0 = time.perf_counter()
@@ -184,6 +220,12 @@ def main() -> None:
                            kick_at=args.seconds / 2, seed=args.seed))
     results.append(run("restaurant_2024", seconds=min(args.seconds, 30.0), gain_error=args.gain_error,
                        kick_at=None, seed=args.seed, localise_on="hospital_2019"))
+    for r in results[:2]:
+        if args.png_dir:
+            path = Path(args.png_dir) / f"localisation_{r['map']}.png"
+            draw(r["_map"], r["_track"], path)
+            print(f"# drawn {path}")
+    results = [{k: v for k, v in r.items() if not k.startswith("_")} for r in results]
     if args.json:
         print(json.dumps(results, indent=1))
     else:

@@ -6,6 +6,12 @@
     loc.fill(wm)                             # sets wm.global_pose, localisation_quality,
                                              # lost and combined from wm.points / wm.pose
 
+Pure form, for re-processing recorded frames (as `perceive` is):
+
+    lmap = build_localisation_map(global_map, cfg.localisation)        # once per map
+    state = TrackerState.initial(len(lmap.field.segments))
+    result, state = localise_world_model(state, wm, lmap, cfg.localisation)  # fills wm
+
 Modules: prior (initial pose), distance_field (the map's field), matcher (scan-to-map
 alignment and pose search), tracker (predict / correct / lost flag), combined (the local map
 in the global frame, tagged).
@@ -43,6 +49,7 @@ __all__ = [
     "combine",
     "initial_prior",
     "localise",
+    "localise_world_model",
 ]
 
 
@@ -54,7 +61,36 @@ def build_localisation_map(
                                          resolution=params.field.resolution,
                                          margin=params.field.margin)
     return LocalisationMap(dfield, initial_prior(global_map, params.prior, initial_pose),
-                           global_map.bounds)
+                           global_map.bounds, len(global_map.walls))
+
+
+def localise_world_model(
+    state: TrackerState, wm: Any, lmap: LocalisationMap, params: LocalisationParams
+) -> tuple[StepResult, TrackerState]:
+    """Localise on a WorldModel's scan points and zero-frame pose; set its `global_pose`,
+    `localisation_quality`, `lost` and `combined` (and `timings_ms["localisation"]`)."""
+    t0 = time.perf_counter()
+    zero_pose = tuple(float(v) for v in wm.pose)
+    result, state = localise(state, np.asarray(wm.points, dtype=float).reshape(-1, 2), zero_pose,
+                             lmap, params)
+    wm.global_pose = result.pose
+    wm.localisation_quality = result.quality
+    wm.lost = result.lost
+    wm.combined = None
+    if result.pose is not None:
+        local = getattr(wm, "local_map", None)
+        walls = local.get("walls") if isinstance(local, dict) else getattr(local, "walls", None)
+        wm.combined = combine(
+            result.pose, zero_pose, np.zeros((0, 4)) if walls is None else walls, lmap.field,
+            state.seen_hits, lmap.n_walls, params.combined,
+            doors=getattr(wm, "doors", None),
+            possible_doors=getattr(wm, "possible_doors", None),
+            possible_door_kind=getattr(wm, "possible_door_kind", None),
+        )
+    timings = getattr(wm, "timings_ms", None)
+    if isinstance(timings, dict):
+        timings["localisation"] = (time.perf_counter() - t0) * 1000.0
+    return result, state
 
 
 class Localiser:
@@ -65,7 +101,6 @@ class Localiser:
         self.params = params
         self.global_map = global_map
         self.lmap = build_localisation_map(global_map, params, initial_pose)
-        self.n_map_walls = len(global_map.walls)
         self.state = TrackerState.initial(len(self.lmap.field.segments))
         self.last: StepResult | None = None
         self.last_ms = 0.0
@@ -85,27 +120,11 @@ class Localiser:
         if self.last is None or self.last.pose is None:
             return None
         return combine(self.last.pose, zero_pose, local_walls, self.lmap.field,
-                       self.state.seen_hits, self.n_map_walls, self.params.combined, **doors)
+                       self.state.seen_hits, self.lmap.n_walls, self.params.combined, **doors)
 
     def fill(self, wm: Any) -> Any:
         """Localise on a WorldModel's scan and odometry pose and set its localisation fields."""
         t0 = time.perf_counter()
-        r = self.step(np.asarray(wm.points), tuple(wm.pose))
-        local = getattr(wm, "local_map", None)
-        walls = getattr(local, "walls", None) if local is not None else None
-        if isinstance(local, dict):
-            walls = local.get("walls")
-        wm.global_pose = r.pose
-        wm.localisation_quality = r.quality
-        wm.lost = r.lost
-        wm.combined = self.combined(
-            tuple(wm.pose),
-            np.zeros((0, 4)) if walls is None else walls,
-            doors=getattr(wm, "doors", None),
-            possible_doors=getattr(wm, "possible_doors", None),
-            possible_door_kind=getattr(wm, "possible_door_kind", None),
-        )
-        timings = getattr(wm, "timings_ms", None)
-        if isinstance(timings, dict):
-            timings["localisation"] = (time.perf_counter() - t0) * 1000.0
+        self.last, self.state = localise_world_model(self.state, wm, self.lmap, self.params)
+        self.last_ms = (time.perf_counter() - t0) * 1000.0
         return wm

@@ -43,6 +43,7 @@ class LocalisationMap:
     field: DistanceField
     prior: PosePrior
     bounds: tuple[float, float, float, float]
+    n_walls: int  # the first n_walls segments of the field are the map's walls, in order
 
 
 @dataclass(frozen=True)
