@@ -37,6 +37,7 @@ class Laser:
         self.rng = rng
         self.true_ranges = np.full(p.beams, np.inf)  # the last scan without noise (ground truth)
         self._hits: np.ndarray | None = None
+        self.last_pose: Pose = (0.0, 0.0, 0.0)  # where the last scan was taken
         self._noise_block = np.zeros((0, p.beams))
         self._noise_row = 0
 
@@ -55,6 +56,7 @@ class Laser:
             else:
                 noisy[none] = p.range_max
         self.true_ranges = ranges
+        self.last_pose = pose
         self._hits = None
         return LaserData(
             range_min=p.range_min,

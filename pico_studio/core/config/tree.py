@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 from pico_studio.core.config.localisation_params import LocalisationParams
 from pico_studio.core.config.map_params import MapParams
+from pico_studio.core.config.perception_params import PerceptionParams
 from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.config.sources_params import SourcesParams
 from pico_studio.core.config.spec import section
@@ -21,3 +22,4 @@ class Config:
     sim: SimParams = section(SimParams, "The simulator")
     localisation: LocalisationParams = section(LocalisationParams, "Localisation in the global map and the combined map")
     sources: SourcesParams = section(SourcesParams, "Data sources: recordings and the live robot")
+    perception: PerceptionParams = section(PerceptionParams, "Perceptor: laser + odometry to world model")
