@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from pico_studio.core.config.localisation_params import LocalisationParams
 from pico_studio.core.config.map_params import MapParams
 from pico_studio.core.config.perception_params import PerceptionParams
 from pico_studio.core.config.sim_params import SimParams
@@ -21,5 +22,6 @@ class Config:
     map: MapParams = section(MapParams, "Map loading")
     sim: SimParams = section(SimParams, "The simulator")
     perception: PerceptionParams = section(PerceptionParams, "Perceptor: laser + odometry to world model")
+    localisation: LocalisationParams = section(LocalisationParams, "Localisation in the global map and the combined map")
     sources: SourcesParams = section(SourcesParams, "Data sources: recordings and the live robot")
     ui: UiParams = section(UiParams, "The web UI (pico-studio serve)")
