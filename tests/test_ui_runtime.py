@@ -85,8 +85,15 @@ def test_laser_points_are_drawn_on_the_walls() -> None:
     assert len(pts) > 500
     d = point_segment_distance(pts, s.global_map.solid_segments).min(axis=1)
     assert np.mean(d < 0.05) > 0.95
-    assert len(prims["robot_true"]) == 5 and len(prims["robot_estimate"]) == 0  # no localisation yet
-    assert len(prims["combined"]) == 0  # WorldModel.combined is None until localisation lands
+    assert len(prims["robot_true"]) == 5 and len(prims["robot_estimate"]) == 5
+    # the combined map is drawn in the global frame, on the map's walls where matched
+    combined = prims["combined"]
+    assert len(combined) > 0 and combined.colors is not None
+    matched = (combined.colors == style.COMBINED_MATCHED).all(axis=1)
+    mid = (combined.data[matched, :2] + combined.data[matched, 2:]) / 2
+    assert np.median(point_segment_distance(mid, s.global_map.solid_segments).min(axis=1)) < 0.05
+    loc = s.metrics()["localisation"]
+    assert loc["error_m"] < 0.1
 
 
 def test_live_frames_are_scored_against_the_truth() -> None:

@@ -185,6 +185,12 @@ class StudioApp:
             lines.append("Stages: " + " · ".join(f"{k} {v:.2f} ms" for k, v in m["stages"].items()))
         if m["counts"]:
             lines.append("Counts: " + " · ".join(f"{k.replace('_', ' ')} {v}" for k, v in m["counts"].items()))
+        loc = m.get("localisation") or {}
+        if loc:
+            text = f"**Localisation** quality {loc['quality']:.2f}" + (" · LOST" if loc["lost"] else "")
+            if "error_m" in loc:
+                text += f" · error vs truth {loc['error_m']:.3f} m, {loc['error_rad']:.3f} rad"
+            lines.append(text)
         for which, title in (("frame", "this frame"), ("run", "since reset")):
             figures = m["scores"].get(which)
             if figures:

@@ -22,8 +22,9 @@ from typing import Any
 
 from pico_studio.core.behaviours.wander import Wander
 from pico_studio.core.config import Config, get_value, with_value
-from pico_studio.core.geometry import compose, invert
+from pico_studio.core.geometry import compose, invert, wrap_angle
 from pico_studio.core.io import BaseReference, Frame, LaserData, OdometryData, RobotIO
+from pico_studio.core.localisation import TrackerState, build_localisation_map, localise_world_model
 from pico_studio.core.perception import PerceptorState, perceive
 from pico_studio.errors import UserError
 from pico_studio.json_map import GlobalMap
@@ -85,7 +86,9 @@ class Studio:
             self.source = bundle.source
             ui = self.cfg.ui
             self.timeline = Timeline(round(ui.timeline_seconds * ui.rate_hz))
-            self.state = PerceptorState.initial()
+            self.lmap = self._localisation_map()
+            tracker = TrackerState.initial(len(self.lmap.field.segments)) if self.lmap is not None else None
+            self.state: tuple[Any, Any] = (PerceptorState.initial(), tracker)
             self.true_zero: Pose | None = None  # true pose when the perceptor took its zero
             self.run_score = scoring.RunScore() if scoring is not None else None
             self.wander = Wander(ui.wander)
@@ -103,6 +106,16 @@ class Studio:
                 behaviour=self._session_behave,
                 history=1,  # the timeline keeps the frames (with perceptor state) instead
             )
+
+    def _localisation_map(self) -> Any:
+        """The global map's distance field and prior (built once per map and field params)."""
+        if self.global_map is None or not len(self.global_map.walls):
+            return None
+        key = (id(self.global_map), self.cfg.localisation.field, self.cfg.localisation.prior)
+        if getattr(self, "_lmap_key", None) != key:
+            self._lmap = build_localisation_map(self.global_map, self.cfg.localisation)
+            self._lmap_key = key
+        return self._lmap
 
     def set_map(self, global_map: GlobalMap, name: str) -> None:
         """Switch the world to another map (the simulator restarts in it)."""
@@ -172,13 +185,19 @@ class Studio:
         return cmd
 
     def _perceive(self, frame: FrameRecord, *, live: bool) -> Any:
-        """Run the perceptor on one frame with the current params; returns the state after."""
+        """Run the perceptor (and localisation, with a map) on one frame with the current
+        params; returns the state after: (perceptor state, tracker state or None)."""
         t0 = time.perf_counter()
+        p_before, t_before = frame.state_before
         try:
-            wm, state_after = perceive(frame.state_before, frame.laser, frame.odometry, self.cfg.perception)  # type: ignore[attr-defined]
+            wm, p_after = perceive(p_before, frame.laser, frame.odometry, self.cfg.perception)
+            t_after = t_before
+            if self.lmap is not None and t_before is not None and self.cfg.localisation.enabled:
+                _, t_after = localise_world_model(t_before, wm, self.lmap, self.cfg.localisation)
         except UserError as e:
             frame.errors = [str(e)]
             return frame.state_before
+        state_after = (p_after, t_after)
         ms = (time.perf_counter() - t0) * 1000.0
         frame.wm = wm
         frame.errors = []
@@ -238,6 +257,13 @@ class Studio:
     def set_config(self, cfg: Config) -> None:
         with self.lock:
             self.cfg = cfg
+            lmap = self._localisation_map()
+            if lmap is not self.lmap:  # a new field: every kept frame localises afresh in it
+                self.lmap = lmap
+                tracker = TrackerState.initial(len(lmap.field.segments)) if lmap is not None else None
+                self.state = (self.state[0], tracker)
+                for frame in self.timeline:
+                    frame.state_before = (frame.state_before[0], tracker)
             self.wander.params = cfg.ui.wander
             self.reprocess()
 
@@ -307,6 +333,7 @@ class Studio:
             out["warnings"] = list(getattr(wm, "warnings", []) or []) + (frame.errors if frame else [])
             out["counts"] = _counts(wm)
             out["scores"] = self._scores(frame)
+            out["localisation"] = self._localisation_figures(frame)
             return out
 
     def _scores(self, frame: FrameRecord | None) -> dict[str, dict[str, float]]:
@@ -319,6 +346,18 @@ class Studio:
             out["frame"] = _score_figures(_summary([frame.score]))
         else:
             out["frame"] = _score_figures(_summary([self.run_score.frames[-1]]))
+        return out
+
+    @staticmethod
+    def _localisation_figures(frame: FrameRecord | None) -> dict[str, Any]:
+        wm = frame.wm if frame is not None else None
+        if wm is None or not hasattr(wm, "localisation_quality"):
+            return {}
+        out: dict[str, Any] = {"quality": float(wm.localisation_quality), "lost": bool(wm.lost)}
+        g, t = wm.global_pose, frame.truth_pose if frame is not None else None
+        if g is not None and t is not None:
+            out["error_m"] = math.hypot(g[0] - t[0], g[1] - t[1])
+            out["error_rad"] = abs(float(wrap_angle(g[2] - t[2])))
         return out
 
     def _score_live(self, frame: FrameRecord, *, add: bool) -> None:
