@@ -89,3 +89,72 @@ def run_behaviour(sim: Any, behaviour: Any, *, seconds: float, dt: float = 0.05,
         "distance_m": float(sim.truth.distance) if math.isfinite(sim.truth.distance) else None,
         **out,
     }
+
+
+class PerceiveAndLocalise:
+    """The session's perceptor for behaviours on a global map: the perceptor's world model
+    with the localisation's `global_pose` filled in."""
+
+    def __init__(self, perceptor: Any, localiser: Any):
+        self.perceptor = perceptor
+        self.localiser = localiser
+
+    def step(self, laser: Any, odometry: Any) -> Any:
+        wm = self.perceptor.step(laser, odometry)
+        if self.localiser is not None:
+            self.localiser.fill(wm)
+        return wm
+
+
+def make_perception(cfg: Any, global_map: GlobalMap | None, initial_pose: Any, *, localise: bool) -> Any:
+    """Perceptor (+ localiser on a global map) when this build has them, else None."""
+    try:
+        from pico_studio.core.perception import Perceptor
+    except ImportError:
+        return None
+    localiser = None
+    if localise and global_map is not None:
+        try:
+            from pico_studio.core.localisation import Localiser
+        except ImportError:
+            Localiser = None  # noqa: N806
+        if Localiser is not None:
+            localiser = Localiser(cfg.localisation, global_map, initial_pose)
+    return PerceiveAndLocalise(Perceptor(cfg.perception), localiser)
+
+
+def run_sim_behaviour(args: Any, cfg: Any) -> dict[str, Any]:
+    """`pico-studio run --behaviour escape-room|room-finder|hospital[:i,j,k]` in the simulator:
+    the scored result (see `run_behaviour`) plus the run's map, seed and timing."""
+    import time
+    from dataclasses import replace
+
+    from pico_studio.core.behaviours.registry import DEFAULT_SECONDS, behaviour_name, make_behaviour
+    from pico_studio.sim import Simulator
+
+    params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
+    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
+    # the start pose the simulator was given (config, start area or its chosen free place):
+    # what a user placing the robot knows; localisation refines it from there
+    start = tuple(float(v) for v in sim.truth.pose)
+    name = behaviour_name(args.behaviour)
+    behaviour = make_behaviour(args.behaviour, cfg.behaviour, sim.world.map, start)
+    perceptor = make_perception(cfg, sim.world.map, start, localise=name == "hospital")
+    seconds = DEFAULT_SECONDS[name] if args.seconds is None else args.seconds
+    t0 = time.perf_counter()
+    result = run_behaviour(sim, behaviour, seconds=seconds, dt=args.dt or 0.05, perceptor=perceptor)
+    wall = time.perf_counter() - t0
+    return {"map": args.map, "seed": sim.seed, "wall_seconds": wall, **result}
+
+
+def print_behaviour_result(r: dict[str, Any]) -> None:
+    print(f"{r['map']}: {r['behaviour']} ended '{r['state']}' after {r['sim_seconds']:g} s simulated "
+          f"({r['wall_seconds']:.1f} s wall), collisions {r['collisions']}")
+    if r["escaped"]:
+        print(f"  escaped after {r['escape_seconds']:.2f} s")
+    for k, room in enumerate(r["rooms"]):
+        print(f"  room {k + 1}: {room['objects']} object(s) ({room['edges']} edges)")
+    if r["cabinets_visited"]:
+        print(f"  visited {', '.join(map(str, r['cabinets_visited']))}")
+    for note in r.get("notes", []):
+        print(f"  note: {note}")
