@@ -1,6 +1,6 @@
 """Seeded generators of the behaviours' test worlds, as `GlobalMap`s with a start pose.
 
-    from worlds import escape_world, room_finder_world
+    from worlds import escape_world, room_finder_world   # tests/ on sys.path
     w = escape_world(3)        # w.map: GlobalMap, w.start: (x, y, a), w.rooms: expected contents
 
 Escape rooms (issue 7): a rectangular room 3-6 m a side, an exit hallway 0.6-1.0 m wide and
