@@ -149,10 +149,12 @@ class HospitalParams:
                                   help="Facing the cabinet within this angle")
     blocked_distance: float = param(0.45, lo=0.1, hi=2.0, step=0.01, unit="m",
                                     help="An unmapped obstacle this close along the plan blocks it")
+    path_clearance: float = param(0.22, lo=0.05, hi=1.0, step=0.01, unit="m",
+                                  help="An unmapped point closer than this to the plan blocks it")
     blocked_wait: float = param(2.0, lo=0.0, hi=30.0, step=0.5, unit="s",
                                 help="Wait this long for a blocker to move before replanning round it")
-    obstacle_radius: float = param(0.35, lo=0.05, hi=2.0, step=0.05, unit="m",
-                                   help="Mark laser points this much around as blocked when replanning")
+    obstacle_radius: float = param(0.1, lo=0.0, hi=2.0, step=0.01, unit="m",
+                                   help="When replanning, block unmapped laser points by the inflation plus this")
     map_match: float = param(0.15, lo=0.02, hi=1.0, step=0.01, unit="m",
                              help="Laser points within this of a mapped wall/object/door are on the map")
     door_request_distance: float = param(0.9, lo=0.2, hi=2.0, step=0.05, unit="m",
