@@ -35,6 +35,8 @@ class BubbleParams:
 
 @dataclass(frozen=True)
 class EscapeRoomParams:
+    entrance_source: str = param("laser", choices=("laser", "world_model"),
+                                 help="Where the entrance comes from: the behaviour's own gap finder on the raw scan, or the perceptor's WorldModel.entrance")
     scan_step: float = param(0.5236, lo=0.1, hi=1.6, step=0.01, unit="rad",
                              help="Rotate this much (30 deg) between scans when no entrance is seen")
     scans_to_confirm: int = param(3, lo=1, hi=20, step=1, unit="scans",
