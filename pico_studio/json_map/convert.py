@@ -53,9 +53,12 @@ def tolerant_iou(a: np.ndarray, b: np.ndarray, tolerance_px: int = 1) -> float:
     a, b = a.astype(bool), b.astype(bool)
     if not a.any() and not b.any():
         return 1.0
-    kernel = np.ones((2 * tolerance_px + 1, 2 * tolerance_px + 1), np.uint8)
-    da = cv2.dilate(a.astype(np.uint8), kernel).astype(bool)
-    db = cv2.dilate(b.astype(np.uint8), kernel).astype(bool)
+    if tolerance_px > 0:
+        kernel = np.ones((2 * tolerance_px + 1, 2 * tolerance_px + 1), np.uint8)
+        da = cv2.dilate(a.astype(np.uint8), kernel).astype(bool)
+        db = cv2.dilate(b.astype(np.uint8), kernel).astype(bool)
+    else:
+        da, db = a, b
     matched_a = int((a & db).sum())
     matched_b = int((b & da).sum())
     tp = (matched_a + matched_b) / 2
@@ -69,6 +72,7 @@ class RoundTrip:
     """How well a converted map reproduces the reference's pixels."""
 
     iou: float  # occupied pixels, after the tolerance
+    iou_strict: float  # occupied pixels, no tolerance (for information)
     iou_doors: float | None  # door pixels; None when neither side has doors
     reference_px: int  # occupied pixels of the reference
     converted_px: int  # occupied pixels of the converted map, rasterised again
@@ -88,6 +92,7 @@ def round_trip(
         doors = tolerant_iou(reference_doors, r.doors)
     return RoundTrip(
         iou=tolerant_iou(reference_occupied, r.occupied),
+        iou_strict=tolerant_iou(reference_occupied, r.occupied, tolerance_px=0),
         iou_doors=doors,
         reference_px=int(reference_occupied.sum()),
         converted_px=int(r.occupied.sum()),
