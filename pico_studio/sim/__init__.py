@@ -1,0 +1,28 @@
+"""The PICO simulator: world, raycasting laser, holonomic base, odometry, doors, moving objects,
+collisions and ground truth, behind the emc-IO shaped `RobotIO` interface.
+
+    from pico_studio.sim import Simulator
+    sim = Simulator.from_files("examples/maps/hospital_2019.json", seed=1)
+    sim.send_base_reference(0.3, 0.0, 0.0); sim.advance(0.05)
+    scan, odom = sim.read_laser(), sim.read_odometry()
+    sim.truth.pose
+"""
+
+from __future__ import annotations
+
+from pico_studio.sim.sim_config import (
+    MovingObjectSpec,
+    SimConfigFile,
+    load_sim_config,
+    sim_config_from_dict,
+)
+from pico_studio.sim.simulator import Simulator, load_any_map
+
+__all__ = [
+    "MovingObjectSpec",
+    "SimConfigFile",
+    "Simulator",
+    "load_any_map",
+    "load_sim_config",
+    "sim_config_from_dict",
+]

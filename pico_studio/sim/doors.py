@@ -1,0 +1,77 @@
+"""Sliding doors: closed at the start, opened on request from in front, sliding at a fixed speed.
+
+A door is the map's door polygon (usually a thin rectangle in the wall). Its own frame has
+the origin at the centre of the polygon's bounding rectangle and x along its long side, as in the official
+simulator: the robot is *in front* when |y| <= open_distance and |x| <= size / 2 in that frame
+(either side of the door). Once opened it slides along x by its own size, then stays there.
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+
+from pico_studio.core.geometry import relative
+
+
+def door_frame(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """(centre, unit axis along the door, size along it, thickness) of a door polygon: its
+    minimum-area bounding rectangle, so a heightmap's ragged door outline works as well as a
+    JSON map's rectangle."""
+    (cx, cy), (w, h), deg = cv2.minAreaRect(np.asarray(vertices, dtype=np.float32))
+    a = math.radians(deg)
+    axis = np.array([math.cos(a), math.sin(a)])
+    if h > w:
+        axis, w, h = np.array([-axis[1], axis[0]]), h, w
+    # the rectangle comes from float32 maths: measure size and centre again in float64
+    v = np.asarray(vertices, dtype=float)
+    along = v @ axis
+    normal = np.array([-axis[1], axis[0]])
+    across = v @ normal
+    center = axis * (along.max() + along.min()) / 2 + normal * (across.max() + across.min()) / 2
+    return center, axis, float(along.max() - along.min()), float(across.max() - across.min())
+
+
+class SlidingDoor:
+    def __init__(self, vertices: np.ndarray):
+        self.vertices = np.asarray(vertices, dtype=float)
+        self.center, self.axis, self.size, self.thickness = door_frame(self.vertices)
+        self.normal = np.array([-self.axis[1], self.axis[0]])
+        self.pose = (float(self.center[0]), float(self.center[1]), math.atan2(self.axis[1], self.axis[0]))
+        self.offset = 0.0  # how far it has slid along its axis
+        self.opening = False
+
+    @property
+    def closed(self) -> bool:
+        return not self.opening
+
+    @property
+    def moving(self) -> bool:
+        return self.opening and self.offset < self.size
+
+    def in_front(self, robot_xy: tuple[float, float], max_distance: float) -> bool:
+        rel = relative(self.pose, (robot_xy[0], robot_xy[1], 0.0))
+        return abs(rel[1]) <= max_distance and abs(rel[0]) <= self.size / 2
+
+    def request_open(self, robot_xy: tuple[float, float], max_distance: float) -> bool:
+        """Start opening if closed and the robot is in front; True when it started."""
+        if self.opening or not self.in_front(robot_xy, max_distance):
+            return False
+        self.opening = True
+        return True
+
+    def update(self, dt: float, speed: float) -> None:
+        if self.moving:
+            self.offset = min(self.size, self.offset + speed * dt)
+
+    def segments(self) -> np.ndarray:
+        """The door's current outline (K, 4), map frame."""
+        v = self.vertices + self.offset * self.axis
+        return np.hstack([v, np.roll(v, -1, axis=0)])
+
+    def opening_segment(self) -> np.ndarray:
+        """The gap the door closes: its centre line from one jamb to the other, (4,)."""
+        half = self.axis * self.size / 2
+        return np.concatenate([self.center - half, self.center + half])

@@ -1,0 +1,269 @@
+"""True features of a map for scoring: corners (with the wall directions that meet there) and
+door openings. Pure functions of segments, so scoring and tests can call them on any map.
+
+Corners. End points closer than `snap` are one vertex. Each vertex keeps the directions of the
+segments leaving it. Seen from a point R, the segments at a vertex V cut the plane around V
+into sectors; R lies in one of them, of angular width w:
+- w < pi - tol: R looks into the corner: **concave** (a room's inner corner);
+- w > pi + tol: the corner points at R: **convex** (the outer corner of a wall end, a jamb;
+  a loose wall end, with one segment, has w = 2 pi);
+- otherwise the walls continue straight on: not a corner.
+
+Door openings (`door_openings`), in this order:
+1. every door polygon of the map: its centre line from jamb to jamb;
+2. gaps between two *wall ends* (of walls, not cabinets or tables) that face each other, with a width within
+   [min_width, max_width] and nothing solid in between; a wall end is a loose end of a thin
+   wall (pointing away from its wall), or the middle of the end cap of a thick wall (a
+   segment no longer than `max_thickness` whose neighbours both leave it on the same side
+   and are at least twice as long, pointing outwards); the nearest pairs are taken first,
+   each end used once;
+3. a wall end left over that faces a wall (not a cabinet or table) within [min_width, max_width] straight ahead:
+   from the end to that wall.
+Openings within `min_width / 2` of an earlier one (e.g. a map door's own gap) are dropped.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pico_studio.sim.doors import door_frame
+from pico_studio.sim.raycast import cast_rays
+
+_FACING = math.cos(math.radians(45))  # a gap is "straight ahead" of an end within 45 degrees
+
+
+@dataclass(frozen=True)
+class Vertices:
+    """The vertex graph of a set of segments."""
+
+    points: np.ndarray  # (V, 2)
+    seg_ends: np.ndarray  # (N, 2) vertex index of each segment's two ends
+    # for every vertex: the segments leaving it and their directions (angles), as lists
+    leaving: tuple[tuple[int, ...], ...]
+    directions: tuple[np.ndarray, ...]
+    cache: dict = field(default_factory=dict, compare=False, repr=False)
+
+
+def vertex_graph(segments: np.ndarray, snap: float = 1e-3) -> Vertices:
+    ends = segments.reshape(-1, 2)
+    keys = np.round(ends / snap).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    points = ends[first]
+    seg_ends = inverse.reshape(-1, 2)
+    leaving: list[list[int]] = [[] for _ in range(len(points))]
+    dirs: list[list[float]] = [[] for _ in range(len(points))]
+    for k, (a, b) in enumerate(seg_ends):
+        if a == b:
+            continue
+        pa, pb = points[a], points[b]
+        leaving[a].append(k)
+        dirs[a].append(math.atan2(pb[1] - pa[1], pb[0] - pa[0]))
+        leaving[b].append(k)
+        dirs[b].append(math.atan2(pa[1] - pb[1], pa[0] - pb[0]))
+    # T-junctions: a loose end on the inside of another segment sees that segment both ways
+    loose = np.array([v for v in range(len(points)) if len(leaving[v]) == 1], dtype=np.int64)
+    for v, k in _vertices_inside_segments(points, segments, seg_ends, snap, loose):
+        d = math.atan2(segments[k, 3] - segments[k, 1], segments[k, 2] - segments[k, 0])
+        leaving[v] += [k, k]
+        dirs[v] += [d, d + math.pi]
+    return Vertices(points, seg_ends, tuple(map(tuple, leaving)), tuple(np.array(d) for d in dirs))
+
+
+def _vertices_inside_segments(
+    points: np.ndarray, segments: np.ndarray, seg_ends: np.ndarray, snap: float, which: np.ndarray, chunk: int = 256
+) -> list[tuple[int, int]]:
+    """(vertex, segment) pairs, for the vertices `which`, where the vertex lies on the segment
+    but is not one of its ends."""
+    a = segments[:, 0:2]
+    ab = segments[:, 2:4] - a
+    length2 = np.maximum((ab * ab).sum(1), 1e-18)
+    out: list[tuple[int, int]] = []
+    for i in range(0, len(which), chunk):
+        v_idx = which[i : i + chunk]
+        p = points[v_idx][:, None, :]
+        t = ((p - a) * ab).sum(-1) / length2
+        d = p - (a + np.clip(t, 0.0, 1.0)[..., None] * ab)
+        on = ((d * d).sum(-1) < snap * snap) & (t > 0.0) & (t < 1.0)
+        on &= (seg_ends[None, :, 0] != v_idx[:, None]) & (seg_ends[None, :, 1] != v_idx[:, None])
+        out += [(int(v_idx[v]), int(k)) for v, k in zip(*np.nonzero(on), strict=True)]
+    return out
+
+
+def sector_width(directions: np.ndarray, toward: float) -> float:
+    """Width of the sector between consecutive `directions` (angles) that contains `toward`."""
+    if len(directions) == 0:
+        return 0.0
+    if len(directions) == 1:
+        return 2 * math.pi
+    d = np.sort(np.mod(directions - toward, 2 * math.pi))
+    # toward is at 0: the sector runs from the last direction (as a negative angle) to the first
+    return float(d[0] + (2 * math.pi - d[-1]))
+
+
+def classify_corners(
+    graph: Vertices, viewpoint: tuple[float, float], straight_tolerance: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(vertex indices that are corners as seen from `viewpoint`, convex flags, loose-end flags)."""
+    idx, convex, loose = [], [], []
+    for v in corner_candidates(graph, straight_tolerance):
+        dirs = graph.directions[v]
+        p = graph.points[v]
+        toward = math.atan2(viewpoint[1] - p[1], viewpoint[0] - p[0])
+        w = sector_width(dirs, toward)
+        if abs(w - math.pi) <= straight_tolerance:
+            continue
+        idx.append(v)
+        convex.append(w > math.pi)
+        loose.append(len(dirs) == 1)
+    return np.array(idx, dtype=np.int64), np.array(convex, dtype=bool), np.array(loose, dtype=bool)
+
+
+def corner_candidates(graph: Vertices, straight_tolerance: float) -> np.ndarray:
+    """Vertices that can be a corner from somewhere: all but those where exactly two segments
+    continue each other in a straight line (those are never corners), cached per graph."""
+    key = ("candidates", straight_tolerance)
+    cache = graph.cache
+    if key not in cache:
+        keep = []
+        for v, dirs in enumerate(graph.directions):
+            if len(dirs) == 0:
+                continue
+            if len(dirs) == 2 and abs(abs(math.remainder(dirs[0] - dirs[1], 2 * math.pi)) - math.pi) <= straight_tolerance:
+                continue
+            keep.append(v)
+        cache[key] = np.array(keep, dtype=np.int64)
+    return cache[key]
+
+
+def wall_ends(graph: Vertices, segments: np.ndarray, max_thickness: float) -> tuple[np.ndarray, np.ndarray]:
+    """Wall ends (E, 2) and their outward unit directions (E, 2): loose ends of thin walls and
+    the middles of end caps of thick walls."""
+    pts, outs = [], []
+    for v, segs in enumerate(graph.leaving):
+        if len(segs) == 1:
+            d = graph.directions[v][0]
+            pts.append(graph.points[v])
+            outs.append((-math.cos(d), -math.sin(d)))
+    for k, (a, b) in enumerate(graph.seg_ends):
+        if len(graph.leaving[a]) != 2 or len(graph.leaving[b]) != 2:
+            continue
+        pa, pb = graph.points[a], graph.points[b]
+        cap = pb - pa
+        length = float(np.hypot(*cap))
+        if length == 0.0 or length > max_thickness:
+            continue
+        da = _other_direction(graph, a, k)
+        db = _other_direction(graph, b, k)
+        if da is None or db is None or float(da @ db) < 0.7:
+            continue  # the neighbours do not both leave on the same side: not an end cap
+        if min(_other_length(graph, segments, a, k), _other_length(graph, segments, b, k)) < 2 * length:
+            continue  # a small block (pillar, box), not the end of a wall
+        normal = np.array([-cap[1], cap[0]]) / length
+        if float(normal @ da) > 0:
+            normal = -normal
+        if abs(float(cap @ da)) / length > 0.5:
+            continue  # the neighbours run along the cap, not away from it
+        pts.append((pa + pb) / 2)
+        outs.append(tuple(normal))
+    if not pts:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    return np.array(pts, dtype=float), np.array(outs, dtype=float)
+
+
+def _other_length(graph: Vertices, segments: np.ndarray, v: int, seg: int) -> float:
+    for k in graph.leaving[v]:
+        if k != seg:
+            s = segments[k]
+            return float(math.hypot(s[2] - s[0], s[3] - s[1]))
+    return 0.0
+
+
+def _other_direction(graph: Vertices, v: int, seg: int) -> np.ndarray | None:
+    for k, ang in zip(graph.leaving[v], graph.directions[v], strict=True):
+        if k != seg:
+            return np.array([math.cos(ang), math.sin(ang)])
+    return None
+
+
+def door_openings(
+    walls: np.ndarray,
+    door_polygons: list[np.ndarray] | None = None,
+    *,
+    obstacles: np.ndarray | None = None,
+    min_width: float = 0.5,
+    max_width: float = 1.5,
+    max_thickness: float = 0.3,
+) -> np.ndarray:
+    """The map's door openings (D, 4), each from one jamb to the other (see the module doc).
+
+    `walls`: the wall segments (map frame), where wall ends are looked for; `obstacles`: other
+    solid segments (cabinets, tables) that may block a gap but have no doors of their own;
+    `door_polygons`: the map's door polygons (vertices (K, 2) each)."""
+    out: list[np.ndarray] = []
+    for poly in door_polygons or []:
+        out.append(_door_centre_line(np.asarray(poly, dtype=float)))
+    if len(walls):
+        solid = walls if obstacles is None or len(obstacles) == 0 else np.vstack([walls, obstacles])
+        ends, outward = wall_ends(vertex_graph(walls), walls, max_thickness)
+        out += _paired_gaps(ends, outward, walls, solid, min_width, max_width, out)
+    return np.array(out).reshape(-1, 4)
+
+
+def _door_centre_line(v: np.ndarray) -> np.ndarray:
+    c, axis, size, _ = door_frame(v)
+    return np.concatenate([c - axis * size / 2, c + axis * size / 2])
+
+
+def _paired_gaps(
+    ends: np.ndarray,
+    outward: np.ndarray,
+    walls: np.ndarray,
+    segments: np.ndarray,
+    lo: float,
+    hi: float,
+    found: list[np.ndarray],
+) -> list[np.ndarray]:
+    out: list[np.ndarray] = []
+
+    def duplicate(a: np.ndarray, b: np.ndarray) -> bool:
+        mid = (a + b) / 2
+        return any(float(np.hypot(*(mid - (f[:2] + f[2:]) / 2))) < lo / 2 for f in found + out)
+
+    def clear(a: np.ndarray, b: np.ndarray) -> bool:
+        d = b - a
+        dist = float(np.hypot(*d))
+        # start a little off each end so the end's own wall does not count
+        eps = 1e-3
+        t = cast_rays(tuple(a + d / dist * eps), np.array([math.atan2(d[1], d[0])]), segments)[0]
+        return t >= dist - 2 * eps
+
+    n = len(ends)
+    used = np.zeros(n, dtype=bool)
+    if n >= 2:
+        diff = ends[None, :, :] - ends[:, None, :]
+        dist = np.hypot(diff[..., 0], diff[..., 1])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            unit = diff / dist[..., None]
+        facing_i = (unit * outward[:, None, :]).sum(-1) > _FACING
+        facing_j = (-unit * outward[None, :, :]).sum(-1) > _FACING
+        ok = (dist >= lo) & (dist <= hi) & facing_i & facing_j
+        ok &= np.triu(np.ones((n, n), dtype=bool), 1)
+        for i, j in sorted(zip(*np.nonzero(ok), strict=True), key=lambda ij: dist[ij[0], ij[1]]):
+            if used[i] or used[j] or not clear(ends[i], ends[j]) or duplicate(ends[i], ends[j]):
+                continue
+            used[i] = used[j] = True
+            out.append(np.concatenate([ends[i], ends[j]]))
+    for i in np.flatnonzero(~used):
+        a, o = ends[i], outward[i]
+        start, angle = tuple(a + o * 1e-3), np.array([math.atan2(o[1], o[0])])
+        t = cast_rays(start, angle, segments)[0] + 1e-3
+        t_wall = cast_rays(start, angle, walls)[0] + 1e-3
+        if lo <= t <= hi and t_wall == t:  # facing a wall, not a cabinet or table
+            b = a + o * t
+            if not duplicate(a, b):
+                out.append(np.concatenate([a, b]))
+    return out

@@ -1,0 +1,127 @@
+"""The official simulator's config JSON: start pose, odometry/speed-cap switches, moving objects.
+
+    {"initial_pose": [x, y, a], "uncertain_odom": true, "disable_speedcap": false,
+     "objects": [{"length": 1.0, "width": 0.5, "init_pose": [x, y, a], "final_pose": [x, y, a],
+                  "velocity": 0.6, "trigger_radius": 2.0, "repeat": false}]}
+
+`pico_pose` is the older name of `initial_pose`. Keys the official simulator knows but that do
+not apply here (`show_full_map`, `enable_taco`, `provide_internal_pose`, ...) are accepted and
+listed in `ignored`. A value of the wrong type is a `SourceError` naming the file and field.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from pico_studio.errors import SourceError
+
+Pose = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class MovingObjectSpec:
+    """A box `length` (along its x) by `width` that drives from init_pose to final_pose."""
+
+    length: float
+    width: float
+    init_pose: Pose
+    final_pose: Pose
+    velocity: float
+    trigger_radius: float
+    repeat: bool
+
+
+@dataclass(frozen=True)
+class SimConfigFile:
+    initial_pose: Pose | None = None
+    uncertain_odom: bool | None = None
+    disable_speedcap: bool | None = None
+    objects: tuple[MovingObjectSpec, ...] = ()
+    ignored: tuple[str, ...] = ()
+    source: Path | None = None
+    field_of_pose: str = "initial_pose"  # which key the start pose came from, for error messages
+
+
+def load_sim_config(path: str | Path) -> SimConfigFile:
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as e:
+        raise SourceError(f"cannot read: {e.strerror or e}", file=p) from None
+    except UnicodeDecodeError:
+        raise SourceError("not a text file (expected a simulator config JSON)", file=p) from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise SourceError(f"not valid JSON at line {e.lineno}, column {e.colno}: {e.msg}", file=p) from None
+    return sim_config_from_dict(data, file=p)
+
+
+def sim_config_from_dict(data: Any, *, file: str | Path | None = None) -> SimConfigFile:
+    if not isinstance(data, dict):
+        raise SourceError("the top level must be a JSON object", file=file)
+    known = {"initial_pose", "pico_pose", "uncertain_odom", "disable_speedcap", "objects"}
+    pose_key = "initial_pose" if "initial_pose" in data else "pico_pose"
+    pose = _pose(data[pose_key], pose_key, file) if pose_key in data else None
+    objects = data.get("objects", [])
+    if not isinstance(objects, list):
+        raise SourceError(f"must be a list of objects, got {objects!r}", file=file, field="objects")
+    return SimConfigFile(
+        initial_pose=pose,
+        uncertain_odom=_bool(data, "uncertain_odom", file),
+        disable_speedcap=_bool(data, "disable_speedcap", file),
+        objects=tuple(_object(o, f"objects[{i}]", file) for i, o in enumerate(objects)),
+        ignored=tuple(sorted(k for k in data if k not in known)),
+        source=Path(file) if file is not None else None,
+        field_of_pose=pose_key,
+    )
+
+
+def _bool(data: dict[str, Any], key: str, file: str | Path | None) -> bool | None:
+    if key not in data:
+        return None
+    v = data[key]
+    if not isinstance(v, bool):
+        raise SourceError(f"must be true or false, got {v!r}", file=file, field=key)
+    return v
+
+
+def _number(v: Any, where: str, file: str | Path | None, *, lo: float | None = None, strict: bool = False) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise SourceError(f"must be a finite number, got {v!r}", file=file, field=where)
+    if lo is not None and (v <= lo if strict else v < lo):
+        raise SourceError(f"must be {'>' if strict else '>='} {lo:g}, got {v!r}", file=file, field=where)
+    return float(v)
+
+
+def _pose(v: Any, where: str, file: str | Path | None) -> Pose:
+    if not isinstance(v, list) or len(v) != 3:
+        raise SourceError(f"must be a list [x, y, a], got {v!r}", file=file, field=where)
+    x, y, a = (_number(c, f"{where}[{i}]", file) for i, c in enumerate(v))
+    return (x, y, a)
+
+
+def _object(o: Any, where: str, file: str | Path | None) -> MovingObjectSpec:
+    if not isinstance(o, dict):
+        raise SourceError(f"must be an object, got {o!r}", file=file, field=where)
+    required = ("length", "width", "init_pose", "final_pose", "velocity", "trigger_radius")
+    for key in required:
+        if key not in o:
+            raise SourceError("missing key", file=file, field=f"{where}.{key}")
+    repeat = o.get("repeat", False)
+    if not isinstance(repeat, bool):
+        raise SourceError(f"must be true or false, got {repeat!r}", file=file, field=f"{where}.repeat")
+    return MovingObjectSpec(
+        length=_number(o["length"], f"{where}.length", file, lo=0.0, strict=True),
+        width=_number(o["width"], f"{where}.width", file, lo=0.0, strict=True),
+        init_pose=_pose(o["init_pose"], f"{where}.init_pose", file),
+        final_pose=_pose(o["final_pose"], f"{where}.final_pose", file),
+        velocity=_number(o["velocity"], f"{where}.velocity", file, lo=0.0, strict=True),
+        trigger_radius=_number(o["trigger_radius"], f"{where}.trigger_radius", file, lo=0.0),
+        repeat=repeat,
+    )
+

@@ -1,0 +1,181 @@
+"""Ground truth beside the robot interface: where the robot really is and what it really sees.
+
+`sim.truth` is never reachable through the `RobotIO` methods. Everything is in the map frame
+and refers to the robot's pose now (the visible-wall pieces to the latest scan).
+
+Visibility, two definitions (each method says which it uses):
+- *hit*: a wall is visible where beams of the latest scan actually hit it (noise-free): each
+  run of at least `min_wall_beams` consecutive beams on one segment is one visible piece,
+  from the first to the last hit point (so a piece is shorter than the truth by less than a
+  beam spacing at each end);
+- *in view*: a point (corner, door jamb) is visible when it lies within the laser's range and
+  field of view and the ray from the laser to it is not blocked more than `visible_tolerance`
+  before it.
+
+Corners are those of the static geometry (walls, cabinets/tables), classified convex/concave
+as seen from the robot (see `map_features`); door openings are `map_features.door_openings`
+of the map (its doors plus the gaps between wall ends of a door's width).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cached_property
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+from pico_studio.sim.base import CollisionEvent
+from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
+from pico_studio.sim.raycast import cast_rays
+from pico_studio.sim.world import KIND_DOOR
+
+if TYPE_CHECKING:
+    from pico_studio.sim.simulator import Simulator
+
+Pose = tuple[float, float, float]
+
+
+class Corners(NamedTuple):
+    points: np.ndarray  # (C, 2) map frame
+    convex: np.ndarray  # (C,) bool, as seen from the robot
+    loose_end: np.ndarray  # (C,) bool: the free end of a thin wall (always convex)
+
+
+class GroundTruth:
+    def __init__(self, sim: Simulator):
+        self._sim = sim
+
+    @property
+    def pose(self) -> Pose:
+        """The robot's true pose (x, y, a) in the map frame."""
+        return self._sim.base.pose
+
+    @property
+    def collisions(self) -> int:
+        """How many times the robot ran into something (one per contact)."""
+        return len(self._sim.base.collisions)
+
+    @property
+    def collision_events(self) -> list[CollisionEvent]:
+        return list(self._sim.base.collisions)
+
+    @property
+    def in_contact(self) -> bool:
+        return self._sim.base.in_contact
+
+    @property
+    def distance(self) -> float:
+        """True path length travelled, metres."""
+        return self._sim.base.distance
+
+    @property
+    def odometry_pose(self) -> Pose:
+        """The odometry's current pose in its own frame (whatever the reading form)."""
+        return self._sim.odometry.pose
+
+    def segments(self) -> np.ndarray:
+        """Every solid segment of the world as it is now (walls, objects, doors, moving objects)."""
+        return self._sim.world.segments().copy()
+
+    def doors(self) -> list[tuple[np.ndarray, bool]]:
+        """Every sliding door as it is now: (outline vertices (K, 2), opened?)."""
+        return [(d.vertices + d.offset * d.axis, d.opening) for d in self._sim.world.doors]
+
+    def moving_objects(self) -> list[np.ndarray]:
+        """Every moving object's box as it is now: corners (4, 2)."""
+        return [m.corners() for m in self._sim.world.moving]
+
+    def scan_hits(self) -> tuple[np.ndarray, np.ndarray]:
+        """Noise-free ranges of the latest scan and the world segment index each beam hit (-1: none)."""
+        return self._sim.laser.true_ranges.copy(), self._sim.laser.true_hits.copy()
+
+    # ----- what the robot sees --------------------------------------------------------------
+    def visible_walls(self) -> np.ndarray:
+        """(N, 4) the visible pieces of solid segments in the latest scan (*hit* visibility)."""
+        return self._visible_pieces()[0]
+
+    def visible_wall_sources(self) -> np.ndarray:
+        """(N,) for each row of `visible_walls()`: the index into `segments()` it is a piece of
+        (`sim.world.kinds()` says wall, object, door or moving object)."""
+        return self._visible_pieces()[1]
+
+    def visible_corners(self) -> Corners:
+        """Corners of the static geometry *in view* from the robot, convex/concave from there."""
+        sim = self._sim
+        idx, convex, loose = classify_corners(self._graph, self.pose[:2], sim.params.truth.straight_tolerance)
+        pts = self._graph.points[idx]
+        seen = self._in_view(pts, sim.world.segments())
+        return Corners(pts[seen], convex[seen], loose[seen])
+
+    def door_openings(self) -> np.ndarray:
+        """(D, 4) every door opening of the map, jamb to jamb (see `map_features.door_openings`)."""
+        return self._openings.copy()
+
+    def visible_doors(self) -> np.ndarray:
+        """(D, 4) door openings whose both jambs and middle are within range and field of view,
+        and whose middle is *in view* (doors themselves, open or closed, do not occlude)."""
+        o = self._openings
+        if len(o) == 0:
+            return o.copy()
+        segs = self._sim.world.segments()
+        not_doors = segs[self._sim.world.kinds() != KIND_DOOR]
+        mids = (o[:, :2] + o[:, 2:]) / 2
+        seen = self._in_view(mids, not_doors)
+        seen &= self._in_fov(o[:, :2]) & self._in_fov(o[:, 2:])
+        return o[seen]
+
+    @cached_property
+    def _graph(self) -> Vertices:
+        return vertex_graph(self._sim.world.static)
+
+    @cached_property
+    def _openings(self) -> np.ndarray:
+        w = self._sim.world
+        t = self._sim.params.truth
+        return door_openings(
+            w.walls, w.map.door_polygons, obstacles=w.objects,
+            min_width=t.door_min_width, max_width=t.door_max_width, max_thickness=t.max_wall_thickness,
+        )
+
+    def _in_fov(self, points: np.ndarray) -> np.ndarray:
+        """Within the laser's range and angular field of view from the current pose."""
+        x, y, a = self.pose
+        p = self._sim.laser.profile
+        d = points - (x, y)
+        dist = np.hypot(d[:, 0], d[:, 1])
+        bearing = np.mod(np.arctan2(d[:, 1], d[:, 0]) - a + math.pi, 2 * math.pi) - math.pi
+        return (dist <= p.range_max) & (bearing >= p.angle_min) & (bearing <= p.angle_max)
+
+    def _in_view(self, points: np.ndarray, segments: np.ndarray) -> np.ndarray:
+        """In the field of view and not occluded by `segments`."""
+        seen = self._in_fov(points)
+        if not seen.any():
+            return seen
+        x, y, _ = self.pose
+        d = points[seen] - (x, y)
+        dist = np.hypot(d[:, 0], d[:, 1])
+        free = cast_rays((x, y), np.arctan2(d[:, 1], d[:, 0]), segments)
+        seen[seen] = free >= dist - self._sim.params.truth.visible_tolerance
+        return seen
+
+    def _visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
+        laser = self._sim.laser
+        ranges, hits = laser.true_ranges, laser.true_hits
+        pose = laser.last_pose
+        n = len(hits)
+        # runs of consecutive beams on the same segment
+        change = np.flatnonzero(np.diff(hits) != 0) + 1
+        starts = np.concatenate([[0], change])
+        stops = np.concatenate([change, [n]]) - 1
+        keep = (hits[starts] >= 0) & (stops - starts + 1 >= self._sim.params.truth.min_wall_beams)
+        starts, stops = starts[keep], stops[keep]
+        angles = laser.fan.angle_min + np.arange(n) * laser.fan.increment + pose[2]
+        px = pose[0] + ranges * np.cos(angles)
+        py = pose[1] + ranges * np.sin(angles)
+        pieces = np.column_stack([px[starts], py[starts], px[stops], py[stops]])
+        return pieces, hits[starts]
+
+    def as_dict(self) -> dict[str, object]:
+        """The small per-frame truth the session records (JSON-friendly)."""
+        return {"pose": self.pose, "collisions": self.collisions, "in_contact": self.in_contact}
