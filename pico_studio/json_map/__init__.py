@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pico_studio.core.config.map_params import HeightmapParams
+from pico_studio.core.config.map_params import HeightmapParams, MapParams
 from pico_studio.errors import MapError
 from pico_studio.json_map.convert import ConvertResult, RoundTrip, convert, tolerant_iou
 from pico_studio.json_map.grid import GridFrame
@@ -26,12 +26,17 @@ MAP_SUFFIXES = (".json", *IMAGE_SUFFIXES, *YAML_SUFFIXES)
 
 
 def load_map(
-    path: str | Path, params: HeightmapParams | None = None, *, resolution: float | None = None
+    path: str | Path,
+    params: HeightmapParams | MapParams | None = None,
+    *,
+    resolution: float | None = None,
 ) -> GlobalMap:
     """Any map by its suffix: .json (vector map), .png/.pgm (heightmap image; a same-stem
     map_server YAML beside it that names it is used), .yaml/.yml (map_server file).
-    `params` (cfg.map.heightmap) tunes vectorising; `resolution` overrides the pixel size
-    of an image without a YAML. Raises `MapError` naming the file (and field)."""
+    `params` (cfg.map or cfg.map.heightmap) tunes vectorising; `resolution` overrides the
+    pixel size of an image without a YAML. Raises `MapError` naming the file (and field)."""
+    if isinstance(params, MapParams):
+        params = params.heightmap
     p = Path(path)
     suffix = p.suffix.lower()
     if suffix not in MAP_SUFFIXES:
