@@ -104,7 +104,7 @@ def _scale_bar(body: np.ndarray, px_per_m: float) -> None:
 
 def save_png(image: np.ndarray, path: str) -> None:
     """Write a drawn map; raises MapError when the file cannot be written."""
-    ok, data = cv2.imencode(".png", image)
+    ok, data = cv2.imencode(".png", image, [cv2.IMWRITE_PNG_COMPRESSION, 9])
     try:
         if not ok:  # pragma: no cover
             raise OSError("encoding failed")
