@@ -281,7 +281,9 @@ def door_rectangles(door_mask: np.ndarray, min_area: int) -> tuple[list[np.ndarr
         if area < min_area:
             dropped.append((area, float(centroids[k, 0]), float(centroids[k, 1])))
             continue
-        rows, cols = np.nonzero(labels == k)
+        x, y, w, h = (int(v) for v in stats[k, :4])
+        rows, cols = np.nonzero(labels[y : y + h, x : x + w] == k)
+        rows, cols = rows + y, cols + x
         corners = np.concatenate(
             [np.stack([cols + du, rows + dv], axis=1) for du in (0, 1) for dv in (0, 1)]
         ).astype(np.float32)
