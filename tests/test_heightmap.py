@@ -136,6 +136,7 @@ def test_restaurant_png_with_yaml_overlays_the_restaurant_json(maps_dir: Path) -
 
 def test_door_regions_become_rectangles(maps_dir: Path) -> None:
     m = load_map(maps_dir / "doors_heightmap_example.png")
+    assert sorted(m.extra["heightmap"]["door_grey"]) == [90, 90, 180, 180]
     for poly in m.door_polygons:
         assert poly.shape == (4, 2)
         sides = np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1)
