@@ -188,6 +188,16 @@ def _yaml(path: Path, text: str) -> Path:
     return path
 
 
+def test_many_specks_are_counted_not_all_listed(tmp_path: Path) -> None:
+    img = _room()
+    img[20:50:3, 20:70:3] = 0  # 10 x 17 single-pixel specks inside the room
+    m = load_map(_write(tmp_path / "noisy.png", img))
+    listed = [w for w in m.warnings if w.startswith("dropped a speck")]
+    assert len(listed) == 20
+    assert "dropped 150 more specks (150 px in all)" in m.warnings
+    assert len(m.walls) == len(load_map(_write(tmp_path / "clean.png", _room())).walls)
+
+
 def test_rgba_transparent_pixels_are_free(tmp_path: Path) -> None:
     grey = _room()
     rgba = np.dstack([grey, grey, grey, np.full_like(grey, 255)])

@@ -67,6 +67,7 @@ from pico_studio.json_map.model import GlobalMap
 
 IMAGE_SUFFIXES = (".png", ".pgm")
 YAML_SUFFIXES = (".yaml", ".yml")
+MAX_LISTED_SPECKS = 20  # a noisy scan can have thousands: list these, count the rest
 UPSAMPLE = 2  # outline tracing on a x2 mask: a one-pixel-wide wall keeps a non-zero width
 
 
@@ -327,10 +328,15 @@ def vectorise(img: HeightmapImage, params: HeightmapParams | None = None) -> Glo
 
     warnings = list(img.notes)
     for kind, found in (("speck", specks), ("grey (door) speck", grey_specks)):
-        for area, cx, cy in found:
+        for area, cx, cy in found[:MAX_LISTED_SPECKS]:
             x, y = img.frame.to_world(np.array([[cx + 0.5, cy + 0.5]]))[0]
             warnings.append(
                 f"dropped a {kind} of {area} px at pixel (col {cx:.0f}, row {cy:.0f}) = ({x:.3f}, {y:.3f}) m"
+            )
+        if len(found) > MAX_LISTED_SPECKS:
+            rest = found[MAX_LISTED_SPECKS:]
+            warnings.append(
+                f"dropped {len(rest)} more {kind}s ({sum(a for a, _, _ in rest)} px in all)"
             )
     info: dict[str, Any] = {
         "image": img.path.name,
