@@ -142,9 +142,12 @@ def test_convert_resolution_and_yaml_output(maps_dir: Path, tmp_path: Path) -> N
         ("hospital_2019.json", "out.txt", "unknown output format '.txt'"),
         ("missing.json", "out.png", "cannot read"),
         ("hospital_2021_sim.json", "out.png", "missing key"),
+        ("hospital_2021.png", "a_file/out.json", "cannot write"),
+        ("hospital_2019.json", "a_file/out.png", "cannot write"),
     ],
 )
 def test_convert_errors(maps_dir: Path, tmp_path: Path, src: str, dst: str, message: str) -> None:
+    (tmp_path / "a_file").write_text("not a directory")
     with pytest.raises(MapError, match=message.replace("(", r"\(")):
         convert(maps_dir / src, tmp_path / dst)
 
