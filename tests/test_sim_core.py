@@ -320,3 +320,15 @@ def test_random_driving_never_ends_inside_or_through_a_wall() -> None:
         assert not sim.base.collides(sim.truth.pose, segs).any()
         assert sim.world.enclosed(sim.truth.pose[:2])
     assert sim.truth.collisions > 5  # it did hit things, and was stopped every time
+
+
+def test_a_long_step_delivers_the_newest_scan_taken_where_it_was_due() -> None:
+    sim = Simulator(box_map(), initial_pose=(2.0, 5.0, 0.0))
+    sim.read_laser()
+    sim.send_base_reference(0.5, 0.0, 0.0)
+    sim.advance(1.01)  # scan times 0.05 ... 1.0 pass; the newest is the one at 1.0 s
+    scan = sim.read_laser()
+    assert scan is not None and scan.timestamp == pytest.approx(1.0)
+    i = int(np.argmin(np.abs(scan.angles)))
+    assert abs(scan.ranges[i] * math.cos(scan.angles[i]) - (10.0 - 2.5)) < 0.0101  # seen from x = 2.5, not 2.505
+    assert sim.read_laser() is None

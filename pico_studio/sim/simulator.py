@@ -93,7 +93,9 @@ class Simulator:
         self._wall_start: float | None = None
         self.steps = 0
         self._closed = False
+        self._due_laser: tuple[Pose, np.ndarray, float] | None = None
         self._emit_due(0.0)
+        self._cast_due_scan()
 
     @classmethod
     def from_files(
@@ -190,6 +192,7 @@ class Simulator:
             self._emit_due(t_next)
         self._t = t_end
         self._emit_due(t_end)
+        self._cast_due_scan()
         self.steps += 1
         if self.params.realtime:
             self._pace()
@@ -227,8 +230,14 @@ class Simulator:
         if self._next_laser() <= t + _EPS_T:
             while self._next_laser() <= t + _EPS_T:
                 self._laser_k += 1
-            stamp = (self._laser_k - 1) * self._laser_period
-            self._new_laser = self.laser.scan(self.base.pose, self.world.segments(), stamp)
+            # latch where and what the scan sees; it is cast once, at the end of the step
+            # (a long step passes many scan times but delivers only the newest scan)
+            self._due_laser = (self.base.pose, self.world.segments(), (self._laser_k - 1) * self._laser_period)
+
+    def _cast_due_scan(self) -> None:
+        if self._due_laser is not None:
+            self._new_laser = self.laser.scan(*self._due_laser)
+            self._due_laser = None
 
     def _pace(self) -> None:
         now = time.perf_counter()
