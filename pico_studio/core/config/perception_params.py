@@ -1,0 +1,308 @@
+"""Parameters of the perceptor, one section per stage (seeds 000-003, DESIGN.md "The perceptor").
+
+Every threshold the stages use is declared here once, with its default, range, step, unit and
+meaning; the stages receive their own section (`perceive(..., cfg.perception)`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from pico_studio.core.config.spec import param, section
+
+SEGMENTERS = ("split_merge", "angle", "ransac")
+
+
+@dataclass(frozen=True)
+class LocateParams:
+    jump_distance: float = param(
+        1.0, lo=0.01, hi=100.0, step=0.01, unit="m",
+        help="An odometry step longer than this is a jump: warned about and re-anchored",
+    )
+    jump_angle: float = param(
+        1.0, lo=0.01, hi=3.14159, step=0.01, unit="rad",
+        help="An odometry step turning more than this is a jump: warned about and re-anchored",
+    )
+    laser_motion_without_odometry: bool = param(
+        True, help="Without odometry, move the pose by the motion estimated from the laser",
+    )
+
+
+@dataclass(frozen=True)
+class ProximityParams:
+    radius: float = param(
+        0.35, lo=0.05, hi=3.0, step=0.01, unit="m",
+        help="Radius of the close-proximity circle around the robot",
+    )
+    footprint_length: float = param(
+        0.2, lo=0.0, hi=2.0, step=0.01, unit="m",
+        help="Robot footprint along x (centred on the laser): points inside it are the robot itself",
+    )
+    footprint_width: float = param(
+        0.4, lo=0.0, hi=2.0, step=0.01, unit="m",
+        help="Robot footprint along y (centred on the laser): points inside it are the robot itself",
+    )
+
+
+@dataclass(frozen=True)
+class ScanParams:
+    min_range: float = param(
+        0.05, lo=0.0, hi=5.0, step=0.01, unit="m",
+        help="Ranges below this (or below the laser's range_min) are dropped",
+    )
+    max_range: float = param(
+        10.0, lo=0.5, hi=100.0, step=0.5, unit="m",
+        help="Ranges above this (or above the laser's range_max) are dropped",
+    )
+    min_spacing: float = param(
+        0.025, lo=0.0, hi=0.5, step=0.005, unit="m",
+        help="Resampling: consecutive kept points are at least this far apart along the scan",
+    )
+    break_distance: float = param(
+        0.12, lo=0.01, hi=2.0, step=0.01, unit="m",
+        help="Consecutive points farther apart than this (plus break_slope x range) start a new cluster",
+    )
+    break_slope: float = param(
+        0.06, lo=0.0, hi=1.0, step=0.01, unit="m/m",
+        help="Extra allowed gap per metre of range, for the sparser points far away",
+    )
+    segmenter: str = param(
+        "split_merge", choices=SEGMENTERS,
+        help="Line segmenter: split-and-merge (seed 003), angle clustering (seed 001), RANSAC (seed 002)",
+    )
+    min_points: int = param(
+        5, lo=2, hi=200, step=1, help="A wall needs at least this many (resampled) points",
+    )
+    min_length: float = param(
+        0.1, lo=0.0, hi=5.0, step=0.01, unit="m", help="Shorter walls are dropped",
+    )
+    max_rms: float = param(
+        0.03, lo=0.001, hi=0.5, step=0.001, unit="m",
+        help="A wall whose points are further (rms) from its fitted line is dropped",
+    )
+    merge_angle: float = param(
+        0.12, lo=0.0, hi=1.0, step=0.01, unit="rad",
+        help="Neighbouring segments of one cluster closer than this in angle are merged",
+    )
+    seen_margin: float = param(
+        0.04, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="A wall's end was seen when a point just past it lies this far behind the wall's line",
+    )
+    seen_points: int = param(
+        4, lo=1, hi=50, step=1, help="How many points past a wall's end are checked for that",
+    )
+
+
+@dataclass(frozen=True)
+class SplitMergeParams:
+    split_distance: float = param(
+        0.04, lo=0.005, hi=0.5, step=0.005, unit="m",
+        help="Split a segment at its farthest point when that is farther than this from the chord",
+    )
+
+
+@dataclass(frozen=True)
+class AngleClusterParams:
+    lookahead: int = param(
+        6, lo=1, hi=30, step=1, help="The direction of point i is taken towards point i + lookahead",
+    )
+    angle_tolerance: float = param(
+        0.35, lo=0.01, hi=1.5, step=0.01, unit="rad",
+        help="Start a new wall when the next direction differs this much from the cluster's average",
+    )
+
+
+@dataclass(frozen=True)
+class RansacParams:
+    iterations: int = param(
+        40, lo=1, hi=1000, step=1, help="Line hypotheses (point pairs) drawn per cluster",
+    )
+    inlier_distance: float = param(
+        0.03, lo=0.001, hi=0.5, step=0.001, unit="m", help="Points closer to a line are its inliers",
+    )
+    max_gap_points: int = param(
+        2, lo=0, hi=50, step=1, help="Outliers tolerated inside one wall's run of inliers",
+    )
+    seed: int = param(0, lo=0, hi=2**31 - 1, step=1, help="Random seed, so a scan always gives the same walls")
+
+
+@dataclass(frozen=True)
+class CornerParams:
+    spike_gap: float = param(
+        0.3, lo=0.01, hi=5.0, step=0.01, unit="m",
+        help="Spike method: consecutive points farther apart than this mark the nearer one a corner",
+    )
+    spike_max_range: float = param(
+        2.0, lo=0.1, hi=20.0, step=0.1, unit="m",
+        help="Spike method: only points closer than this (rules out false positives far away)",
+    )
+    vector_step: float = param(
+        0.15, lo=0.02, hi=2.0, step=0.01, unit="m",
+        help="Vector method: the angle at a point is taken to the points this far before and after it",
+    )
+    vector_tolerance: float = param(
+        0.35, lo=0.01, hi=1.5, step=0.01, unit="rad",
+        help="Vector method: an angle within this of 90 deg (inner) or 270 deg (outer) is a corner",
+    )
+
+
+@dataclass(frozen=True)
+class MergeParams:
+    angle: float = param(
+        0.15, lo=0.0, hi=1.0, step=0.01, unit="rad",
+        help="Walls whose directions differ less than this may be merged",
+    )
+    distance: float = param(
+        0.08, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="...and whose end points lie closer than this to the other's line",
+    )
+    gap: float = param(
+        0.15, lo=0.0, hi=2.0, step=0.01, unit="m",
+        help="...and whose extents along the line overlap or leave a gap below this",
+    )
+    connect_radius: float = param(
+        0.2, lo=0.0, hi=2.0, step=0.01, unit="m",
+        help="End points of two walls closer than this (to the lines' crossing) are connected into a corner",
+    )
+    connect_min_angle: float = param(
+        0.5, lo=0.0, hi=1.57, step=0.01, unit="rad",
+        help="Only walls at least this far from parallel are connected into a corner",
+    )
+    min_length: float = param(
+        0.06, lo=0.0, hi=2.0, step=0.01, unit="m",
+        help="Local walls shorter than this (e.g. squeezed between two corners) are dropped",
+    )
+    max_weight: float = param(
+        10.0, lo=1.0, hi=1000.0, step=1.0,
+        help="Weight of the previous estimate of a wall or corner against one new scan, at most",
+    )
+    confirm_hits: int = param(
+        2, lo=1, hi=100, step=1, help="A wall is shown once it was seen in this many scans",
+    )
+    unconnected_hits: int = param(
+        3, lo=1, hi=1000, step=1,
+        help="A wall connected to nothing is only kept once seen in this many scans",
+    )
+    tentative_life: int = param(
+        5, lo=1, hi=1000, step=1,
+        help="A wall not yet kept is dropped after this many scans without being seen again",
+    )
+    miss_limit: int = param(
+        6, lo=1, hi=1000, step=1,
+        help="A wall is dropped when the laser passed through it in this many scans in a row",
+    )
+    see_through: float = param(
+        0.15, lo=0.01, hi=2.0, step=0.01, unit="m",
+        help="The laser passes through a wall when its range exceeds the wall's distance by this",
+    )
+    keep_radius: float = param(
+        12.0, lo=0.5, hi=100.0, step=0.5, unit="m",
+        help="Walls entirely farther than this from the robot are dropped",
+    )
+    max_walls: int = param(
+        300, lo=10, hi=100000, step=10, help="At most this many walls; the least seen go first",
+    )
+
+
+@dataclass(frozen=True)
+class IdentifyParams:
+    door_min_width: float = param(
+        0.5, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at least this wide",
+    )
+    door_max_width: float = param(
+        1.3, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at most this wide",
+    )
+    door_angle: float = param(
+        0.2, lo=0.0, hi=1.0, step=0.01, unit="rad",
+        help="The two walls of a door are parallel within this",
+    )
+    door_offset: float = param(
+        0.1, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="...and each door point lies within this of the other wall's line",
+    )
+    facing_distance: float = param(
+        1.3, lo=0.1, hi=5.0, step=0.01, unit="m",
+        help="A loose end facing a wall: the wall is hit within this along the loose wall's direction",
+    )
+
+    def check(self) -> list[tuple[str, str]]:
+        if self.door_min_width >= self.door_max_width:
+            return [("door_min_width", f"must be below door_max_width ({self.door_max_width:g})")]
+        return []
+
+
+@dataclass(frozen=True)
+class EntranceParams:
+    parallel_tolerance: float = param(
+        0.2, lo=0.0, hi=1.0, step=0.01, unit="rad",
+        help="Segments are parallel (or perpendicular) within this",
+    )
+    min_gap: float = param(
+        0.5, lo=0.05, hi=5.0, step=0.01, unit="m",
+        help="An end point this far from the next segment's start is an entrance",
+    )
+    max_gap: float = param(
+        2.0, lo=0.1, hi=10.0, step=0.1, unit="m", help="...up to this wide",
+    )
+    hallway_min_width: float = param(
+        0.4, lo=0.1, hi=5.0, step=0.01, unit="m", help="Two parallel segments this far apart are a hallway",
+    )
+    hallway_max_width: float = param(
+        2.0, lo=0.1, hi=10.0, step=0.1, unit="m", help="...up to this far apart",
+    )
+    median_scans: int = param(
+        5, lo=1, hi=100, step=1, help="The entrance is the median over this many scans",
+    )
+
+
+@dataclass(frozen=True)
+class RoomParams:
+    side_angle: float = param(
+        -1.5708, lo=-3.14159, hi=3.14159, step=0.01, unit="rad",
+        help="Bearing of the side beam watched for rooms (-pi/2: right-hand)",
+    )
+    jump_min: float = param(
+        0.75, lo=0.0, hi=10.0, step=0.05, unit="m",
+        help="A jump of the side range of at least this between scans marks a room",
+    )
+    jump_max: float = param(
+        2.0, lo=0.0, hi=20.0, step=0.05, unit="m", help="...and at most this",
+    )
+    edge_jump: float = param(
+        0.1, lo=0.01, hi=2.0, step=0.01, unit="m",
+        help="Inside a room, a range jump above this between beams is an object edge",
+    )
+    edge_skip: int = param(
+        5, lo=0, hi=100, step=1, help="Jumps within this many beams after an edge are the same edge",
+    )
+    content_half_angle: float = param(
+        0.6, lo=0.05, hi=3.14159, step=0.05, unit="rad",
+        help="Room content is counted over beams within this of the side bearing",
+    )
+
+
+@dataclass(frozen=True)
+class LaserMotionParams:
+    match_radius: float = param(
+        0.3, lo=0.01, hi=5.0, step=0.01, unit="m",
+        help="Corners of two scans closer than this (after the predicted motion) are the same corner",
+    )
+    iterations: int = param(
+        3, lo=1, hi=20, step=1, help="Re-match and re-estimate this many times",
+    )
+
+
+@dataclass(frozen=True)
+class PerceptionParams:
+    locate: LocateParams = section(LocateParams, "Init / Locate: zero pose and pose from odometry")
+    proximity: ProximityParams = section(ProximityParams, "Close proximity circle and footprint")
+    scan: ScanParams = section(ScanParams, "Scan: filtering, resampling, clustering, segmenting")
+    split_merge: SplitMergeParams = section(SplitMergeParams, "Split-and-merge segmenter (seed 003)")
+    angle: AngleClusterParams = section(AngleClusterParams, "Angle-clustering segmenter (seed 001)")
+    ransac: RansacParams = section(RansacParams, "RANSAC segmenter (seed 002)")
+    corners: CornerParams = section(CornerParams, "Spike and vector corner detectors (seed 002)")
+    merge: MergeParams = section(MergeParams, "Merging scans into the local map (seed 001)")
+    identify: IdentifyParams = section(IdentifyParams, "Convex/concave corners, doors, possible doors")
+    entrance: EntranceParams = section(EntranceParams, "Entrance and hallway detection (seed 003)")
+    rooms: RoomParams = section(RoomParams, "Side rooms and their content (seed 000)")
+    laser_motion: LaserMotionParams = section(LaserMotionParams, "Motion from matched corners (seed 002)")

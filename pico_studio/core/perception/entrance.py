@@ -1,0 +1,67 @@
+"""Entrance and hallway detection (seed 003), the median over several scans.
+
+On the current map (walls in scan order, robot frame), each wall is compared with the next
+and the one after: when their directions are parallel or perpendicular (within
+`parallel_tolerance`) and the end of the first lies between `min_gap` and `max_gap` from the
+start of the other, the gap is an entrance, its point midway. The widest such gap wins. With
+exactly two walls, parallel and `hallway_min_width`..`hallway_max_width` apart, the robot is
+in a hallway: the entrance point lies midway between them at their far ends. Single scans
+are noisy, so the estimate is the median angle and distance over the last `median_scans`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pico_studio.core.config.perception_params import EntranceParams
+
+Estimate = tuple[float, float, bool]  # angle, distance, hallway
+
+
+def entrance_in_scan(segments: np.ndarray, params: EntranceParams) -> Estimate | None:
+    s = len(segments)
+    if s < 2:
+        return None
+    d = segments[:, 2:4] - segments[:, 0:2]
+    theta = np.arctan2(d[:, 1], d[:, 0])
+    if s == 2:
+        diff = abs((theta[1] - theta[0] + math.pi / 2) % math.pi - math.pi / 2)
+        if diff < params.parallel_tolerance:
+            n = np.array([-math.sin(theta[0]), math.cos(theta[0])])
+            mid1 = (segments[1, 0:2] + segments[1, 2:4]) / 2
+            width = abs(float(n @ (mid1 - segments[0, 0:2])))
+            if params.hallway_min_width <= width <= params.hallway_max_width:
+                ends = segments.reshape(-1, 2)
+                r = np.hypot(ends[:, 0], ends[:, 1])
+                far0 = ends[0:2][np.argmax(r[0:2])]
+                far1 = ends[2:4][np.argmax(r[2:4])]
+                p = (far0 + far1) / 2
+                return math.atan2(p[1], p[0]), math.hypot(p[0], p[1]), True
+    best: tuple[float, np.ndarray] | None = None
+    for i in range(s - 1):
+        for j in range(i + 1, min(i + 3, s)):
+            diff = abs((theta[j] - theta[i] + math.pi / 2) % math.pi - math.pi / 2)
+            square = diff < params.parallel_tolerance or abs(diff - math.pi / 2) < params.parallel_tolerance
+            gap = float(np.hypot(*(segments[j, 0:2] - segments[i, 2:4])))
+            if square and params.min_gap <= gap <= params.max_gap and (best is None or gap > best[0]):
+                best = (gap, (segments[i, 2:4] + segments[j, 0:2]) / 2)
+    if best is None:
+        return None
+    p = best[1]
+    return math.atan2(p[1], p[0]), math.hypot(p[0], p[1]), False
+
+
+def median_entrance(history: tuple[Estimate, ...]) -> tuple[tuple[float, float] | None, bool]:
+    """Median (angle, distance) over the recent estimates, and whether most were hallways."""
+    if not history:
+        return None, False
+    a = np.array([h[0] for h in history])
+    # the median of angles near +-pi: taken relative to the circular mean
+    ref = math.atan2(np.sin(a).mean(), np.cos(a).mean())
+    rel = (a - ref + math.pi) % (2 * math.pi) - math.pi
+    ang = (ref + float(np.median(rel)) + math.pi) % (2 * math.pi) - math.pi
+    dist = float(np.median([h[1] for h in history]))
+    hallway = sum(h[2] for h in history) * 2 > len(history)
+    return (ang, dist), hallway

@@ -1,0 +1,195 @@
+"""Identify (seed 001): corner properties, doors and possible doors in the local map.
+
+Corners: two connected wall ends form a corner. Seen from the robot R it is *concave* when R
+lies inside the wedge the two walls span at the corner C (u = A - C, v = B - C towards the
+walls' far ends; R inside when r = R - C is a positive combination of u and v) — the robot
+looks into it — and *convex* when the corner points at the robot. A wall end on the inside
+of another wall (a T) is concave. A free end the laser looked past (a jamb, a wall's end)
+is convex.
+
+Doors: two convex points of different walls, the walls parallel within `door_angle`, each
+point within `door_offset` of the other wall's line, the gap within [door_min_width,
+door_max_width], each point the end of its wall facing the other, and no wall across the
+gap. Possible doors (seed 001), with the same width range: a convex point and a loose
+(floating) end, two loose ends, or a loose end whose wall, continued, hits another wall
+within `facing_distance`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pico_studio.core.config.perception_params import IdentifyParams
+from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
+
+POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall")
+
+
+@dataclass(frozen=True)
+class Identified:
+    endpoint_property: np.ndarray  # (W, 2) int
+    corners: np.ndarray  # (C, 2)
+    corner_convex: np.ndarray  # (C,)
+    doors: np.ndarray  # (D, 4)
+    possible_doors: np.ndarray  # (E, 4)
+    possible_door_kind: list[str]
+
+
+def identify(
+    walls: np.ndarray, connected: np.ndarray, seen_end: np.ndarray, robot_xy: tuple[float, float],
+    params: IdentifyParams,
+) -> Identified:
+    """walls (W, 4) zero frame, connected (W, 2) wall index or -1, seen_end (W, 2) bool."""
+    n = len(walls)
+    prop = np.full((n, 2), FLOATING, dtype=np.int64)
+    prop[seen_end] = CONVEX
+    corners: list[np.ndarray] = []
+    convex: list[bool] = []
+    robot = np.asarray(robot_xy, dtype=float)
+    for i in range(n):
+        for a in (0, 1):
+            k = int(connected[i, a])
+            if k < 0:
+                continue
+            c = walls[i, 2 * a : 2 * a + 2]
+            far_i = walls[i, 2 * (1 - a) : 2 * (1 - a) + 2]
+            back = connected[k] == i
+            if back.any():  # end to end: one corner for the pair
+                b = int(np.flatnonzero(back)[0])
+                if k < i:
+                    continue
+                far_k = walls[k, 2 * (1 - b) : 2 * (1 - b) + 2]
+                is_convex = not _in_wedge(robot - c, far_i - c, far_k - c)
+                prop[i, a] = prop[k, b] = CONVEX if is_convex else CONCAVE
+            else:  # a T: i's end on k's inside
+                is_convex = False
+                prop[i, a] = CONCAVE
+            corners.append(c.copy())
+            convex.append(is_convex)
+    for i, a in zip(*np.nonzero(seen_end & (connected < 0)), strict=True):
+        corners.append(walls[i, 2 * a : 2 * a + 2].copy())
+        convex.append(True)
+    doors, possible, kinds = _doors(walls, prop, connected, params)
+    return Identified(
+        prop,
+        np.array(corners).reshape(-1, 2),
+        np.array(convex, dtype=bool),
+        doors,
+        possible,
+        kinds,
+    )
+
+
+def _in_wedge(r: np.ndarray, u: np.ndarray, v: np.ndarray) -> bool:
+    uv = u[0] * v[1] - u[1] * v[0]
+    ur = u[0] * r[1] - u[1] * r[0]
+    rv = r[0] * v[1] - r[1] * v[0]
+    return bool(uv * ur > 0 and uv * rv > 0)
+
+
+def _doors(
+    walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, params: IdentifyParams
+) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    empty = np.zeros((0, 4))
+    if len(walls) < 2:
+        return empty, empty, []
+    # door-point candidates: (wall, end) with a convex or floating property
+    wi, we = np.nonzero((prop == CONVEX) | (prop == FLOATING))
+    if len(wi) < 1:
+        return empty, empty, []
+    pts = walls[wi, 0:2] * (we == 0)[:, None] + walls[wi, 2:4] * (we == 1)[:, None]
+    other = walls[wi, 2:4] * (we == 0)[:, None] + walls[wi, 0:2] * (we == 1)[:, None]
+    out_dir = pts - other
+    out_dir /= np.maximum(np.hypot(out_dir[:, 0], out_dir[:, 1]), 1e-12)[:, None]
+    is_convex = prop[wi, we] == CONVEX
+    pq = pts[None, :, :] - pts[:, None, :]  # P_i -> P_j
+    dist = np.hypot(pq[..., 0], pq[..., 1])
+    width_ok = (dist >= params.door_min_width) & (dist <= params.door_max_width)
+    parallel = np.abs(out_dir @ out_dir.T) > np.cos(params.door_angle)
+    facing = ((pq * out_dir[:, None, :]).sum(-1) > 0) & ((-pq * out_dir[None, :, :]).sum(-1) > 0)
+    # offset of P_j from wall i's line
+    off = np.abs(pq[..., 0] * out_dir[:, None, 1] - pq[..., 1] * out_dir[:, None, 0])
+    collinear = parallel & (off < params.door_offset) & (off.T < params.door_offset)
+    different = wi[:, None] != wi[None, :]
+    linked = connected[wi[:, None], we[:, None]] == wi[None, :]
+    pair = np.triu(width_ok & collinear & facing & different & ~linked, 1)
+    doors: list[np.ndarray] = []
+    possible: list[np.ndarray] = []
+    kinds: list[str] = []
+    for i, j in zip(*np.nonzero(pair), strict=True):
+        seg = np.concatenate([pts[i], pts[j]])
+        if _blocked(seg, walls, {int(wi[i]), int(wi[j])}):
+            continue
+        if is_convex[i] and is_convex[j]:
+            doors.append(seg)
+        elif is_convex[i] or is_convex[j]:
+            possible.append(seg)
+            kinds.append("convex_loose")
+        else:
+            possible.append(seg)
+            kinds.append("loose_loose")
+    # a loose end facing a wall: the wall's continuation hits another wall
+    loose = np.flatnonzero(~is_convex)
+    if len(loose):
+        hit_t, hit_k = _ray_hits(pts[loose], out_dir[loose], walls)
+        for m, t, k in zip(loose.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
+            if k < 0 or k == wi[m] or not params.door_min_width <= t <= params.facing_distance:
+                continue
+            if connected[wi[m], we[m]] == k:
+                continue
+            possible.append(np.concatenate([pts[m], pts[m] + t * out_dir[m]]))
+            kinds.append("loose_wall")
+    d = np.array(doors).reshape(-1, 4)
+    p = np.array(possible).reshape(-1, 4)
+    if len(d) and len(p):  # a possible door where a door was found already is that door
+        mid_d = (d[:, 0:2] + d[:, 2:4]) / 2
+        mid_p = (p[:, 0:2] + p[:, 2:4]) / 2
+        near = np.hypot(*(mid_p[:, None, :] - mid_d[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+        keep = near > params.door_min_width / 2
+        p = p[keep]
+        kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
+    return d, p, kinds
+
+
+def _blocked(seg: np.ndarray, walls: np.ndarray, own: set[int]) -> bool:
+    """Does a wall other than the door's own cross the middle 80% of the gap?"""
+    a = seg[0:2] + 0.1 * (seg[2:4] - seg[0:2])
+    b = seg[0:2] + 0.9 * (seg[2:4] - seg[0:2])
+    mask = np.ones(len(walls), dtype=bool)
+    mask[list(own)] = False
+    w = walls[mask]
+    if len(w) == 0:
+        return False
+    return bool(_intersects(a, b, w[:, 0:2], w[:, 2:4]).any())
+
+
+def _intersects(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.ndarray:
+    def orient(p, q, r):  # noqa: ANN001, ANN202
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+
+    o1, o2 = orient(a, b, c), orient(a, b, d)
+    o3, o4 = orient(c, d, a), orient(c, d, b)
+    return (o1 * o2 < 0) & (o3 * o4 < 0)
+
+
+def _ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Nearest wall hit (distance, index; inf/-1 for none) of rays (R, 2) + t (R, 2)."""
+    a = walls[None, :, 0:2]
+    e = walls[None, :, 2:4] - a
+    o = origin[:, None, :]
+    dr = direction[:, None, :]
+    den = dr[..., 0] * e[..., 1] - dr[..., 1] * e[..., 0]
+    ao = a - o
+    safe = np.where(np.abs(den) > 1e-12, den, 1.0)
+    t = (ao[..., 0] * e[..., 1] - ao[..., 1] * e[..., 0]) / safe
+    u = (ao[..., 0] * dr[..., 1] - ao[..., 1] * dr[..., 0]) / safe
+    ok = (np.abs(den) > 1e-12) & (t > 1e-6) & (u >= 0) & (u <= 1)
+    t = np.where(ok, t, np.inf)
+    k = np.argmin(t, axis=1)
+    best = t[np.arange(len(origin)), k]
+    return best, np.where(np.isfinite(best), k, -1)
+
+
+__all__ = ["CONNECTED", "POSSIBLE_DOOR_KINDS", "Identified", "identify"]

@@ -1,0 +1,377 @@
+"""Merge (seed 001): fold the current map into the local map, kept in the zero frame.
+
+Keeping the local map in the zero frame is the same as "transforming the previous local map
+to the current pose" (seed 001) done once: the current map is brought to the zero frame
+with the pose instead, and every comparison is made there. One step:
+
+1. **Associate** each new wall with the most similar local wall: directions within `angle`,
+   the new end points within `distance` of the local wall's line, the extents along the line
+   overlapping or leaving a gap below `gap` (seed 001's cases: parallel, small angle, split
+   into pieces, a short one next to a long one).
+2. **Fuse**: the line is the weighted mean of old and new (the old one weighs its number of
+   sightings, at most `max_weight`, the new one 1). An end the new scan saw for real (the
+   laser looked past it, or it is a corner of the scan) pulls the old end with the same
+   weights; a floating new end only extends the wall.
+3. New walls nobody matched are added, tentative.
+4. **Merge** local walls that became similar to each other (a wall seen in two pieces).
+5. **Connect** end points of two walls at least `connect_min_angle` apart whose ends lie
+   within `connect_radius` of the lines' crossing: the corner is the crossing, pulled
+   towards the previous corner by the end's weight (its number of consecutive connected
+   scans, at most `max_weight`), so one noisy scan cannot move a well-seen corner far. An end
+   near the inside of another wall (a T, e.g. a cabinet against a wall) connects too.
+6. **Drop**: walls shorter than `min_length`; walls the laser passed through `miss_limit` scans in a row (a door opened, an
+   object moved); tentative walls not seen again within `tentative_life` scans; walls beyond
+   `keep_radius`; beyond `max_walls`, the least seen. What is shown are walls seen at least
+   `confirm_hits` times and connected to another wall — or seen `unconnected_hits` times —
+   so the map holds connected walls and does not flicker when one scan misses a wall.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pico_studio.core.config.perception_params import MergeParams
+from pico_studio.core.geometry import transform_segments
+from pico_studio.core.perception.scan import ScanPoints
+from pico_studio.core.perception.segment import END_FLOATING, END_SEEN, Segments
+
+Pose = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class LocalMapState:
+    walls: np.ndarray  # (W, 4) zero frame
+    hits: np.ndarray  # (W,) scans the wall was seen in
+    last_seen: np.ndarray  # (W,) step of the last sighting
+    missed: np.ndarray  # (W,) consecutive scans the laser passed through it
+    seen_end: np.ndarray  # (W, 2) bool: the wall's true end was seen there
+    end_weight: np.ndarray  # (W, 2) consecutive scans the end was connected
+    connected: np.ndarray  # (W, 2) int: the wall connected at that end, -1 none
+    step: int = 0
+
+    @staticmethod
+    def empty() -> LocalMapState:
+        return LocalMapState(
+            np.zeros((0, 4)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64),
+            np.zeros((0, 2), dtype=bool), np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64), 0,
+        )
+
+    def shown(self, params: MergeParams) -> np.ndarray:
+        """(W,) bool: walls confirmed enough to be in the local map's output."""
+        linked = (self.connected >= 0).any(axis=1)
+        return (self.hits >= params.confirm_hits) & (linked | (self.hits >= params.unconnected_hits))
+
+
+class _Work:
+    """Mutable copies of the state's arrays for one step."""
+
+    def __init__(self, s: LocalMapState):
+        self.walls = s.walls.copy()
+        self.hits = s.hits.copy()
+        self.last_seen = s.last_seen.copy()
+        self.missed = s.missed.copy()
+        self.seen_end = s.seen_end.copy()
+        self.end_weight = s.end_weight.copy()
+        self.step = s.step + 1
+
+    def keep(self, mask: np.ndarray) -> None:
+        for name in ("walls", "hits", "last_seen", "missed", "seen_end", "end_weight"):
+            setattr(self, name, getattr(self, name)[mask])
+
+    def add(self, seg: np.ndarray, seen: np.ndarray) -> None:
+        k = len(seg)
+        self.walls = np.vstack([self.walls, seg])
+        self.hits = np.concatenate([self.hits, np.ones(k)])
+        self.last_seen = np.concatenate([self.last_seen, np.full(k, self.step)])
+        self.missed = np.concatenate([self.missed, np.zeros(k, dtype=np.int64)])
+        self.seen_end = np.vstack([self.seen_end, seen])
+        self.end_weight = np.vstack([self.end_weight, np.zeros((k, 2))])
+
+
+def merge(
+    state: LocalMapState, segs: Segments, pose: Pose, scan: ScanPoints, params: MergeParams
+) -> LocalMapState:
+    w = _Work(state)
+    new = transform_segments(segs.segments, pose)
+    new_real = segs.end_kind != END_FLOATING  # a corner of the scan or a seen free end
+    new_seen = segs.end_kind == END_SEEN
+    matched = np.zeros(len(w.walls), dtype=bool)
+    if len(new):
+        target = _associate(w.walls, new, params) if len(w.walls) else np.full(len(new), -1)
+        for j in np.flatnonzero(target >= 0):
+            i = int(target[j])
+            _fuse(w, i, new[j], new_real[j], new_seen[j], params)
+            matched[i] = True
+        fresh = target < 0
+        w.add(new[fresh], new_seen[fresh])
+        matched = np.concatenate([matched, np.ones(int(fresh.sum()), dtype=bool)])
+    _merge_local(w, params)
+    _see_through(w, pose, scan, params)
+    connected = _connect(w, params)
+    linked = (connected >= 0).any(axis=1)
+    age = w.step - w.last_seen
+    tentative = w.hits < params.unconnected_hits
+    keep = (w.missed < params.miss_limit) & ~(tentative & ~linked & (age > params.tentative_life))
+    keep &= ~(tentative & linked & (age > 4 * params.tentative_life))
+    keep &= _within(w.walls, pose, params.keep_radius)
+    keep &= np.hypot(w.walls[:, 2] - w.walls[:, 0], w.walls[:, 3] - w.walls[:, 1]) >= params.min_length
+    if keep.sum() > params.max_walls:
+        order = np.argsort(-(w.hits + 0.5 * linked))
+        cap = np.zeros(len(keep), dtype=bool)
+        cap[order[: params.max_walls]] = True
+        keep &= cap
+    if not keep.all():
+        remap = np.cumsum(keep) - 1
+        connected = np.where(connected >= 0, np.where(keep[np.maximum(connected, 0)], remap[np.maximum(connected, 0)], -1), -1)
+        connected = connected[keep]
+        w.keep(keep)
+    return LocalMapState(w.walls, w.hits, w.last_seen, w.missed, w.seen_end, w.end_weight, connected, w.step)
+
+
+# ----- 1. association ------------------------------------------------------------------------
+
+
+def _dir(seg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    d = seg[..., 2:4] - seg[..., 0:2]
+    length = np.hypot(d[..., 0], d[..., 1])
+    return d / np.maximum(length, 1e-12)[..., None], length
+
+
+def _similar(a: np.ndarray, b: np.ndarray, params: MergeParams) -> tuple[np.ndarray, np.ndarray]:
+    """(A, B) bool similar and (A, B) cost (mean perpendicular distance) of walls a vs walls b."""
+    da, la = _dir(a)
+    db, _ = _dir(b)
+    cos = np.abs(da @ db.T)
+    ang_ok = cos > math.cos(params.angle)
+    # b's end points in a's frame (t along a from a's first end, n across)
+    rel0 = b[None, :, 0:2] - a[:, None, 0:2]
+    rel1 = b[None, :, 2:4] - a[:, None, 0:2]
+    t0 = (rel0 * da[:, None, :]).sum(-1)
+    t1 = (rel1 * da[:, None, :]).sum(-1)
+    n0 = np.abs(rel0[..., 0] * da[:, None, 1] - rel0[..., 1] * da[:, None, 0])
+    n1 = np.abs(rel1[..., 0] * da[:, None, 1] - rel1[..., 1] * da[:, None, 0])
+    near = np.maximum(n0, n1) < params.distance
+    lo, hi = np.minimum(t0, t1), np.maximum(t0, t1)
+    gap = np.maximum(lo - la[:, None], -hi)
+    ok = ang_ok & near & (gap < params.gap)
+    return ok, (n0 + n1) / 2
+
+
+def _associate(walls: np.ndarray, new: np.ndarray, params: MergeParams) -> np.ndarray:
+    ok, cost = _similar(walls, new, params)
+    cost = np.where(ok, cost, np.inf)
+    best = np.argmin(cost, axis=0)
+    return np.where(np.isfinite(cost[best, np.arange(len(new))]), best, -1)
+
+
+# ----- 2. fusion -----------------------------------------------------------------------------
+
+
+def _fuse(w: _Work, i: int, seg: np.ndarray, real: np.ndarray, seen: np.ndarray, params: MergeParams) -> None:
+    old = w.walls[i]
+    d_old, _ = _dir(old)
+    d_new, _ = _dir(seg)
+    if d_new @ d_old < 0:  # orient the new wall like the old one
+        seg = np.concatenate([seg[2:4], seg[0:2]])
+        d_new = -d_new
+        real = real[::-1]
+        seen = seen[::-1]
+    wo = min(w.hits[i], params.max_weight)
+    a_old = math.atan2(d_old[1], d_old[0])
+    da = math.atan2(d_old[0] * d_new[1] - d_old[1] * d_new[0], d_old @ d_new)
+    ang = a_old + da / (wo + 1.0)
+    d = np.array([math.cos(ang), math.sin(ang)])
+    nrm = np.array([-d[1], d[0]])
+    rho = (wo * (nrm @ (old[0:2] + old[2:4]) / 2) + nrm @ (seg[0:2] + seg[2:4]) / 2) / (wo + 1.0)
+    origin = rho * nrm
+    a0, a1 = (old[0:2] - origin) @ d, (old[2:4] - origin) @ d
+    b0, b1 = (seg[0:2] - origin) @ d, (seg[2:4] - origin) @ d
+    ends = [a0, a1]
+    for e, (a, b, sign) in enumerate(((a0, b0, -1.0), (a1, b1, 1.0))):
+        beyond = sign * (b - a)  # > 0: the new wall reaches past the old end
+        if real[e] and beyond > -params.gap:
+            # a real end (seen past, or a corner of the scan) near the old end: it wins over
+            # a floating old end that is shorter, else pulls the old end by the weights
+            if beyond > params.gap or (beyond >= 0 and not w.seen_end[i, e]):
+                ends[e] = b
+            else:
+                ends[e] = (wo * a + b) / (wo + 1.0)
+            w.seen_end[i, e] = bool(seen[e])
+        elif beyond > 0:  # a floating end only extends the wall
+            ends[e] = b
+            if beyond > params.gap:
+                w.seen_end[i, e] = False
+    w.walls[i] = np.concatenate([origin + ends[0] * d, origin + ends[1] * d])
+    w.hits[i] += 1
+    w.last_seen[i] = w.step
+    w.missed[i] = 0
+
+
+# ----- 4. merging local walls ----------------------------------------------------------------
+
+
+def _merge_local(w: _Work, params: MergeParams) -> None:
+    for _ in range(8):
+        n = len(w.walls)
+        if n < 2:
+            return
+        ok, cost = _similar(w.walls, w.walls, params)
+        ok = np.triu(ok & ok.T, 1)
+        if not ok.any():
+            return
+        ii, kk = np.nonzero(ok)
+        gone = np.zeros(n, dtype=bool)
+        for i, k in zip(ii.tolist(), kk.tolist(), strict=True):
+            if gone[i] or gone[k]:
+                continue
+            keep, drop = (i, k) if w.hits[i] >= w.hits[k] else (k, i)
+            _absorb(w, keep, drop, params)
+            gone[drop] = True
+        w.keep(~gone)
+
+
+def _absorb(w: _Work, i: int, k: int, params: MergeParams) -> None:
+    """Wall i takes wall k in: weighted line, union of extents (outermost ends win)."""
+    a, b = w.walls[i], w.walls[k].copy()
+    da, _ = _dir(a)
+    db, _ = _dir(b)
+    seen_k = w.seen_end[k].copy()
+    if da @ db < 0:
+        b = np.concatenate([b[2:4], b[0:2]])
+        db = -db
+        seen_k = seen_k[::-1]
+    wa, wb = min(w.hits[i], params.max_weight), min(w.hits[k], params.max_weight)
+    ang = math.atan2(da[1], da[0]) + math.atan2(da[0] * db[1] - da[1] * db[0], da @ db) * wb / (wa + wb)
+    d = np.array([math.cos(ang), math.sin(ang)])
+    nrm = np.array([-d[1], d[0]])
+    rho = (wa * (nrm @ (a[0:2] + a[2:4]) / 2) + wb * (nrm @ (b[0:2] + b[2:4]) / 2)) / (wa + wb)
+    origin = rho * nrm
+    ta = [(a[0:2] - origin) @ d, (a[2:4] - origin) @ d]
+    tb = [(b[0:2] - origin) @ d, (b[2:4] - origin) @ d]
+    lo = (ta[0], w.seen_end[i, 0]) if ta[0] <= tb[0] else (tb[0], seen_k[0])
+    hi = (ta[1], w.seen_end[i, 1]) if ta[1] >= tb[1] else (tb[1], seen_k[1])
+    w.walls[i] = np.concatenate([origin + lo[0] * d, origin + hi[0] * d])
+    w.seen_end[i] = (lo[1], hi[1])
+    w.hits[i] = w.hits[i] + w.hits[k]
+    w.last_seen[i] = max(w.last_seen[i], w.last_seen[k])
+    w.missed[i] = min(w.missed[i], w.missed[k])
+
+
+# ----- 5. connecting ends into corners ---------------------------------------------------------
+
+
+def _connect(w: _Work, params: MergeParams) -> np.ndarray:
+    n = len(w.walls)
+    connected = np.full((n, 2), -1, dtype=np.int64)
+    if n < 2:
+        w.end_weight[:] = 0
+        return connected
+    d, length = _dir(w.walls)
+    p0 = w.walls[:, 0:2]
+    # crossing of every pair of lines: p0_i + s d_i = p0_k + u d_k
+    cross = d[:, None, 0] * d[None, :, 1] - d[:, None, 1] * d[None, :, 0]
+    sin_ok = np.abs(cross) > math.sin(params.connect_min_angle)
+    diff = p0[None, :, :] - p0[:, None, :]
+    safe = np.where(np.abs(cross) > 1e-9, cross, 1.0)
+    s = (diff[..., 0] * d[None, :, 1] - diff[..., 1] * d[None, :, 0]) / safe
+    u = (diff[..., 0] * d[:, None, 1] - diff[..., 1] * d[:, None, 0]) / safe
+    r = params.connect_radius
+    # distance of the crossing from each wall's nearer end, and which end that is
+    ei = np.where(s > length[:, None] / 2, 1, 0)
+    ek = np.where(u > length[None, :] / 2, 1, 0)
+    dist_i = np.where(ei == 1, np.abs(s - length[:, None]), np.abs(s))
+    dist_k = np.where(ek == 1, np.abs(u - length[None, :]), np.abs(u))
+    inside_k = (u > -r) & (u < length[None, :] + r)
+    end_end = sin_ok & (dist_i < r) & (dist_k < r)
+    t_join = sin_ok & (dist_i < r) & inside_k & ~end_end  # i's end on k's inside (a T)
+    np.fill_diagonal(end_end, False)
+    np.fill_diagonal(t_join, False)
+    old_weight = w.end_weight.copy()
+    new_weight = np.zeros_like(w.end_weight)
+    # tentative walls connect last: a sliver seen once must not steal a corner from walls
+    # seen many times
+    weak = (w.hits < params.confirm_hits) * params.connect_radius
+    cost = np.where(end_end, dist_i + dist_k + weak[:, None] + weak[None, :], np.inf)
+    cost = np.minimum(cost, cost.T)
+    order = np.argsort(cost, axis=None)
+    for flat in order[: int(np.isfinite(cost).sum())].tolist():
+        i, k = divmod(flat, n)
+        if i >= k:
+            continue
+        a, b = int(ei[i, k]), int(ek[i, k])
+        if connected[i, a] >= 0 or connected[k, b] >= 0:
+            continue
+        x = p0[i] + s[i, k] * d[i]
+        prev = (w.walls[i, 2 * a : 2 * a + 2] + w.walls[k, 2 * b : 2 * b + 2]) / 2
+        wt = min(max(old_weight[i, a], old_weight[k, b]), params.max_weight)
+        corner = (wt * prev + x) / (wt + 1.0)
+        w.walls[i, 2 * a : 2 * a + 2] = corner
+        w.walls[k, 2 * b : 2 * b + 2] = corner
+        connected[i, a], connected[k, b] = k, i
+        new_weight[i, a] = new_weight[k, b] = wt + 1.0
+        w.seen_end[i, a] = w.seen_end[k, b] = False
+    ti, tk = np.nonzero(t_join)
+    for i, k in sorted(zip(ti.tolist(), tk.tolist(), strict=True), key=lambda p: dist_i[p[0], p[1]]):
+        a = int(ei[i, k])
+        if connected[i, a] >= 0:
+            continue
+        x = p0[i] + s[i, k] * d[i]
+        prev = w.walls[i, 2 * a : 2 * a + 2]
+        wt = min(old_weight[i, a], params.max_weight)
+        w.walls[i, 2 * a : 2 * a + 2] = (wt * prev + x) / (wt + 1.0)
+        connected[i, a] = k
+        new_weight[i, a] = wt + 1.0
+        w.seen_end[i, a] = False
+    w.end_weight = new_weight
+    return connected
+
+
+# ----- 6. dropping -----------------------------------------------------------------------------
+
+
+def _see_through(w: _Work, pose: Pose, scan: ScanPoints, params: MergeParams) -> None:
+    """Count, for walls not seen this scan, whether the laser passed through them."""
+    n = len(w.walls)
+    if n == 0 or len(scan.ranges) < 2:
+        return
+    unseen = w.last_seen != w.step
+    if not unseen.any():
+        return
+    fr = np.array([0.2, 0.35, 0.5, 0.65, 0.8])
+    walls = w.walls[unseen]
+    pts = walls[:, None, 0:2] + fr[None, :, None] * (walls[:, None, 2:4] - walls[:, None, 0:2])
+    c, s_ = math.cos(pose[2]), math.sin(pose[2])
+    rel = pts - np.array(pose[:2])
+    x = c * rel[..., 0] + s_ * rel[..., 1]
+    y = -s_ * rel[..., 0] + c * rel[..., 1]
+    dist = np.hypot(x, y)
+    bearing = np.arctan2(y, x)
+    a0 = scan.angles[0]
+    inc = (scan.angles[-1] - a0) / (len(scan.angles) - 1)
+    if inc == 0 or not np.isfinite(inc):
+        return
+    beam = np.rint((bearing - a0) / inc).astype(np.int64)
+    in_view = (beam >= 0) & (beam < len(scan.ranges))
+    bc = np.clip(beam, 0, len(scan.ranges) - 1)
+    measured = np.where(scan.valid[bc], scan.ranges[bc], np.inf)
+    through = in_view & (measured > dist + params.see_through)
+    blocked = in_view & ~through
+    passed = through.sum(axis=1) > blocked.sum(axis=1) + through.shape[1] // 2
+    idx = np.flatnonzero(unseen)
+    w.missed[idx] = np.where(passed, w.missed[idx] + 1, np.where(blocked.any(axis=1), w.missed[idx], w.missed[idx]))
+
+
+def _within(walls: np.ndarray, pose: Pose, radius: float) -> np.ndarray:
+    if len(walls) == 0:
+        return np.zeros(0, dtype=bool)
+    p = np.array(pose[:2])
+    a, b = walls[:, 0:2], walls[:, 2:4]
+    ab = b - a
+    t = np.clip(((p - a) * ab).sum(1) / np.maximum((ab**2).sum(1), 1e-12), 0, 1)
+    return np.hypot(*(a + t[:, None] * ab - p).T) <= radius
+
+
+__all__ = ["END_SEEN", "LocalMapState", "merge"]

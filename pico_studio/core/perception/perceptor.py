@@ -1,0 +1,176 @@
+"""The perceptor: laser + odometry -> world model, a pure function of the previous state.
+
+    state = PerceptorState.initial()
+    wm, state = perceive(state, laser, odometry, cfg.perception)   # pure
+    p = Perceptor(cfg.perception); wm = p.step(laser, odometry)       # thin stateful wrapper
+
+Stages, in order (each its own module): locate -> scan (filter, resample, cluster) ->
+proximity -> segment (+ least-squares refit) -> corners (spike, vector) -> laser motion ->
+merge (local map) -> identify (corners, doors) -> entrance -> rooms. Per-stage wall-clock
+times land in `WorldModel.timings_ms`.
+
+Bad input (empty, all-NaN or all-inf scans, mismatched angle fields, odometry jumps) yields a
+valid, possibly empty world model with a warning, never an exception: this runs inside the
+robot's loop. The inputs and the previous state are never modified.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from pico_studio.core.config.perception_params import PerceptionParams
+from pico_studio.core.geometry import compose
+from pico_studio.core.io import LaserData, OdometryData
+from pico_studio.core.perception.corners import spike_corners, vector_corners
+from pico_studio.core.perception.entrance import Estimate, entrance_in_scan, median_entrance
+from pico_studio.core.perception.identify import identify
+from pico_studio.core.perception.laser_motion import laser_motion
+from pico_studio.core.perception.locate import LocateState, locate
+from pico_studio.core.perception.merge import LocalMapState, merge
+from pico_studio.core.perception.proximity import proximity_flags
+from pico_studio.core.perception.rooms import rooms
+from pico_studio.core.perception.scan import process_scan
+from pico_studio.core.perception.segment import segment_scan
+from pico_studio.core.world_model import LocalMap, WorldModel
+
+STAGES = ("locate", "scan", "proximity", "segment", "corners", "laser_motion", "merge",
+          "identify", "entrance", "rooms")
+
+
+@dataclass(frozen=True)
+class PerceptorState:
+    locate: LocateState
+    local_map: LocalMapState
+    entrance_history: tuple[Estimate, ...] = ()
+    side_range: float | None = None
+    corners: np.ndarray | None = None  # the previous scan's corners, robot frame then
+    time: float = 0.0
+
+    @staticmethod
+    def initial() -> PerceptorState:
+        return PerceptorState(LocateState(), LocalMapState.empty())
+
+
+def perceive(
+    state: PerceptorState, laser: LaserData | None, odom: OdometryData | None, params: PerceptionParams
+) -> tuple[WorldModel, PerceptorState]:
+    try:
+        return _perceive(state, laser, odom, params)
+    except Exception as e:  # a bug must not stop the robot: report it, keep the old state
+        wm = WorldModel(time=state.time, pose=state.locate.pose, zero_pose=state.locate.zero_pose)
+        wm.warnings.append(f"perceptor failed on this frame ({type(e).__name__}: {e}); state kept")
+        return wm, state
+
+
+def _perceive(
+    state: PerceptorState, laser: LaserData | None, odom: OdometryData | None, params: PerceptionParams
+) -> tuple[WorldModel, PerceptorState]:
+    timings: dict[str, float] = {}
+    warnings: list[str] = []
+    clock = time.perf_counter()
+
+    def lap(name: str) -> None:
+        nonlocal clock
+        now = time.perf_counter()
+        timings[name] = (now - clock) * 1000.0
+        clock = now
+
+    loc, step, w = locate(state.locate, odom, params.locate)
+    warnings += w
+    lap("locate")
+    stamp = state.time
+    if laser is not None and np.isfinite(laser.timestamp):
+        stamp = float(laser.timestamp)
+    elif odom is not None and np.isfinite(odom.timestamp):
+        stamp = float(odom.timestamp)
+    if laser is None:
+        new_state = replace(state, locate=loc, time=stamp)
+        wm = _model(new_state, stamp, timings, warnings)
+        return wm, new_state
+
+    scan, w = process_scan(laser, params.scan, params.proximity)
+    warnings += w
+    lap("scan")
+    prox = proximity_flags(scan.ranges, scan.valid, params.proximity)
+    lap("proximity")
+    segs = segment_scan(scan, params)
+    lap("segment")
+    spikes = spike_corners(scan, params.corners)
+    vec, inner = vector_corners(scan, params.corners, params.scan.min_spacing)
+    lap("corners")
+    corners_now = np.vstack([spikes, vec])
+    motion, matches = (None, 0)
+    if state.corners is not None:
+        motion, matches = laser_motion(state.corners, corners_now, step, params.laser_motion)
+    if odom is None and motion is not None and params.locate.laser_motion_without_odometry:
+        loc = replace(loc, pose=compose(loc.pose, motion))
+    lap("laser_motion")
+    local = merge(state.local_map, segs, loc.pose, scan, params.merge)
+    lap("merge")
+    shown = local.shown(params.merge)
+    idx = np.flatnonzero(shown)
+    remap = np.full(len(shown) + 1, -1, dtype=np.int64)
+    remap[idx] = np.arange(len(idx))
+    conn = remap[np.where(local.connected >= 0, local.connected, len(shown))][idx]
+    ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify)
+    lap("identify")
+    est = entrance_in_scan(segs.segments, params.entrance)
+    history = state.entrance_history
+    if est is not None:
+        history = (history + (est,))[-params.entrance.median_scans :]
+    entrance, hallway = median_entrance(history)
+    lap("entrance")
+    room, side = rooms(scan.ranges, scan.angles, scan.valid, state.side_range, params.rooms)
+    lap("rooms")
+
+    new_state = PerceptorState(loc, local, history, side, corners_now, stamp)
+    wm = _model(new_state, stamp, timings, warnings)
+    wm.points = scan.all_points
+    wm.beam_valid = scan.valid
+    wm.proximity = prox
+    wm.too_close = bool(prox.any())
+    wm.current_map = segs.segments
+    wm.spike_corners = spikes
+    wm.vector_corners = vec
+    wm.vector_corner_inner = inner
+    wm.local_map = LocalMap(local.walls[idx].copy(), ident.endpoint_property)
+    wm.corners = ident.corners
+    wm.corner_convex = ident.corner_convex
+    wm.doors = ident.doors
+    wm.possible_doors = ident.possible_doors
+    wm.possible_door_kind = ident.possible_door_kind
+    wm.entrance = entrance
+    wm.hallway = hallway
+    wm.room = room
+    wm.laser_motion = motion
+    wm.laser_motion_matches = matches
+    timings["total"] = sum(timings.values())
+    return wm, new_state
+
+
+def _model(state: PerceptorState, stamp: float, timings: dict[str, float], warnings: list[str]) -> WorldModel:
+    return WorldModel(
+        time=stamp, pose=state.locate.pose, zero_pose=state.locate.zero_pose,
+        timings_ms=timings, warnings=warnings,
+    )
+
+
+class Perceptor:
+    """The stateful wrapper: keeps the state between steps; `reset()` starts afresh."""
+
+    def __init__(self, params: PerceptionParams):
+        self.params = params
+        self.state = PerceptorState.initial()
+        self.last: WorldModel | None = None
+
+    def step(self, laser: LaserData | None, odometry: OdometryData | None) -> WorldModel:
+        wm, self.state = perceive(self.state, laser, odometry, self.params)
+        self.last = wm
+        return wm
+
+    def reset(self) -> None:
+        self.state = PerceptorState.initial()
+        self.last = None

@@ -1,0 +1,278 @@
+"""Scoring the perceptor against the simulator's ground truth, per scan and over a run.
+
+Everything is compared in the map frame. The world model's zero frame is placed there with
+the true pose of the same frame (map_T_zero = truth_pose (x) wm.pose^-1), so wall, corner
+and door scores measure the *map* the perceptor built, not its odometry; the pose error is
+reported on its own.
+
+- **Walls** (length-weighted, sampled every `sample_step`): *precision* = the share of the
+  local map's wall length lying within `wall_distance` of a true solid segment whose
+  direction is within `wall_angle`; *recall* = the share of the truly visible wall length
+  (`truth.visible_walls()`: the pieces the scan's beams hit) within the same tolerances of a
+  local-map wall.
+- **End points**: mean distance from each non-floating local-map wall end (a corner or a seen
+  end) to the nearest true corner of the static geometry.
+- **Corners**: detected corners vs the true corners in view (`truth.visible_corners()`),
+  matched one to one, nearest first, within `corner_distance`: precision, recall, and the
+  share of matched corners whose convex/concave property is right.
+- **Doors**: a detected door matches a true opening (`truth.door_openings()`: the map's doors
+  and the gaps between wall ends of a door's width) when their middles are within
+  `door_distance` and their directions within `door_angle`. Precision over detected doors
+  (against every opening), recall over the openings in view (`truth.visible_doors()`).
+- **Pose**: the perceptor's pose relative to its zero vs the true motion since that frame.
+
+Counts and lengths are summed over frames (`RunScore`), so a run's figures weigh every
+metre of wall and every door the same.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+import numpy as np
+
+from pico_studio.core.geometry import (
+    compose,
+    invert,
+    relative,
+    transform_points,
+    transform_segments,
+)
+from pico_studio.core.world_model import FLOATING, WorldModel
+
+Pose = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """How close counts as right (the scoring's own settings, not the perceptor's)."""
+
+    wall_distance: float = 0.1  # m
+    wall_angle: float = 0.2  # rad
+    sample_step: float = 0.02  # m
+    corner_distance: float = 0.15  # m
+    door_distance: float = 0.3  # m
+    door_angle: float = 0.3  # rad
+
+
+@dataclass
+class FrameScore:
+    """Sums for one frame; ratios come from `RunScore`."""
+
+    wall_len: float = 0.0
+    wall_len_ok: float = 0.0
+    truth_len: float = 0.0
+    truth_len_ok: float = 0.0
+    endpoint_err_sum: float = 0.0
+    endpoints: int = 0
+    corners: int = 0
+    corners_ok: int = 0
+    truth_corners: int = 0
+    truth_corners_ok: int = 0
+    corners_paired: int = 0  # detected corners paired one to one with a true corner in view
+    convexity_ok: int = 0
+    doors: int = 0
+    doors_ok: int = 0
+    truth_doors: int = 0
+    truth_doors_ok: int = 0
+    pose_err_m: float = 0.0
+    pose_err_rad: float = 0.0
+
+
+@dataclass
+class RunScore:
+    frames: list[FrameScore] = field(default_factory=list)
+    ms_per_scan: list[float] = field(default_factory=list)
+
+    def add(self, frame: FrameScore) -> None:
+        self.frames.append(frame)
+
+    def total(self) -> FrameScore:
+        out = FrameScore()
+        for f in self.frames:
+            for fl in fields(FrameScore):
+                setattr(out, fl.name, getattr(out, fl.name) + getattr(f, fl.name))
+        return out
+
+    def summary(self) -> dict[str, Any]:
+        t = self.total()
+        n = max(len(self.frames), 1)
+        return {
+            "frames": len(self.frames),
+            "wall_precision": _ratio(t.wall_len_ok, t.wall_len),
+            "wall_recall": _ratio(t.truth_len_ok, t.truth_len),
+            "endpoint_error_m": _ratio(t.endpoint_err_sum, t.endpoints, empty=0.0),
+            "corner_precision": _ratio(t.corners_ok, t.corners),
+            "corner_recall": _ratio(t.truth_corners_ok, t.truth_corners),
+            "convexity_accuracy": _ratio(t.convexity_ok, t.corners_paired),
+            "door_precision": _ratio(t.doors_ok, t.doors),
+            "door_recall": _ratio(t.truth_doors_ok, t.truth_doors),
+            "doors_detected": t.doors,
+            "doors_visible": t.truth_doors,
+            "pose_error_m": t.pose_err_m / n,
+            "pose_error_rad": t.pose_err_rad / n,
+            "ms_per_scan": float(np.median(self.ms_per_scan)) if self.ms_per_scan else 0.0,
+        }
+
+
+def _ratio(num: float, den: float, empty: float = 1.0) -> float:
+    """num / den; with nothing to count, `empty` (nothing claimed is nothing wrong)."""
+    return float(num / den) if den > 0 else empty
+
+
+# ----- geometry helpers ----------------------------------------------------------------------
+
+
+def _samples(segments: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Points along each segment about `step` apart: (points (P, 2), owner (P,), weight (P,) m)."""
+    if len(segments) == 0:
+        return np.zeros((0, 2)), np.zeros(0, dtype=np.int64), np.zeros(0)
+    length = np.hypot(segments[:, 2] - segments[:, 0], segments[:, 3] - segments[:, 1])
+    n = np.maximum(np.ceil(length / step).astype(np.int64), 1)
+    owner = np.repeat(np.arange(len(segments)), n)
+    start = np.concatenate([[0], np.cumsum(n)[:-1]])
+    k = np.arange(n.sum()) - np.repeat(start, n)
+    t = (k + 0.5) / np.repeat(n, n)
+    s = segments[owner]
+    pts = s[:, 0:2] + t[:, None] * (s[:, 2:4] - s[:, 0:2])
+    return pts, owner, (length / n)[owner]
+
+
+def covered(points: np.ndarray, owner_dir: np.ndarray, segments: np.ndarray, tol: Tolerances) -> np.ndarray:
+    """(P,) bool: each point lies within `wall_distance` of a segment within `wall_angle` of
+    its owner's direction (owner_dir (P, 2) unit vectors)."""
+    if len(points) == 0 or len(segments) == 0:
+        return np.zeros(len(points), dtype=bool)
+    a = segments[None, :, 0:2]
+    ab = segments[None, :, 2:4] - a
+    len2 = np.maximum((ab**2).sum(-1), 1e-18)
+    t = np.clip(((points[:, None, :] - a) * ab).sum(-1) / len2, 0.0, 1.0)
+    d = np.hypot(*(points[:, None, :] - (a + t[..., None] * ab)).transpose(2, 0, 1))
+    sd = ab[0] / np.sqrt(len2[0])[:, None]
+    parallel = np.abs(owner_dir @ sd.T) >= math.cos(tol.wall_angle)
+    return ((d <= tol.wall_distance) & parallel).any(axis=1)
+
+
+def _dirs(segments: np.ndarray) -> np.ndarray:
+    d = segments[:, 2:4] - segments[:, 0:2]
+    return d / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)[:, None]
+
+
+def match_points(a: np.ndarray, b: np.ndarray, radius: float) -> list[tuple[int, int]]:
+    """One-to-one pairs (i, j), nearest first, with |a_i - b_j| <= radius."""
+    if len(a) == 0 or len(b) == 0:
+        return []
+    d = np.hypot(*(a[:, None, :] - b[None, :, :]).transpose(2, 0, 1))
+    pairs: list[tuple[int, int]] = []
+    used_a, used_b = set(), set()
+    for flat in np.argsort(d, axis=None).tolist():
+        i, j = divmod(flat, len(b))
+        if d[i, j] > radius:
+            break
+        if i in used_a or j in used_b:
+            continue
+        pairs.append((i, j))
+        used_a.add(i)
+        used_b.add(j)
+    return pairs
+
+
+def doors_match(found: np.ndarray, truth: np.ndarray, tol: Tolerances) -> np.ndarray:
+    """(F, T) bool: door f matches opening t (middles close, directions parallel)."""
+    if len(found) == 0 or len(truth) == 0:
+        return np.zeros((len(found), len(truth)), dtype=bool)
+    mf = (found[:, 0:2] + found[:, 2:4]) / 2
+    mt = (truth[:, 0:2] + truth[:, 2:4]) / 2
+    close = np.hypot(*(mf[:, None, :] - mt[None, :, :]).transpose(2, 0, 1)) <= tol.door_distance
+    parallel = np.abs(_dirs(found) @ _dirs(truth).T) >= math.cos(tol.door_angle)
+    return close & parallel
+
+
+# ----- one frame -----------------------------------------------------------------------------
+
+
+def score_arrays(
+    *,
+    walls: np.ndarray,
+    endpoint_property: np.ndarray,
+    corners: np.ndarray,
+    corner_convex: np.ndarray,
+    doors: np.ndarray,
+    solid: np.ndarray,
+    visible_walls: np.ndarray,
+    true_vertices: np.ndarray,
+    visible_corners: np.ndarray,
+    visible_convex: np.ndarray,
+    openings: np.ndarray,
+    visible_doors: np.ndarray,
+    tol: Tolerances = Tolerances(),
+) -> FrameScore:
+    """Score map-frame detections against map-frame truth (all arrays in the map frame)."""
+    s = FrameScore()
+    pts, owner, weight = _samples(walls, tol.sample_step)
+    ok = covered(pts, _dirs(walls)[owner] if len(walls) else np.zeros((0, 2)), solid, tol)
+    s.wall_len, s.wall_len_ok = float(weight.sum()), float(weight[ok].sum())
+    pts, owner, weight = _samples(visible_walls, tol.sample_step)
+    ok = covered(pts, _dirs(visible_walls)[owner] if len(visible_walls) else np.zeros((0, 2)), walls, tol)
+    s.truth_len, s.truth_len_ok = float(weight.sum()), float(weight[ok].sum())
+    if len(walls) and len(true_vertices):
+        ends = walls.reshape(-1, 2)[endpoint_property.reshape(-1) != FLOATING]
+        if len(ends):
+            d = np.hypot(*(ends[:, None, :] - true_vertices[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+            s.endpoint_err_sum, s.endpoints = float(d.sum()), len(d)
+    pairs = match_points(corners, visible_corners, tol.corner_distance)
+    s.corners, s.truth_corners = len(corners), len(visible_corners)
+    s.corners_ok = s.truth_corners_ok = s.corners_paired = len(pairs)
+    s.convexity_ok = sum(bool(corner_convex[i]) == bool(visible_convex[j]) for i, j in pairs)
+    # a detected corner next to a true corner that is just out of view is still a true corner
+    if len(corners) > len(pairs) and len(true_vertices):
+        rest = np.setdiff1d(np.arange(len(corners)), [i for i, _ in pairs])
+        d = np.hypot(*(corners[rest][:, None, :] - true_vertices[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+        s.corners_ok += int((d <= tol.corner_distance).sum())
+    s.doors = len(doors)
+    s.doors_ok = int(doors_match(doors, openings, tol).any(axis=1).sum())
+    s.truth_doors = len(visible_doors)
+    s.truth_doors_ok = int(doors_match(doors, visible_doors, tol).any(axis=0).sum())
+    return s
+
+
+def zero_to_map(wm: WorldModel, true_pose: Pose) -> Pose:
+    """The pose of the world model's zero frame in the map frame, placed by the true pose."""
+    return compose(true_pose, invert(tuple(wm.pose)))
+
+
+def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
+                true_zero: Pose | None = None, true_vertices: np.ndarray | None = None) -> FrameScore:
+    """Score one world model against the simulator's truth for the same frame.
+
+    `true_zero`: the true pose at the frame the perceptor took as zero (for the pose error);
+    `true_vertices`: every corner of the static geometry (for the end-point error; default
+    the corners in view)."""
+    true_pose = tuple(truth.pose)
+    z = zero_to_map(wm, true_pose)
+    walls = transform_segments(np.asarray(wm.local_map.walls, dtype=float), z)
+    corners = transform_points(np.asarray(wm.corners, dtype=float).reshape(-1, 2), z)
+    doors = transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4), z)
+    vc = truth.visible_corners()
+    s = score_arrays(
+        walls=walls,
+        endpoint_property=np.asarray(wm.local_map.endpoint_property),
+        corners=corners,
+        corner_convex=np.asarray(wm.corner_convex, dtype=bool),
+        doors=doors,
+        solid=truth.segments(),
+        visible_walls=truth.visible_walls(),
+        true_vertices=vc.points if true_vertices is None else true_vertices,
+        visible_corners=vc.points,
+        visible_convex=vc.convex,
+        openings=truth.door_openings(),
+        visible_doors=truth.visible_doors(),
+        tol=tol,
+    )
+    if true_zero is not None:
+        true_rel = relative(true_zero, true_pose)
+        err = relative(true_rel, tuple(wm.pose))
+        s.pose_err_m, s.pose_err_rad = math.hypot(err[0], err[1]), abs(err[2])
+    return s

@@ -1,0 +1,177 @@
+"""Scan stage and segmenters on hand-built scans with known walls."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from perception_scenes import DOOR_ROOM, SQUARE, poly, scan_of
+
+from pico_studio.core.config import Config, with_value
+from pico_studio.core.geometry import segment_lengths
+from pico_studio.core.io import LaserData
+from pico_studio.core.perception.corners import spike_corners, vector_corners
+from pico_studio.core.perception.scan import beam_angles, process_scan
+from pico_studio.core.perception.segment import (
+    END_FLOATING,
+    END_JOINT,
+    END_SEEN,
+    refit,
+    segment_scan,
+)
+
+CFG = Config()
+P = CFG.perception
+
+
+def _segments(walls, pose, segmenter="split_merge", noise=0.01, seed=1):
+    params = with_value(CFG, "perception.scan.segmenter", segmenter).perception
+    scan, warnings = process_scan(scan_of(walls, pose, noise=noise, seed=seed), params.scan, params.proximity)
+    assert warnings == []
+    return scan, segment_scan(scan, params)
+
+
+def _to_world(seg, pose):
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    pts = seg.reshape(-1, 2) @ np.array([[c, s], [-s, c]]) + np.array(pose[:2])
+    return pts.reshape(-1, 4)
+
+
+def _on_true_wall(seg_world, walls, tol):
+    """Every detected end point lies within tol of some true wall."""
+    from pico_studio.core.geometry import point_segment_distance
+
+    d = point_segment_distance(seg_world.reshape(-1, 2), walls).min(axis=1)
+    return bool((d < tol).all())
+
+
+def test_polar_to_cartesian_any_layout():
+    laser = LaserData(0.0, 10.0, -math.pi / 2, math.pi / 2, math.pi / 2, 0.0, np.array([1.0, 2.0, 3.0]))
+    scan, w = process_scan(laser, P.scan, P.proximity)
+    assert w == []
+    np.testing.assert_allclose(scan.all_points, [[0, -1], [2, 0], [0, 3]], atol=1e-12)
+
+
+def test_range_filter_drops_nan_inf_zero_and_out_of_range():
+    r = np.array([1.0, np.nan, np.inf, 0.0, 0.04, 11.0, -1.0, 2.0])
+    laser = LaserData(0.01, 10.0, -0.35, 0.35, 0.1, 0.0, r)
+    scan, _ = process_scan(laser, P.scan, P.proximity)
+    np.testing.assert_array_equal(scan.valid, [True, False, False, False, False, False, False, True])
+
+
+def test_footprint_points_are_not_walls():
+    r = np.full(11, 0.05)  # everything inside the 0.2 x 0.4 m footprint
+    r[5] = 3.0
+    laser = LaserData(0.0, 10.0, -0.5, 0.5, 0.1, 0.0, r)
+    scan, _ = process_scan(laser, P.scan, P.proximity)
+    assert scan.valid.sum() == 1
+
+
+def test_mismatched_angle_fields_warn_and_still_place_beams():
+    laser = LaserData(0.01, 10.0, -2.0, 1.0, 4 / 999, 0.0, np.full(1000, 2.0))
+    angles, w = beam_angles(laser)
+    assert len(w) == 1 and "disagree" in w[0]
+    assert angles[-1] == pytest.approx(2.0)
+    bad = LaserData(0.01, 10.0, -2.0, 2.0, float("nan"), 0.0, np.full(5, 2.0))
+    angles, w = beam_angles(bad)
+    np.testing.assert_allclose(angles, np.linspace(-2, 2, 5))
+    assert "unusable" in w[0]
+
+
+def test_resampling_keeps_minimum_spacing_and_cluster_ends():
+    scan, _ = _segments(SQUARE, (0.0, 0.0, 0.0))
+    start, end = scan.clusters[0]
+    steps = np.hypot(*np.diff(scan.points[start : end - 1], axis=0).T)
+    # one point per min_spacing bin of the arc length: about min_spacing apart, never much closer
+    assert np.median(steps) >= 0.6 * P.scan.min_spacing
+    assert steps.min() >= 0.2 * P.scan.min_spacing
+    assert len(scan.points) < scan.valid.sum()
+
+
+def test_breaks_at_range_jumps():
+    # a box in front of a far wall: the scan is cut at both edges of the box
+    walls = np.vstack([poly((3, -3), (3, 3), closed=False), poly((1, -0.3), (1, 0.3), closed=False)])
+    scan, segs = _segments(walls, (0.0, 0.0, 0.0))
+    assert len(scan.clusters) == 3
+    # the box's wall ends were seen (the laser looked past them), the far wall's inner ends not
+    box = np.flatnonzero(np.abs(segs.segments[:, 0] - 1.0) < 0.05)
+    assert len(box) == 1
+    assert (segs.end_kind[box[0]] == END_SEEN).all()
+
+
+@pytest.mark.parametrize("segmenter", ["split_merge", "angle", "ransac"])
+def test_square_room_gives_its_walls(segmenter):
+    pose = (0.3, -0.2, 0.4)
+    _, segs = _segments(SQUARE, pose, segmenter)
+    world = _to_world(segs.segments, pose)
+    assert _on_true_wall(world, SQUARE, 0.06)
+    # the field of view (229 deg) sees three walls, plus pieces of the fourth at the edges
+    long = segment_lengths(world) > 1.0
+    assert 3 <= long.sum() <= 4
+    assert segment_lengths(world).sum() > 9.0
+    # consecutive walls of one cluster meet in a joint
+    assert (segs.end_kind == END_JOINT).sum() >= 4
+
+
+@pytest.mark.parametrize("segmenter", ["split_merge", "angle", "ransac"])
+def test_l_corner(segmenter):
+    walls = poly((3, -2), (3, 1), (-1, 1), closed=False)  # a concave corner at (3, 1)
+    pose = (0.0, 0.0, 0.0)
+    _, segs = _segments(walls, pose, segmenter)
+    assert len(segs.segments) == 2
+    seg = segs.segments
+    # the joint is at the corner within a few cm
+    joint = seg[0, 2:4] if np.hypot(*(seg[0, 2:4] - [3, 1])) < np.hypot(*(seg[0, 0:2] - [3, 1])) else seg[0, 0:2]
+    assert np.hypot(*(joint - [3, 1])) < 0.06
+    ang = [math.atan2(s[3] - s[1], s[2] - s[0]) for s in seg]
+    assert abs(abs(math.cos(ang[0] - ang[1]))) < 0.05  # perpendicular
+
+
+def test_refit_is_total_least_squares():
+    x = np.linspace(0, 2, 50)
+    pts = np.column_stack([x, 0.5 * x + 1.0])
+    seg, theta, rms = refit(pts, np.array([[0, 49]]))
+    assert theta[0] == pytest.approx(math.atan(0.5))
+    assert rms[0] == pytest.approx(0.0, abs=1e-7)
+    np.testing.assert_allclose(seg[0], [0, 1, 2, 2], atol=1e-9)
+
+
+def test_door_gap_gives_two_seen_ends():
+    _, segs = _segments(DOOR_ROOM, (0.0, 0.0, math.pi / 2))
+    seen = segs.segments.reshape(-1, 2)[(segs.end_kind == END_SEEN).reshape(-1)]
+    # in the robot frame (facing +y) the jambs are at (2, +-0.45)
+    assert len(seen) == 2
+    np.testing.assert_allclose(sorted(seen[:, 1]), [-0.45, 0.45], atol=0.05)
+    np.testing.assert_allclose(seen[:, 0], [2.0, 2.0], atol=0.05)
+
+
+def test_fov_edges_are_floating():
+    _, segs = _segments(SQUARE, (0.0, 0.0, 0.0))
+    assert segs.end_kind[0, 0] == END_FLOATING
+    assert segs.end_kind[-1, 1] == END_FLOATING
+
+
+def test_spike_and_vector_corners():
+    # a box in front of the robot: two outer corners facing it, in a room (inner corners)
+    box = poly((1.0, -0.3), (1.4, -0.3), (1.4, 0.3), (1.0, 0.3))
+    walls = np.vstack([SQUARE * 1.5, box])
+    scan, _ = process_scan(scan_of(walls, (0, 0, 0), noise=0.005), P.scan, P.proximity)
+    spikes = spike_corners(scan, P.corners)
+    for c in ([1.0, -0.3], [1.0, 0.3]):
+        assert np.hypot(*(spikes - c).T).min() < 0.05
+    vec, inner = vector_corners(scan, P.corners, P.scan.min_spacing)
+    outer_near = vec[~inner]
+    inner_near = vec[inner]
+    # the room's corners at (3, -3), (3, 3) are inner corners
+    for c in ([3, -3], [3, 3]):
+        assert np.hypot(*(inner_near - c).T).min() < 0.1
+    assert len(outer_near) == 0 or np.hypot(*outer_near.T).min() < 2.0
+
+
+def test_empty_nan_inf_scans_give_no_segments():
+    for r in (np.zeros(0), np.full(1000, np.nan), np.full(1000, np.inf)):
+        laser = LaserData(0.01, 10.0, -2.0, 2.0, 4 / 999, 0.0, r)
+        scan, w = process_scan(laser, P.scan, P.proximity)
+        assert len(w) == 1
+        assert len(segment_scan(scan, P).segments) == 0
