@@ -180,7 +180,9 @@ class Simulator:
 
     # ----- time -------------------------------------------------------------------------------
     def advance(self, dt: float) -> None:
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt >= 0):
+        if isinstance(dt, bool) or not isinstance(dt, (int, float, np.floating, np.integer)) or not (
+            math.isfinite(dt) and dt >= 0
+        ):
             raise SourceError(f"must be a finite, non-negative number of seconds, got {dt!r}", field="dt")
         t_end = self._t + dt
         while True:
