@@ -184,7 +184,7 @@ class Simulator:
             math.isfinite(dt) and dt >= 0
         ):
             raise SourceError(f"must be a finite, non-negative number of seconds, got {dt!r}", field="dt")
-        t_end = self._t + dt
+        t_end = self._t + float(dt)
         while True:
             t_next = min(self._next_laser(), self._next_odom(), self._next_gain(), t_end)
             self._integrate(t_next - self._t)
