@@ -83,6 +83,10 @@ def test_hokuyo_profile() -> None:
 def test_unknown_laser_profile_is_a_clear_error() -> None:
     with pytest.raises(ConfigError, match="sim.laser.profile"):
         with_value(Config(), "sim.laser.profile", "velodyne")
+    # built in code, past the config's validation
+    bad = dataclasses.replace(SimParams(), laser=dataclasses.replace(SimParams().laser, profile="velodyne"))
+    with pytest.raises(ConfigError, match="sim.laser.profile: unknown laser profile 'velodyne'"):
+        Simulator(box_map(), bad, initial_pose=(5, 5, 0))
 
 
 def test_speed_cap_and_disabling_it() -> None:
