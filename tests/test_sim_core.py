@@ -40,7 +40,7 @@ def test_beam_hits_wall_at_the_right_distance_within_noise() -> None:
     front = np.abs(ang) < math.atan2(5.0, 7.0) - 0.01
     expected = 7.0 / np.cos(ang[front])
     err = scan.ranges[front] - expected
-    assert np.all(np.abs(err) <= 0.01 + 1e-12)
+    assert np.all(np.abs(err) <= 0.01 + 1e-6)  # float32 ranges
     assert np.abs(err).max() > 0.005  # the noise is really there, uniform up to 0.01
     # turned by 90 degrees, the same beam sees the top wall (y = 10) 5 m away
     sim2 = Simulator(box_map(), initial_pose=(3.0, 5.0, math.pi / 2))
