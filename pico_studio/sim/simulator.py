@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pico_studio.core.config.map_params import HeightmapParams
 from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.errors import MapError, SourceError
@@ -37,13 +38,16 @@ Pose = tuple[float, float, float]
 _EPS_T = 1e-9  # events this close to the end of a step belong to it
 
 
-def load_any_map(path: str | Path) -> GlobalMap:
-    """A JSON map or (once the foundation's `load_map` is there) a heightmap image."""
+def load_any_map(path: str | Path, map_params: HeightmapParams | None = None) -> GlobalMap:
+    """A JSON map or a heightmap image / map_server YAML (`json_map.load_map`, vectorised with
+    `map_params`, i.e. cfg.map.heightmap); before heightmap support is there, JSON only."""
     try:
         from pico_studio.json_map import load_map  # type: ignore[attr-defined]
     except ImportError:
-        from pico_studio.json_map import load_json_map as load_map
-    return load_map(path)
+        from pico_studio.json_map import load_json_map
+
+        return load_json_map(path)
+    return load_map(path, map_params)
 
 
 def _legacy_start_center(m: GlobalMap) -> tuple[float, float] | None:
@@ -105,9 +109,12 @@ class Simulator:
         params: SimParams | None = None,
         *,
         seed: int | None = None,
+        map_params: HeightmapParams | None = None,
     ) -> Simulator:
+        """A simulator for a map file (JSON or heightmap, vectorised with `map_params`) and
+        an optional official simulator config JSON."""
         sim_config = load_sim_config(sim_config_path) if sim_config_path is not None else None
-        return cls(load_any_map(map_path), params, sim_config, seed=seed)
+        return cls(load_any_map(map_path, map_params), params, sim_config, seed=seed)
 
     # ----- start pose -----------------------------------------------------------------------
     def _start_pose(self, explicit: Pose | None) -> Pose:
