@@ -336,3 +336,14 @@ def test_a_long_step_delivers_the_newest_scan_taken_where_it_was_due() -> None:
     i = int(np.argmin(np.abs(scan.angles)))
     assert abs(scan.ranges[i] * math.cos(scan.angles[i]) - (10.0 - 2.5)) < 0.0101  # seen from x = 2.5, not 2.505
     assert sim.read_laser() is None
+
+
+def test_default_start_is_the_origin_when_free_as_in_the_official_simulator() -> None:
+    from pico_studio.json_map import map_from_dict
+
+    corners = [(-1, -2), (9, -2), (9, 6), (-1, 6)]
+    m = map_from_dict({"points": [{"x": x, "y": y} for x, y in corners], "walls": [[0, 1], [1, 2], [2, 3], [3, 0]]})
+    assert Simulator(m).truth.pose == (0.0, 0.0, 0.0)  # free, though not the farthest place
+    shifted = box_map(10.0, 8.0)  # the origin is a corner: the farthest free place instead
+    x, y, _ = Simulator(shifted).truth.pose
+    assert abs(x - 5.0) < 0.1 and abs(y - 4.0) < 0.1

@@ -119,8 +119,9 @@ class Simulator:
     # ----- start pose -----------------------------------------------------------------------
     def _start_pose(self, explicit: Pose | None) -> Pose:
         """The explicit pose, else the sim config's, else the centre of the start area facing
-        +x (`start_area`, or the `start` polygon some team maps use), else the free place
-        farthest from everything (see `World.farthest_free_place`)."""
+        +x (`start_area`, or the `start` polygon some team maps use), else the origin facing +x
+        when the robot fits there inside the walls (the official simulator's default), else
+        the free place farthest from everything (see `World.farthest_free_place`)."""
         if explicit is not None:
             return tuple(float(v) for v in explicit)  # type: ignore[return-value]
         if self.sim_config.initial_pose is not None:
@@ -128,6 +129,9 @@ class Simulator:
         center = self.world.map.start_center or _legacy_start_center(self.world.map)
         if center is not None:
             return (center[0], center[1], 0.0)
+        origin = (0.0, 0.0, 0.0)  # where the official simulator puts the robot by default
+        if self.world.enclosed(origin[:2]) and not Base(self.params.base, origin).collides(origin, self.world.segments()).any():
+            return origin
         b = self.params.base
         clearance = math.hypot(b.footprint_length, b.footprint_width) / 2
         place = self.world.farthest_free_place(clearance)
