@@ -344,6 +344,9 @@ def test_default_start_is_the_origin_when_free_as_in_the_official_simulator() ->
     corners = [(-1, -2), (9, -2), (9, 6), (-1, 6)]
     m = map_from_dict({"points": [{"x": x, "y": y} for x, y in corners], "walls": [[0, 1], [1, 2], [2, 3], [3, 0]]})
     assert Simulator(m).truth.pose == (0.0, 0.0, 0.0)  # free, though not the farthest place
-    shifted = box_map(10.0, 8.0)  # the origin is a corner: the farthest free place instead
-    x, y, _ = Simulator(shifted).truth.pose
-    assert abs(x - 5.0) < 0.1 and abs(y - 4.0) < 0.1
+    square = box_map(8.0, 8.0)  # the origin is a corner: the farthest free place instead
+    x, y, _ = Simulator(square).truth.pose
+    assert abs(x - 4.0) < 0.06 and abs(y - 4.0) < 0.06
+    wide = box_map(10.0, 8.0)  # a tie along y = 4 for 4 <= x <= 6: the lowest x wins
+    x, y, _ = Simulator(wide).truth.pose
+    assert abs(x - 4.0) < 0.06 and abs(y - 4.0) < 0.06
