@@ -92,6 +92,8 @@ class Simulator:
         self._gain_k = 1
         self._laser_period = 1.0 / self.laser.profile.rate_hz
         self._odom_period = 1.0 / params.odometry.rate_hz
+        # the next event times (k * period)
+        self._t_laser, self._t_odom, self._t_gain = 0.0, 0.0, params.odometry.gain_period
         self._new_laser: LaserData | None = None
         self._new_odom: OdometryData | None = None
         self._wall_start: float | None = None
@@ -197,7 +199,7 @@ class Simulator:
             raise SourceError(f"must be a finite, non-negative number of seconds, got {dt!r}", field="dt")
         t_end = self._t + float(dt)
         while True:
-            t_next = min(self._next_laser(), self._next_odom(), self._next_gain(), t_end)
+            t_next = min(self._t_laser, self._t_odom, self._t_gain, t_end)
             self._integrate(t_next - self._t)
             self._t = t_next
             if t_next >= t_end - _EPS_T:
@@ -212,15 +214,6 @@ class Simulator:
 
     step = advance
 
-    def _next_laser(self) -> float:
-        return self._laser_k * self._laser_period
-
-    def _next_odom(self) -> float:
-        return self._odom_k * self._odom_period
-
-    def _next_gain(self) -> float:
-        return self._gain_k * self.params.odometry.gain_period
-
     def _integrate(self, h: float) -> None:
         if h <= 0.0:
             return
@@ -230,19 +223,23 @@ class Simulator:
 
     def _emit_due(self, t: float) -> None:
         """Produce every reading whose time has come (at most one of each kind), stamped with
-        its scheduled time k / rate."""
-        if self._next_gain() <= t + _EPS_T:
+        its scheduled time k / rate (event times are k * period, never accumulated)."""
+        due = t + _EPS_T
+        if self._t_gain <= due:
             if self.odometry.uncertain:
                 self.odometry.redraw_gains()
-            while self._next_gain() <= t + _EPS_T:
+            while self._t_gain <= due:
                 self._gain_k += 1
-        if self._next_odom() <= t + _EPS_T:
-            while self._next_odom() <= t + _EPS_T:
+                self._t_gain = self._gain_k * self.params.odometry.gain_period
+        if self._t_odom <= due:
+            while self._t_odom <= due:
                 self._odom_k += 1
+                self._t_odom = self._odom_k * self._odom_period
             self._new_odom = self.odometry.snapshot((self._odom_k - 1) * self._odom_period)
-        if self._next_laser() <= t + _EPS_T:
-            while self._next_laser() <= t + _EPS_T:
+        if self._t_laser <= due:
+            while self._t_laser <= due:
                 self._laser_k += 1
+                self._t_laser = self._laser_k * self._laser_period
             # latch where and what the scan sees; it is cast once, at the end of the step
             # (a long step passes many scan times but delivers only the newest scan)
             self._due_laser = (self.base.pose, self.world.segments(), (self._laser_k - 1) * self._laser_period)
