@@ -82,7 +82,7 @@ def _run(args: argparse.Namespace) -> int:
     if spec.kind != "sim":
         return run_source(args, spec, cfg, behaviour)
     params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
-    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
+    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
     session = Session(sim, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
