@@ -111,7 +111,7 @@ def main() -> None:
     print(f"hospital_2019: {n} simulated scans of {beams} beams, {args.repeats} repeats")
     cfg = Config()
     timings = time_steps(runs, cfg.perception, args.repeats)
-    print(f"\nsplit_merge (default), median ms per scan per stage:")
+    print("\nsplit_merge (default), median ms per scan per stage:")
     for s in (*STAGES, "step"):
         print(f"  {s:13s} {statistics.median(timings[s]):8.3f} ms")
     step = statistics.median(timings["step"])
