@@ -65,3 +65,31 @@ def test_run_bad_files(capsys: pytest.CaptureFixture[str], tmp_path) -> None:
     yaml.write_text("sim:\n  laser:\n    profile: velodyne\n")
     code, _, err = run(capsys, "--map", "examples/maps/emc_example.json", "--config", str(yaml))
     assert code == 2 and "sim.laser.profile" in err
+
+
+def test_run_map_without_a_free_place(capsys: pytest.CaptureFixture[str], tmp_path) -> None:
+    tiny = tmp_path / "tiny.json"
+    tiny.write_text(json.dumps({
+        "points": [{"x": 0, "y": 0}, {"x": 0.2, "y": 0}, {"x": 0.2, "y": 0.2}, {"x": 0, "y": 0.2}],
+        "walls": [[0, 1], [1, 2], [2, 3], [3, 0]],
+    }))
+    code, _, err = run(capsys, "--map", str(tiny), "--seconds", "1")
+    assert code == 2 and "no free place to start" in err and "start_area" in err
+
+
+def test_run_with_moving_objects_and_uncertain_odometry(capsys: pytest.CaptureFixture[str], tmp_path) -> None:
+    cfg = tmp_path / "sim.json"
+    cfg.write_text(json.dumps({
+        "initial_pose": [0.5, 0.6, 1.5708], "uncertain_odom": True, "show_full_map": True,
+        "objects": [{"length": 0.3, "width": 0.3, "init_pose": [0.8, 2.6, 0], "final_pose": [0.8, 1.8, 0],
+                     "velocity": 0.3, "trigger_radius": 3.0, "repeat": True}],
+    }))
+    code, out, _ = run(capsys, "--map", "examples/maps/emc_example.json", "--sim-config", str(cfg),
+                       "--seconds", "6", "--behaviour", "drive:0.1,0,0", "--json")
+    r = json.loads(out)
+    assert code == 0
+    # uncertain odometry: close to, but not exactly, the true motion (odometry started at 0)
+    moved = [r["true_pose"][0] - 0.5, r["true_pose"][1] - 0.6]
+    odom_dist = math.hypot(r["odom_pose"][0], r["odom_pose"][1])
+    assert odom_dist != pytest.approx(math.hypot(*moved), abs=1e-12)
+    assert abs(odom_dist - math.hypot(*moved)) <= 0.002 * r["distance_m"] + 1e-9

@@ -248,6 +248,8 @@ def test_start_area_centre_and_default_free_place() -> None:
     sim = Simulator(r)
     c = r.start_center
     assert c is not None and sim.truth.pose == (c[0], c[1], 0.0)
+    team = Simulator(load_any_map("examples/maps/hospital_2019_with_nodes.json"))
+    assert team.truth.pose == (5.0, 2.5, 0.0)  # the centre of its `start` polygon
     h = load_any_map("examples/maps/hospital_2019.json")
     a, b = Simulator(h), Simulator(h)
     assert a.truth.pose == b.truth.pose  # deterministic
@@ -283,3 +285,38 @@ def test_real_sim_configs_load() -> None:
 
 def test_params_are_frozen_dataclasses() -> None:
     assert dataclasses.is_dataclass(SimParams())
+
+
+def test_realtime_pacing_waits_for_the_wall_clock() -> None:
+    import time
+
+    sim = Simulator(box_map(), params(realtime=True), initial_pose=(5, 5, 0))
+    t = time.perf_counter()
+    for _ in range(4):
+        sim.advance(0.05)
+    assert time.perf_counter() - t >= 0.15  # paced: never ahead of the wall clock by a step
+
+
+def test_hokuyo_rate_and_custom_rates() -> None:
+    sim = Simulator(box_map(), params(laser__profile="hokuyo", odometry__rate_hz=100.0), initial_pose=(5, 5, 0))
+    sim.read_laser(), sim.read_odometry()
+    scans = odoms = 0
+    for _ in range(200):  # 2 s in 10 ms steps
+        sim.advance(0.01)
+        scans += sim.read_laser() is not None
+        odoms += sim.read_odometry() is not None
+    assert scans == 72 and odoms == 200
+
+
+def test_random_driving_never_ends_inside_or_through_a_wall() -> None:
+    m = load_any_map("examples/maps/hospital_2019.json")
+    rng = np.random.default_rng(5)
+    sim = Simulator(m, sim_config=sim_config_from_dict({"disable_speedcap": True}), seed=5)
+    segs = sim.world.segments()
+    for k in range(600):  # 60 s, a new random command (up to 3 m/s, 4 rad/s) every 0.5 s
+        if k % 5 == 0:
+            sim.send_base_reference(*rng.uniform(-3, 3, 2), rng.uniform(-4, 4))
+        sim.advance(0.1)
+        assert not sim.base.collides(sim.truth.pose, segs).any()
+        assert sim.world.enclosed(sim.truth.pose[:2])
+    assert sim.truth.collisions > 5  # it did hit things, and was stopped every time

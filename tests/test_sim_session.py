@@ -73,3 +73,16 @@ def test_history_frames_keep_laser_and_odometry() -> None:
     f = session.tick(0.05)
     assert f.frame.laser is not None and f.frame.odometry is not None
     assert np.isfinite(f.frame.laser.ranges).all()
+
+
+def test_session_run_stops_when_the_source_closes() -> None:
+    sim = Simulator(box_map(), initial_pose=(5, 5, 0))
+    calls = []
+
+    def close_after_ten(frame: Frame, wm: object) -> None:
+        calls.append(frame.time)
+        if len(calls) == 10:
+            sim.close()
+
+    assert Session(sim, behaviour=close_after_ten).run(60.0, 0.05) == 10
+    assert not sim.ok()

@@ -111,3 +111,35 @@ def test_repeating_object_shuttles() -> None:
     assert not obj.finished
     turns = np.sum(np.diff(np.sign(np.diff(ys))) != 0)
     assert turns >= 2
+
+
+def test_free_form_room_of_many_segments() -> None:
+    # a round room of radius 3 m drawn with 720 short segments, as a vectorised heightmap is
+    from pico_studio.json_map import map_from_dict
+
+    k = 720
+    ang = np.arange(k) * 2 * np.pi / k
+    pts = [{"x": float(3 * np.cos(a)), "y": float(3 * np.sin(a))} for a in ang]
+    m = map_from_dict({"points": pts, "walls": [[i, (i + 1) % k] for i in range(k)]})
+    sim = Simulator(m)
+    assert np.hypot(*sim.truth.pose[:2]) < 0.1  # the start is the centre: farthest from the wall
+    scan = sim.read_laser()
+    assert scan is not None
+    off = np.hypot(*sim.truth.pose[:2])  # ranges differ from the radius by at most the offset
+    assert np.all(np.abs(scan.ranges - 3.0) < 0.01 + off + 3 * (1 - np.cos(np.pi / k)) + 1e-9)
+    sim.send_base_reference(0.5, 0.0, 0.0)
+    sim.advance(10.0)
+    assert sim.truth.collisions == 1 and 2.8 < np.hypot(*sim.truth.pose[:2]) < 3.0
+    assert len(sim.truth.visible_corners().points) == 0  # a smooth wall has no corners
+
+
+def test_truth_lists_doors_and_moving_objects_where_they_are() -> None:
+    sim = Simulator(door_map(), sim_config=sim_config_from_dict(obj_config(trigger_radius=9.0)), initial_pose=(4.1, 4.5, 0.0))
+    (outline, opened), = sim.truth.doors()
+    assert not opened and np.allclose(outline.mean(axis=0), (5.0, 4.5))
+    sim.open_door()
+    sim.advance(1.0)
+    (outline, opened), = sim.truth.doors()
+    assert opened and np.hypot(*(outline.mean(axis=0) - (5.0, 4.5))) == pytest.approx(0.3)
+    (box,) = sim.truth.moving_objects()
+    assert box.shape == (4, 2) and box.mean(axis=0)[1] == pytest.approx(8.0 - 0.5)

@@ -71,11 +71,11 @@ def box_hits(pose: Pose, half_length: float, half_width: float, segments: np.nda
     where the box reaches |n_x| half_length + |n_y| half_width from its centre."""
     c, s = math.cos(pose[2]), math.sin(pose[2])
     local = ((segments.reshape(-1, 2) - pose[:2]) @ np.array([[c, -s], [s, c]])).reshape(-1, 4)
-    xs, ys = local[:, 0::2], local[:, 1::2]
-    apart = (xs.min(1) > half_length) | (xs.max(1) < -half_length)
-    apart |= (ys.min(1) > half_width) | (ys.max(1) < -half_width)
-    dx, dy = xs[:, 1] - xs[:, 0], ys[:, 1] - ys[:, 0]
-    cross = xs[:, 0] * ys[:, 1] - ys[:, 0] * xs[:, 1]  # |d| times the distance to the line
+    x1, y1, x2, y2 = local.T
+    apart = (np.minimum(x1, x2) > half_length) | (np.maximum(x1, x2) < -half_length)
+    apart |= (np.minimum(y1, y2) > half_width) | (np.maximum(y1, y2) < -half_width)
+    dx, dy = x2 - x1, y2 - y1
+    cross = x1 * y2 - y1 * x2  # |d| times the distance to the line
     apart |= np.abs(cross) > np.abs(dy) * half_length + np.abs(dx) * half_width
     return ~apart
 
@@ -85,7 +85,7 @@ def segment_distances(xy: tuple[float, float], segments: np.ndarray) -> np.ndarr
     a = segments[:, 0:2]
     ab = segments[:, 2:4] - a
     ap = np.asarray(xy) - a
-    t = np.clip((ap * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-18), 0.0, 1.0)
+    t = np.minimum(np.maximum((ap * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-18), 0.0), 1.0)
     d = ap - t[:, None] * ab
     return np.sqrt((d * d).sum(1))
 

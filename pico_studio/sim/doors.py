@@ -1,7 +1,7 @@
 """Sliding doors: closed at the start, opened on request from in front, sliding at a fixed speed.
 
 A door is the map's door polygon (usually a thin rectangle in the wall). Its own frame has
-the origin at the polygon's centre and x along its longest edge, as in the official
+the origin at the centre of the polygon's bounding rectangle and x along its long side, as in the official
 simulator: the robot is *in front* when |y| <= open_distance and |x| <= size / 2 in that frame
 (either side of the door). Once opened it slides along x by its own size, then stays there.
 """
@@ -10,23 +10,35 @@ from __future__ import annotations
 
 import math
 
+import cv2
 import numpy as np
 
 from pico_studio.core.geometry import relative
 
 
+def door_frame(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """(centre, unit axis along the door, size along it, thickness) of a door polygon: its
+    minimum-area bounding rectangle, so a heightmap's ragged door outline works as well as a
+    JSON map's rectangle."""
+    (cx, cy), (w, h), deg = cv2.minAreaRect(np.asarray(vertices, dtype=np.float32))
+    a = math.radians(deg)
+    axis = np.array([math.cos(a), math.sin(a)])
+    if h > w:
+        axis, w, h = np.array([-axis[1], axis[0]]), h, w
+    # the rectangle comes from float32 maths: measure size and centre again in float64
+    v = np.asarray(vertices, dtype=float)
+    along = v @ axis
+    normal = np.array([-axis[1], axis[0]])
+    across = v @ normal
+    center = axis * (along.max() + along.min()) / 2 + normal * (across.max() + across.min()) / 2
+    return center, axis, float(along.max() - along.min()), float(across.max() - across.min())
+
+
 class SlidingDoor:
     def __init__(self, vertices: np.ndarray):
         self.vertices = np.asarray(vertices, dtype=float)
-        edges = np.roll(self.vertices, -1, axis=0) - self.vertices
-        longest = edges[np.argmax(np.hypot(edges[:, 0], edges[:, 1]))]
-        self.axis = longest / np.hypot(*longest)
+        self.center, self.axis, self.size, self.thickness = door_frame(self.vertices)
         self.normal = np.array([-self.axis[1], self.axis[0]])
-        self.center = self.vertices.mean(axis=0)
-        along = (self.vertices - self.center) @ self.axis
-        across = (self.vertices - self.center) @ self.normal
-        self.size = float(along.max() - along.min())
-        self.thickness = float(across.max() - across.min())
         self.pose = (float(self.center[0]), float(self.center[1]), math.atan2(self.axis[1], self.axis[0]))
         self.offset = 0.0  # how far it has slid along its axis
         self.opening = False

@@ -14,8 +14,9 @@ Door openings (`door_openings`), in this order:
 2. gaps between two *wall ends* (of walls, not cabinets or tables) that face each other, with a width within
    [min_width, max_width] and nothing solid in between; a wall end is a loose end of a thin
    wall (pointing away from its wall), or the middle of the end cap of a thick wall (a
-   segment no longer than `max_thickness` whose neighbours both leave it on the same side,
-   pointing outwards); the nearest pairs are taken first, each end used once;
+   segment no longer than `max_thickness` whose neighbours both leave it on the same side
+   and are at least twice as long, pointing outwards); the nearest pairs are taken first,
+   each end used once;
 3. a wall end left over that faces a wall (not a cabinet or table) within [min_width, max_width] straight ahead:
    from the end to that wall.
 Openings within `min_width / 2` of an earlier one (e.g. a map door's own gap) are dropped.
@@ -24,10 +25,11 @@ Openings within `min_width / 2` of an earlier one (e.g. a map door's own gap) ar
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from pico_studio.sim.doors import door_frame
 from pico_studio.sim.raycast import cast_rays
 
 _FACING = math.cos(math.radians(45))  # a gap is "straight ahead" of an end within 45 degrees
@@ -42,6 +44,7 @@ class Vertices:
     # for every vertex: the segments leaving it and their directions (angles), as lists
     leaving: tuple[tuple[int, ...], ...]
     directions: tuple[np.ndarray, ...]
+    cache: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 def vertex_graph(segments: np.ndarray, snap: float = 1e-3) -> Vertices:
@@ -61,8 +64,9 @@ def vertex_graph(segments: np.ndarray, snap: float = 1e-3) -> Vertices:
         dirs[a].append(math.atan2(pb[1] - pa[1], pb[0] - pa[0]))
         leaving[b].append(k)
         dirs[b].append(math.atan2(pa[1] - pb[1], pa[0] - pb[0]))
-    # T-junctions: a vertex on the inside of another segment sees that segment both ways
-    for v, k in _vertices_inside_segments(points, segments, seg_ends, snap):
+    # T-junctions: a loose end on the inside of another segment sees that segment both ways
+    loose = np.array([v for v in range(len(points)) if len(leaving[v]) == 1], dtype=np.int64)
+    for v, k in _vertices_inside_segments(points, segments, seg_ends, snap, loose):
         d = math.atan2(segments[k, 3] - segments[k, 1], segments[k, 2] - segments[k, 0])
         leaving[v] += [k, k]
         dirs[v] += [d, d + math.pi]
@@ -70,21 +74,22 @@ def vertex_graph(segments: np.ndarray, snap: float = 1e-3) -> Vertices:
 
 
 def _vertices_inside_segments(
-    points: np.ndarray, segments: np.ndarray, seg_ends: np.ndarray, snap: float, chunk: int = 256
+    points: np.ndarray, segments: np.ndarray, seg_ends: np.ndarray, snap: float, which: np.ndarray, chunk: int = 256
 ) -> list[tuple[int, int]]:
-    """(vertex, segment) pairs where the vertex lies on the segment but is not one of its ends."""
+    """(vertex, segment) pairs, for the vertices `which`, where the vertex lies on the segment
+    but is not one of its ends."""
     a = segments[:, 0:2]
     ab = segments[:, 2:4] - a
     length2 = np.maximum((ab * ab).sum(1), 1e-18)
     out: list[tuple[int, int]] = []
-    for i in range(0, len(points), chunk):
-        p = points[i : i + chunk, None, :]
+    for i in range(0, len(which), chunk):
+        v_idx = which[i : i + chunk]
+        p = points[v_idx][:, None, :]
         t = ((p - a) * ab).sum(-1) / length2
         d = p - (a + np.clip(t, 0.0, 1.0)[..., None] * ab)
         on = ((d * d).sum(-1) < snap * snap) & (t > 0.0) & (t < 1.0)
-        v_idx = np.arange(i, i + len(p))[:, None]
-        on &= (seg_ends[None, :, 0] != v_idx) & (seg_ends[None, :, 1] != v_idx)
-        out += [(int(v) + i, int(k)) for v, k in zip(*np.nonzero(on), strict=True)]
+        on &= (seg_ends[None, :, 0] != v_idx[:, None]) & (seg_ends[None, :, 1] != v_idx[:, None])
+        out += [(int(v_idx[v]), int(k)) for v, k in zip(*np.nonzero(on), strict=True)]
     return out
 
 
@@ -104,9 +109,8 @@ def classify_corners(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(vertex indices that are corners as seen from `viewpoint`, convex flags, loose-end flags)."""
     idx, convex, loose = [], [], []
-    for v, dirs in enumerate(graph.directions):
-        if len(dirs) == 0:
-            continue
+    for v in corner_candidates(graph, straight_tolerance):
+        dirs = graph.directions[v]
         p = graph.points[v]
         toward = math.atan2(viewpoint[1] - p[1], viewpoint[0] - p[0])
         w = sector_width(dirs, toward)
@@ -116,6 +120,23 @@ def classify_corners(
         convex.append(w > math.pi)
         loose.append(len(dirs) == 1)
     return np.array(idx, dtype=np.int64), np.array(convex, dtype=bool), np.array(loose, dtype=bool)
+
+
+def corner_candidates(graph: Vertices, straight_tolerance: float) -> np.ndarray:
+    """Vertices that can be a corner from somewhere: all but those where exactly two segments
+    continue each other in a straight line (those are never corners), cached per graph."""
+    key = ("candidates", straight_tolerance)
+    cache = graph.cache
+    if key not in cache:
+        keep = []
+        for v, dirs in enumerate(graph.directions):
+            if len(dirs) == 0:
+                continue
+            if len(dirs) == 2 and abs(abs(math.remainder(dirs[0] - dirs[1], 2 * math.pi)) - math.pi) <= straight_tolerance:
+                continue
+            keep.append(v)
+        cache[key] = np.array(keep, dtype=np.int64)
+    return cache[key]
 
 
 def wall_ends(graph: Vertices, segments: np.ndarray, max_thickness: float) -> tuple[np.ndarray, np.ndarray]:
@@ -139,6 +160,8 @@ def wall_ends(graph: Vertices, segments: np.ndarray, max_thickness: float) -> tu
         db = _other_direction(graph, b, k)
         if da is None or db is None or float(da @ db) < 0.7:
             continue  # the neighbours do not both leave on the same side: not an end cap
+        if min(_other_length(graph, segments, a, k), _other_length(graph, segments, b, k)) < 2 * length:
+            continue  # a small block (pillar, box), not the end of a wall
         normal = np.array([-cap[1], cap[0]]) / length
         if float(normal @ da) > 0:
             normal = -normal
@@ -149,6 +172,14 @@ def wall_ends(graph: Vertices, segments: np.ndarray, max_thickness: float) -> tu
     if not pts:
         return np.zeros((0, 2)), np.zeros((0, 2))
     return np.array(pts, dtype=float), np.array(outs, dtype=float)
+
+
+def _other_length(graph: Vertices, segments: np.ndarray, v: int, seg: int) -> float:
+    for k in graph.leaving[v]:
+        if k != seg:
+            s = segments[k]
+            return float(math.hypot(s[2] - s[0], s[3] - s[1]))
+    return 0.0
 
 
 def _other_direction(graph: Vertices, v: int, seg: int) -> np.ndarray | None:
@@ -183,12 +214,8 @@ def door_openings(
 
 
 def _door_centre_line(v: np.ndarray) -> np.ndarray:
-    edges = np.roll(v, -1, axis=0) - v
-    axis = edges[np.argmax(np.hypot(edges[:, 0], edges[:, 1]))]
-    axis = axis / np.hypot(*axis)
-    c = v.mean(axis=0)
-    along = (v - c) @ axis
-    return np.concatenate([c + axis * along.min(), c + axis * along.max()])
+    c, axis, size, _ = door_frame(v)
+    return np.concatenate([c - axis * size / 2, c + axis * size / 2])
 
 
 def _paired_gaps(

@@ -1,18 +1,21 @@
 """Vectorised 2D raycasting of a laser fan against line segments.
 
-The maths, for a beam from the sensor at angle b (sensor frame) and a segment P1 -> P2 seen
-from the sensor (endpoints relative to it, in the sensor frame), with phi the direction of
-the segment and p = cross(P1, P2) / |P2 - P1| the signed distance from the sensor to the
-segment's line: the beam point t (cos b, sin b) is on that line when
+The maths, in complex numbers (a point x + iy): seen from the sensor, a segment runs from z1
+to z2 (sensor frame), d = z2 - z1. A beam at angle b has direction e^{ib}; its point t e^{ib}
+is on the segment's line when Im(conj(t e^{ib} - z1) d) = 0, so
 
-    t = p / sin(phi - b).
+    t = Im(conj(z1) z2) / Im(e^{-ib} d)  = 1 / Im(e^{-ib} q),   q = d / Im(conj(z1) z2)
+
+(cross(z1, z2) / cross(e^{ib}, d) in vector terms).
 
 Only beams whose angle lies inside the angular span the segment subtends from the sensor can
 hit it, and for those the hit is on the segment itself. So instead of testing every beam
 against every segment (N x n), each segment contributes only the index range of beams inside
 its span, and all (segment, beam) pairs are built at once with `repeat`/`arange`; the nearest
-hit per beam is an `fmin.at`. A room seen from inside gives roughly 2-4 pairs per beam, and
-the cost is a fixed ~25 numpy calls per scan, whatever the number of segments.
+hit per beam is an `fmin.at`. A room seen from inside gives roughly 2-4 pairs per beam; per
+pair the work is a gather, one complex multiply and one reciprocal (no trigonometry: e^{-ib}
+is precomputed per beam), and per scan a fixed ~40 numpy calls whatever the number of
+segments.
 """
 
 from __future__ import annotations
@@ -32,6 +35,11 @@ class Fan:
         self.angle_min = float(angle_min)
         self.increment = float(increment)
         self.n = int(n)
+        self.turn = np.exp(-1j * (self.angle_min + np.arange(self.n) * self.increment))  # e^{-ib}
+        # +-pi and half a turn in beam-index units
+        self._top = (math.pi - self.angle_min) / self.increment
+        self._bottom = (-math.pi - self.angle_min) / self.increment
+        self._half_turn = math.pi / self.increment
         self._last: tuple[np.ndarray, np.ndarray, np.ndarray, int] | None = None
 
     def cast(self, segments: np.ndarray, pose: Pose = (0.0, 0.0, 0.0)) -> np.ndarray:
@@ -41,32 +49,27 @@ class Fan:
         if len(segments) == 0:
             self._last = None
             return ranges
-        # 1. the segments in the sensor frame
+        # 1. end points as complex numbers in the sensor frame: (z - position) e^{-i heading}
         x, y, th = pose
-        c, s = math.cos(th), math.sin(th)
-        local = ((segments.reshape(-1, 2) - (x, y)) @ np.array([[c, -s], [s, c]])).reshape(-1, 4)
-        x1, y1, x2, y2 = local.T
-        # 2. the angular span of each: [lo, hi], or for a segment behind the sensor that
-        #    crosses the +-pi cut, the two pieces [hi, pi] and [-pi, lo]
-        span = np.arctan2(local[:, 1::2], local[:, 0::2])
-        span.sort(axis=1)
-        lo, hi = span[:, 0], span[:, 1]
-        wrap = (hi - lo) > math.pi
-        start = np.concatenate([np.where(wrap, hi, lo), np.where(wrap, -math.pi, math.pi)])
-        stop = np.concatenate([np.where(wrap, math.pi, hi), np.where(wrap, lo, -math.pi)])
+        z = (np.ascontiguousarray(segments, dtype=float).view(np.complex128) - complex(x, y)) * complex(
+            math.cos(th), -math.sin(th)
+        )
+        z1, z2 = z[:, 0], z[:, 1]
+        # 2. the angular span of each in beam-index units: [lo, hi], or for a segment behind
+        #    the sensor that crosses the +-pi cut, the two pieces [hi, top] and [bottom, lo]
+        span = (np.angle(z) - self.angle_min) * (1.0 / self.increment)
+        lo, hi = np.minimum(span[:, 0], span[:, 1]), np.maximum(span[:, 0], span[:, 1])
+        wrap = (hi - lo) > self._half_turn
+        start = np.concatenate([np.where(wrap, hi, lo), np.where(wrap, self._bottom, self._top)])
+        stop = np.concatenate([np.where(wrap, self._top, hi), np.where(wrap, lo, self._bottom)])
         # 3. the beam index range [i0, i1) of every piece, and all (piece, beam) pairs
-        i0 = np.maximum(np.ceil((start - self.angle_min) / self.increment - _EPS), 0).astype(np.int64)
-        i1 = np.minimum(np.floor((stop - self.angle_min) / self.increment + _EPS) + 1, self.n).astype(np.int64)
-        counts = np.maximum(i1 - i0, 0)
-        beam = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts - i0, counts)
-        # 4. the distance along each beam to its segment's line, t = p / sin(phi - b)
-        dx, dy = x2 - x1, y2 - y1
-        p = (x1 * y2 - y1 * x2) / np.hypot(dx, dy)
-        phi = np.arctan2(dy, dx) - self.angle_min
+        i0 = np.maximum(np.ceil(start - _EPS), 0.0)
+        counts = np.maximum(np.minimum(np.floor(stop + _EPS) + 1.0, self.n) - i0, 0.0).astype(np.int64)
+        beam = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts - i0.astype(np.int64), counts)
+        # 4. the distance along each beam to its segment's line: 1 / Im(e^{-ib} d / cross)
         with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.repeat(np.concatenate([p, p]), counts) / np.sin(
-                np.repeat(np.concatenate([phi, phi]), counts) - beam * self.increment
-            )
+            q = (z2 - z1) / (np.conj(z1) * z2).imag
+            t = 1.0 / (self.turn[beam] * np.repeat(np.concatenate([q, q]), counts)).imag
         # 5. the nearest per beam (fmin skips the NaN of a beam along a segment's own line)
         np.fmin.at(ranges, beam, t)
         ranges[ranges < 0.0] = np.inf

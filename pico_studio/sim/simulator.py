@@ -46,6 +46,20 @@ def load_any_map(path: str | Path) -> GlobalMap:
     return load_map(path)
 
 
+def _legacy_start_center(m: GlobalMap) -> tuple[float, float] | None:
+    """Centre of a `start` polygon (the form of `start_area` some team maps use), if it is a
+    well-formed list of [i, j] point-index pairs; None otherwise."""
+    raw = m.extra.get("start")
+    try:
+        poly = np.asarray(raw[0] if raw and isinstance(raw[0][0], list) else raw, dtype=np.int64)
+        if poly.ndim != 2 or poly.shape[1] != 2 or poly.min() < 0 or poly.max() >= len(m.points):
+            return None
+    except (TypeError, ValueError, IndexError):
+        return None
+    c = m.points[np.unique(poly)].mean(axis=0)
+    return (float(c[0]), float(c[1]))
+
+
 class Simulator:
     def __init__(
         self,
@@ -78,6 +92,7 @@ class Simulator:
         self._new_odom: OdometryData | None = None
         self._wall_start: float | None = None
         self.steps = 0
+        self._closed = False
         self._emit_due(0.0)
 
     @classmethod
@@ -95,12 +110,13 @@ class Simulator:
     # ----- start pose -----------------------------------------------------------------------
     def _start_pose(self, explicit: Pose | None) -> Pose:
         """The explicit pose, else the sim config's, else the centre of the start area facing
-        +x, else the free place farthest from everything (see `World.farthest_free_place`)."""
+        +x (`start_area`, or the `start` polygon some team maps use), else the free place
+        farthest from everything (see `World.farthest_free_place`)."""
         if explicit is not None:
             return tuple(float(v) for v in explicit)  # type: ignore[return-value]
         if self.sim_config.initial_pose is not None:
             return self.sim_config.initial_pose
-        center = self.world.map.start_center
+        center = self.world.map.start_center or _legacy_start_center(self.world.map)
         if center is not None:
             return (center[0], center[1], 0.0)
         b = self.params.base
@@ -151,7 +167,11 @@ class Simulator:
         self.world.request_open_door(self.base.pose[:2])
 
     def ok(self) -> bool:
-        return True
+        """True until `close()`: a simulator never runs out by itself."""
+        return not self._closed
+
+    def close(self) -> None:
+        self._closed = True
 
     def now(self) -> float:
         return self._t

@@ -78,6 +78,14 @@ class GroundTruth:
         """Every solid segment of the world as it is now (walls, objects, doors, moving objects)."""
         return self._sim.world.segments().copy()
 
+    def doors(self) -> list[tuple[np.ndarray, bool]]:
+        """Every sliding door as it is now: (outline vertices (K, 2), opened?)."""
+        return [(d.vertices + d.offset * d.axis, d.opening) for d in self._sim.world.doors]
+
+    def moving_objects(self) -> list[np.ndarray]:
+        """Every moving object's box as it is now: corners (4, 2)."""
+        return [m.corners() for m in self._sim.world.moving]
+
     def scan_hits(self) -> tuple[np.ndarray, np.ndarray]:
         """Noise-free ranges of the latest scan and the world segment index each beam hit (-1: none)."""
         return self._sim.laser.true_ranges.copy(), self._sim.laser.true_hits.copy()
@@ -141,13 +149,15 @@ class GroundTruth:
 
     def _in_view(self, points: np.ndarray, segments: np.ndarray) -> np.ndarray:
         """In the field of view and not occluded by `segments`."""
-        if len(points) == 0:
-            return np.zeros(0, dtype=bool)
+        seen = self._in_fov(points)
+        if not seen.any():
+            return seen
         x, y, _ = self.pose
-        d = points - (x, y)
+        d = points[seen] - (x, y)
         dist = np.hypot(d[:, 0], d[:, 1])
         free = cast_rays((x, y), np.arctan2(d[:, 1], d[:, 0]), segments)
-        return self._in_fov(points) & (free >= dist - self._sim.params.truth.visible_tolerance)
+        seen[seen] = free >= dist - self._sim.params.truth.visible_tolerance
+        return seen
 
     def _visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
         laser = self._sim.laser

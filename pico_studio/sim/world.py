@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import cv2
 import numpy as np
 
 from pico_studio.core.config.sim_params import SimParams
@@ -91,37 +92,52 @@ class World:
         return bool(np.isfinite(cast_rays(xy, angles, self.segments())).all())
 
     def farthest_free_place(self, clearance: float) -> tuple[float, float] | None:
-        """The grid point (spacing `start_grid`) inside the walls that is farthest from every
-        solid segment, if that distance is at least `clearance`; ties go to the lowest x, then
-        the lowest y (deterministic). None when there is no such place."""
+        """The point of a grid (spacing `start_grid`) inside the walls that is farthest from
+        every solid segment, if that distance is at least `clearance`; ties go to the lowest x,
+        then the lowest y (deterministic). None when there is no such place.
+
+        The segments are drawn into an image (with a free margin around the map);
+        OpenCV's distance transform gives every grid point's clearance, and the free space's
+        4-connected components tell inside from outside: the component of the margin is
+        outside. Candidates are taken farthest first until one is enclosed (rays in every
+        direction hit something) and its exact clearance is enough. A map whose outer wall
+        is open has no inside component; then every free point is a candidate."""
         x0, y0, x1, y1 = self.map.bounds
         step = self.params.start_grid
-        xs = np.arange(x0 + step / 2, x1, step)
-        ys = np.arange(y0 + step / 2, y1, step)
-        if len(xs) == 0 or len(ys) == 0:
+        pad = 2
+        w, h = int(math.ceil((x1 - x0) / step)) + 1 + 2 * pad, int(math.ceil((y1 - y0) / step)) + 1 + 2 * pad
+        if w < 2 * pad + 2 or h < 2 * pad + 2:
             return None
-        gx, gy = np.meshgrid(xs, ys, indexing="ij")
-        pts = np.column_stack([gx.ravel(), gy.ravel()])
-        dist = _distance_to_segments(pts, self.segments())
-        order = np.lexsort((pts[:, 1], pts[:, 0], -dist))
-        for i in order:
-            if dist[i] < clearance:
-                return None
-            p = (float(pts[i, 0]), float(pts[i, 1]))
-            if self.enclosed(p):
+        ox, oy = x0 - pad * step, y0 - pad * step  # the map point of pixel (0, 0)
+        segs = self.segments()
+        img = np.full((h, w), 255, np.uint8)
+        pix = np.round((segs - (ox, oy, ox, oy)) / step).astype(np.int32)
+        for a, b, c, d in pix:
+            cv2.line(img, (int(a), int(b)), (int(c), int(d)), 0, 1)
+        dist = cv2.distanceTransform(img, cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * step
+        _, labels = cv2.connectedComponents(img, connectivity=4)
+        ok = dist >= clearance
+        inside = ok & (labels != labels[0, 0])
+        rows, cols = np.nonzero(inside if inside.any() else ok)
+        if len(rows) == 0:
+            return None
+        order = np.lexsort((rows, cols, -dist[rows, cols]))
+        for k in order[:_MAX_START_CANDIDATES]:
+            p = (ox + float(cols[k]) * step, oy + float(rows[k]) * step)
+            if self.enclosed(p) and _distance_to_segments(np.array([p]), segs)[0] >= clearance:
                 return p
         return None
 
 
-def _distance_to_segments(points: np.ndarray, segments: np.ndarray, chunk: int = 4096) -> np.ndarray:
-    """Distance from every point to its nearest segment, in chunks to bound memory."""
-    out = np.empty(len(points))
+_MAX_START_CANDIDATES = 2000  # bounds the search on an open map (no inside component)
+
+
+def _distance_to_segments(points: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """Distance from every point to its nearest segment."""
     a = segments[:, 0:2]
     ab = segments[:, 2:4] - a
     denom = np.maximum((ab**2).sum(1), 1e-18)
-    for i in range(0, len(points), chunk):
-        p = points[i : i + chunk, None, :]
-        t = np.clip(((p - a) * ab).sum(-1) / denom, 0.0, 1.0)
-        d = p - (a + t[..., None] * ab)
-        out[i : i + chunk] = np.sqrt((d**2).sum(-1).min(axis=1))
-    return out
+    p = points[:, None, :]
+    t = np.clip(((p - a) * ab).sum(-1) / denom, 0.0, 1.0)
+    d = p - (a + t[..., None] * ab)
+    return np.sqrt((d**2).sum(-1).min(axis=1))
