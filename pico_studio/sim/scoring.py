@@ -314,3 +314,42 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
         err = relative(true_rel, tuple(wm.pose))
         s.pose_err_m, s.pose_err_rad = math.hypot(err[0], err[1]), abs(err[2])
     return s
+
+
+def true_zero_pose(wm: WorldModel, sim: Any) -> Pose | None:
+    """The true map pose of the frame the perceptor took as zero (absolute odometry only):
+    map_T_odom = truth (x) odom^-1 now, applied to the zero pose's odometry reading."""
+    if wm.zero_pose is None or sim.params.odometry.form != "absolute":
+        return None
+    map_from_odom = compose(tuple(sim.truth.pose), invert(tuple(sim.truth.odometry_pose)))
+    return compose(map_from_odom, tuple(wm.zero_pose))
+
+
+def run_scored(session: Any, sim: Any, seconds: float, dt: float, tol: Tolerances | None = None,
+               every: int = 1) -> tuple[int, RunScore]:
+    """`session.run` that also scores every `every`-th new world model against `sim.truth`."""
+    tol = tol or Tolerances()
+    run = RunScore()
+    vertices = _static_vertices(sim)
+    ticks = scans = 0
+    last = None
+    end = sim.now() + seconds
+    while sim.ok() and sim.now() < end - 1e-9:
+        session.tick(min(dt, end - sim.now()))
+        ticks += 1
+        wm = session.world_model
+        if wm is None or wm is last:
+            continue
+        last = wm
+        run.ms_per_scan.append(wm.timings_ms.get("total", 0.0))
+        if scans % every == 0:
+            run.add(score_frame(wm, sim.truth, tol, true_zero=true_zero_pose(wm, sim), true_vertices=vertices))
+        scans += 1
+    return ticks, run
+
+
+def _static_vertices(sim: Any) -> np.ndarray:
+    static = sim.world.static
+    if len(static) == 0:
+        return np.zeros((0, 2))
+    return np.unique(np.round(static.reshape(-1, 2), 6), axis=0)
