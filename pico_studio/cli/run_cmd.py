@@ -14,11 +14,18 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
-from pico_studio.cli.run_sources import check_source_args, open_recorder, recorded, run_source
+from pico_studio.cli.run_sources import (
+    check_source_args,
+    make_perceptor,
+    open_recorder,
+    recorded,
+    run_source,
+)
 from pico_studio.core.config import load_config
 from pico_studio.errors import UserError
 from pico_studio.session import Action, Session
 from pico_studio.sim import Simulator
+from pico_studio.sim.scoring import run_scored
 from pico_studio.sources import SOURCE_HELP, parse_source
 
 # name -> factory(argument text after "name:", or "") -> behaviour callable; others add theirs
@@ -84,10 +91,16 @@ def _run(args: argparse.Namespace) -> int:
     params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
-    session = Session(sim, behaviour=behaviour, recorder=recorder, history=1)
+    perceptor = make_perceptor(cfg)
+    session = Session(sim, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
+    scores = None
     try:
-        steps = session.run(10.0 if args.seconds is None else args.seconds, args.dt or 0.05)
+        seconds, dt = 10.0 if args.seconds is None else args.seconds, args.dt or 0.05
+        if perceptor is None:
+            steps = session.run(seconds, dt)
+        else:  # the perceptor's figures against the simulator's truth, every scan
+            steps, scores = run_scored(session, sim, seconds, dt)
     finally:
         record = recorded(recorder)
     wall = time.perf_counter() - t0
@@ -104,6 +117,7 @@ def _run(args: argparse.Namespace) -> int:
         "true_pose": list(sim.truth.pose),
         "odom_pose": list(odom),
         "recorded": record,
+        "perceptor": scores.summary() if scores is not None else None,
     }
     if args.json:
         print(json.dumps(result))
@@ -114,4 +128,10 @@ def _run(args: argparse.Namespace) -> int:
     print(f"  distance {sim.truth.distance:.3f} m, collisions {sim.truth.collisions}")
     if record:
         print(f"  recorded {record['file']}: {record['messages']}")
+    if scores is not None:
+        r = result["perceptor"]
+        print(f"  perceptor over {r['frames']} scans: walls P {r['wall_precision']:.3f} R {r['wall_recall']:.3f}, "
+              f"doors P {r['door_precision']:.3f} R {r['door_recall']:.3f}, corners P {r['corner_precision']:.3f} "
+              f"R {r['corner_recall']:.3f}, convexity {r['convexity_accuracy']:.3f}, "
+              f"pose error {r['pose_error_m']:.3f} m, {r['ms_per_scan']:.2f} ms/scan")
     return 0
