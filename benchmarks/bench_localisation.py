@@ -1,0 +1,238 @@
+"""Localisation quality and cost, on the simulator with its ground truth.
+
+For hospital_2019 and restaurant_2024 (with the moving object of its sim config) the robot
+follows a scripted route of waypoints through free space for 3 simulated minutes at 20 Hz
+with uncertain odometry; halfway it is kicked 0.5 m and 20 deg (kidnapped: the odometry does
+not see it). Reported per map: time to the first fix from the prior, median / max position
+and heading error while tracking (the 10 s after the kick excluded), when the kick was
+flagged and when it was recovered, and the cost per step (median and 95th percentile of
+tracking steps; searches, which run only when lost, separately). Then the wrong-map case:
+the restaurant world localised on the hospital map must stay lost.
+
+    .venv/bin/python benchmarks/bench_localisation.py [--seconds 180] [--gain-error 0.002]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pico_studio.core.config import Config, with_value
+from pico_studio.core.geometry import relative, wrap_angle
+from pico_studio.core.localisation import Localiser
+from pico_studio.core.localisation.inputs import laser_points, odometry_pose
+from pico_studio.json_map import load_json_map
+from pico_studio.sim import Simulator, load_sim_config
+
+MAPS = Path(__file__).resolve().parents[1] / "pico_studio" / "data" / "maps"
+DT = 0.05
+
+ROUTES: dict[str, dict] = {
+    "hospital_2019": {
+        "sim_config": None,
+        "start": (3.5, 0.5, math.pi / 2),
+        # corridor, the right room through its door, the top-left and left rooms, back
+        "waypoints": [(3.5, 5.4), (5.5, 5.4), (5.5, 3.0), (5.5, 5.4), (3.5, 5.4), (1.5, 5.6),
+                      (1.2, 3.1), (1.2, 1.0), (3.5, 1.6), (3.5, 0.5)],
+    },
+    "restaurant_2024": {
+        "sim_config": "restaurant_2024_sim.json",
+        "start": None,  # the sim config's initial pose
+        "waypoints": [(5.4, 3.4), (5.4, 0.8), (3.5, 0.8), (5.4, 0.8), (5.4, 3.4), (3.2, 3.6),
+                      (1.5, 3.6), (1.5, 0.9), (1.5, 3.6), (3.2, 3.6), (6.0, 3.5)],
+    },
+}
+
+
+class RouteFollower:
+    """Drive through the waypoints on the true pose (a test harness, not a behaviour)."""
+
+    def __init__(self, waypoints: list[tuple[float, float]], speed: float = 0.4):
+        self.waypoints, self.speed, self.k = waypoints, speed, 0
+
+    def command(self, pose: tuple[float, float, float]) -> tuple[float, float, float]:
+        wx, wy = self.waypoints[self.k % len(self.waypoints)]
+        if math.hypot(wx - pose[0], wy - pose[1]) < 0.1:
+            self.k += 1
+            wx, wy = self.waypoints[self.k % len(self.waypoints)]
+        local = relative(pose, (wx, wy, 0.0))
+        dist = math.hypot(local[0], local[1])
+        v = min(self.speed, dist) / max(dist, 1e-9)
+        turn = float(wrap_angle(math.atan2(wy - pose[1], wx - pose[0]) - pose[2]))
+        if abs(turn) > 0.5:  # turn on the spot first: the footprint is long sideways
+            v = 0.0
+        return local[0] * v, local[1] * v, float(np.clip(2.0 * turn, -1.0, 1.0))
+
+
+def kicked_pose(sim: Simulator, rng: np.random.Generator) -> tuple[float, float, float]:
+    """The true pose moved 0.5 m (in a free direction) and turned 20 deg."""
+    pose = sim.truth.pose
+    for a in rng.permutation(16) * (2 * math.pi / 16):
+        cand = (pose[0] + 0.5 * math.cos(a), pose[1] + 0.5 * math.sin(a),
+                float(wrap_angle(pose[2] + math.radians(20))))
+        if not sim.base.collides(cand, sim.world.segments()).any() and _clear(sim, pose, cand):
+            return cand
+    raise RuntimeError("no free place to kick the robot to")
+
+
+def _clear(sim: Simulator, a: tuple, b: tuple, margin: float = 0.3) -> bool:
+    from pico_studio.core.geometry import point_segment_distance
+    pts = np.linspace(a[:2], b[:2], 11)
+    return bool(point_segment_distance(pts[-1:], sim.world.segments()).min() > margin)
+
+
+def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, seed: int = 0,
+        localise_on: str | None = None) -> dict:
+    route = ROUTES[name]
+    cfg = Config()
+    cfg = with_value(cfg, "sim.odometry.gain_error", gain_error)
+    cfg = with_value(cfg, "sim.odometry.random_offset", True)  # the odometry frame starts anywhere
+    world_map = load_json_map(MAPS / f"{name}.json")
+    sim_config = load_sim_config(MAPS / route["sim_config"]) if route["sim_config"] else None
+    if sim_config is not None:
+        sim_config = dataclasses.replace(sim_config, uncertain_odom=True)
+    sim = Simulator(world_map, cfg.sim, sim_config, seed=seed, initial_pose=route["start"])
+    sim.odometry.uncertain = True
+    start = sim.truth.pose
+    global_map = load_json_map(MAPS / f"{localise_on or name}.json")
+    loc = Localiser(cfg.localisation, global_map, initial_pose=start)
+    follower = RouteFollower(route["waypoints"])
+    rng = np.random.default_rng(seed)
+
+    rows = []  # t, pos err, head err, lost, ms, searched
+    track: list[tuple[tuple, tuple | None, bool]] = []  # true pose, estimate, lost
+    odom = None
+    kicked_t = None
+    steps = int(round(seconds / DT))
+    for _ in range(steps):
+        sim.send_base_reference(*follower.command(sim.truth.pose))
+        sim.advance(DT)
+        t = sim.now()
+        if kick_at is not None and kicked_t is None and t >= kick_at:
+            sim.base.pose = kicked_pose(sim, rng)
+            kicked_t = t
+        laser = sim.read_laser()
+        odom = odometry_pose(odom, sim.read_odometry())
+        if laser is None or odom is None:
+            continue
+        r = loc.step(laser_points(laser), odom)
+        true = sim.truth.pose
+        track.append((true, r.pose, r.lost))
+        if r.pose is None:
+            rows.append((t, math.nan, math.nan, r.lost, loc.last_ms, r.searched))
+        else:
+            rows.append((t, math.hypot(r.pose[0] - true[0], r.pose[1] - true[1]),
+                         abs(float(wrap_angle(r.pose[2] - true[2]))), r.lost, loc.last_ms, r.searched))
+    out = summarise(name, rows, kicked_t, sim, gain_error, localise_on)
+    out["_track"] = track
+    out["_map"] = global_map
+    return out
+
+
+def summarise(name, rows, kicked_t, sim, gain_error, localise_on) -> dict:
+    t = np.array([r[0] for r in rows])
+    pos = np.array([r[1] for r in rows])
+    head = np.array([r[2] for r in rows])
+    lost = np.array([r[3] for r in rows])
+    ms = np.array([r[4] for r in rows])
+    searched = np.array([r[5] for r in rows])
+    out: dict = {"map": name, "localised_on": localise_on or name, "gain_error": gain_error,
+                 "sim_seconds": round(float(t[-1]), 2), "distance_m": round(sim.truth.distance, 1),
+                 "collisions": sim.truth.collisions, "lost_fraction": round(float(lost.mean()), 3)}
+    found = np.flatnonzero(~lost)
+    out["first_fix_s"] = round(float(t[found[0]]), 2) if len(found) else None
+    if localise_on:
+        out["ever_found"] = bool(len(found))
+        out["ms_per_step_median"] = round(float(np.median(ms)), 2)
+        out["ms_per_step_max"] = round(float(ms.max()), 1)
+        return out
+    tracking = ~lost & np.isfinite(pos)
+    if kicked_t is not None:
+        tracking &= ~((t >= kicked_t) & (t < kicked_t + 10.0))
+        after = t >= kicked_t
+        flagged = np.flatnonzero(after & lost)
+        out["kick_flagged_after_s"] = round(float(t[flagged[0]] - kicked_t), 2) if len(flagged) else None
+        if len(flagged):
+            rec = np.flatnonzero((t > t[flagged[0]]) & ~lost & (pos < 0.1))
+            out["kick_recovered_after_s"] = round(float(t[rec[0]] - kicked_t), 2) if len(rec) else None
+        else:
+            out["kick_recovered_after_s"] = None
+    out["pose_error_m"] = {"median": round(float(np.median(pos[tracking])), 4),
+                           "max": round(float(pos[tracking].max()), 4)}
+    out["heading_error_deg"] = {"median": round(math.degrees(float(np.median(head[tracking]))), 3),
+                                "max": round(math.degrees(float(head[tracking].max())), 3)}
+    plain = tracking & ~searched
+    out["ms_per_step"] = {"median": round(float(np.median(ms[plain])), 2),
+                          "p95": round(float(np.percentile(ms[plain]), 95) if False else float(np.percentile(ms[plain], 95)), 2)}
+    out["ms_per_search_step"] = {"median": round(float(np.median(ms[searched])), 1) if searched.any() else None,
+                                 "count": int(searched.sum())}
+    return out
+
+
+def draw(global_map, track, path: Path, scale: float = 100.0) -> None:
+    """The map (walls black, objects grey), the true path (green) and the estimates (blue;
+    red while lost), the kick as a jump in the green path."""
+    import cv2
+
+    x0, y0, x1, y1 = global_map.bounds
+    margin = 0.3
+    h, w = int((y1 - y0 + 2 * margin) * scale), int((x1 - x0 + 2 * margin) * scale)
+    img = np.full((h, w, 3), 255, np.uint8)
+
+    def px(x: float, y: float) -> tuple[int, int]:
+        return int((x - x0 + margin) * scale), int(h - (y - y0 + margin) * scale)
+
+    for poly in global_map.objects:
+        for s in global_map.segments_of(poly):
+            cv2.line(img, px(*s[:2]), px(*s[2:]), (170, 170, 170), 2, cv2.LINE_AA)
+    for s in global_map.wall_segments:
+        cv2.line(img, px(*s[:2]), px(*s[2:]), (0, 0, 0), 2, cv2.LINE_AA)
+    for (t0, _, _), (t1, _, _) in zip(track, track[1:], strict=False):
+        if math.hypot(t1[0] - t0[0], t1[1] - t0[1]) < 0.2:  # not across the kick
+            cv2.line(img, px(*t0[:2]), px(*t1[:2]), (60, 180, 60), 3, cv2.LINE_AA)
+    for _, est, lost in track[::4]:
+        if est is not None:
+            cv2.circle(img, px(*est[:2]), 2, (0, 0, 230) if lost else (200, 80, 0), -1, cv2.LINE_AA)
+    cv2.putText(img, "true path (green), estimate (blue), estimate while lost (red)", (8, 20),
+                cv2.FONT_HERSHEY_SIMPLEX, 0.5, (0, 0, 0), 1, cv2.LINE_AA)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    cv2.imwrite(str(path), img)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--seconds", type=float, default=180.0)
+    ap.add_argument("--gain-error", type=float, default=0.002, help="odometry wheel-gain error (sim default 0.002)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--json", action="store_true")
+    ap.add_argument("--png-dir", default="", help="draw each run's map and paths here (e.g. docs)")
+    args = ap.parse_args()
+    results = []
+    t0 = time.perf_counter()
+    for name in ROUTES:
+        results.append(run(name, seconds=args.seconds, gain_error=args.gain_error,
+                           kick_at=args.seconds / 2, seed=args.seed))
+    results.append(run("restaurant_2024", seconds=min(args.seconds, 30.0), gain_error=args.gain_error,
+                       kick_at=None, seed=args.seed, localise_on="hospital_2019"))
+    for r in results[:2]:
+        if args.png_dir:
+            path = Path(args.png_dir) / f"localisation_{r['map']}.png"
+            draw(r["_map"], r["_track"], path)
+            print(f"# drawn {path}")
+    results = [{k: v for k, v in r.items() if not k.startswith("_")} for r in results]
+    if args.json:
+        print(json.dumps(results, indent=1))
+    else:
+        for r in results:
+            print(json.dumps(r))
+    print(f"# {time.perf_counter() - t0:.1f} s wall")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,71 @@
+"""The global map's distance field and the prior."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pico_studio.core.config import Config, with_value
+from pico_studio.core.geometry import point_segment_distance
+from pico_studio.core.localisation import DistanceField, initial_prior
+from pico_studio.core.localisation.distance_field import map_segments
+from pico_studio.json_map import load_json_map
+
+
+@pytest.fixture
+def restaurant(maps_dir):
+    return load_json_map(maps_dir / "restaurant_2024.json")
+
+
+def test_field_matches_exact_segment_distance(restaurant):
+    params = Config().localisation.field
+    field = DistanceField.from_map(restaurant, params)
+    rng = np.random.default_rng(0)
+    p = rng.random((3000, 2)) * [7.0, 5.0]
+    exact = point_segment_distance(p, field.segments)
+    assert np.abs(field.distance(p) - exact.min(axis=1)).max() < params.resolution
+    # the nearest segment is the nearest one, or one just as near within a cell
+    k = field.nearest_segment(p)
+    assert (exact[np.arange(len(p)), k] - exact.min(axis=1)).max() < 2.5 * params.resolution
+
+
+def test_field_off_the_grid_is_far_and_has_no_segment(restaurant):
+    field = DistanceField.from_map(restaurant, Config().localisation.field)
+    far = np.array([[100.0, 100.0], [-50.0, 2.0]])
+    assert (field.distance(far) > 1.0).all()
+    assert (field.nearest_segment(far) == -1).all()
+
+
+def test_map_segments_put_walls_first_and_respect_the_switches(restaurant):
+    params = Config().localisation.field
+    segs = map_segments(restaurant, params)
+    assert np.allclose(segs[: len(restaurant.walls)], restaurant.wall_segments)
+    n_objects = sum(len(p) for p in restaurant.objects)
+    n_doors = sum(len(p) for p in restaurant.doors)
+    assert len(segs) == len(restaurant.walls) + n_objects + n_doors
+    cfg = with_value(Config(), "localisation.field.doors_as_walls", False)
+    assert len(map_segments(restaurant, cfg.localisation.field)) == len(segs) - n_doors
+
+
+def test_prior_from_start_area_given_pose_and_whole_map(restaurant, maps_dir):
+    params = Config().localisation.prior
+    p = initial_prior(restaurant, params)
+    assert p.origin == "start_area" and (p.x, p.y) == pytest.approx((1.5, 0.7))
+    assert (p.half_x, p.half_y) == pytest.approx((0.5, 0.5)) and not p.heading_known
+
+    given = initial_prior(restaurant, params, pose=(6.0, 3.5, 3.14))
+    assert given.origin == "pose" and given.half_x == params.position_uncertainty
+
+    cfg = with_value(with_value(Config(), "localisation.prior.heading_known", True),
+                     "localisation.prior.source", "pose")
+    known = initial_prior(restaurant, cfg.localisation.prior)
+    assert known.origin == "pose" and known.heading_known
+    assert known.heading_range == pytest.approx(cfg.localisation.prior.heading_uncertainty)
+
+    hospital = load_json_map(maps_dir / "hospital_2019.json")  # no start area
+    whole = initial_prior(hospital, params)
+    assert whole.origin == "map" and whole.heading_range == pytest.approx(math.pi)
+    x0, y0, x1, y1 = hospital.bounds
+    assert whole.half_x == pytest.approx((x1 - x0) / 2)
