@@ -305,7 +305,7 @@ class StudioApp:
         self.timeline = gui.add_slider("Timeline", 0, 1, 1, 0, hint="Scrub the recorded frames (pauses); each is re-processed with the current config")
         live = gui.add_button("Back to live", icon=viser.Icon.PLAYER_SKIP_FORWARD)
         self.metrics_md = gui.add_markdown("")
-        self.recording = RecordingControls(s, gui, self.export_dir, self.redraw, self._guard)
+        self.recording = RecordingControls(s, gui, self.export_dir, lambda: (self._sync_play_button(), self.redraw()), self._guard)
 
         @self.play.on_click
         def _(event: viser.GuiEvent) -> None:

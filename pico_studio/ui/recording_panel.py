@@ -96,10 +96,10 @@ def source_status(studio: Studio) -> str:
 class RecordingControls:
     """The widgets: the record toggle and, for a replay, the position slider."""
 
-    def __init__(self, studio: Studio, gui: viser.GuiApi, folder: Path, redraw: Any, guard: Any):
+    def __init__(self, studio: Studio, gui: viser.GuiApi, folder: Path, changed: Any, guard: Any):
         self.studio = studio
         self.recorder = RunRecorder(studio, folder)
-        self.redraw = redraw
+        self.changed = changed  # the page re-syncs its play button and redraws
         self._quiet = False
         with gui.add_folder("Recording"):
             self.button = gui.add_button("Record", icon=viser.Icon.PLAYER_RECORD,
@@ -130,7 +130,7 @@ class RecordingControls:
             s.source.seek(min(max(int(index), 0), s.source.frame_count - 1))
             s.playing = False
             s.tick(1.0 / s.cfg.ui.rate_hz)
-        self.redraw()
+        self.changed()
 
     def _on_position(self, event: viser.GuiEvent) -> None:
         if not self._quiet:
