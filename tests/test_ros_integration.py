@@ -276,6 +276,42 @@ def test_run_command_on_the_live_robot(ros: RosRig, tmp_path: Path, capsys: pyte
     assert open_bag(out).frame_count == report["frames_read"]
 
 
+def test_the_page_on_the_live_robot(ros: RosRig, tmp_path: Path) -> None:
+    """`pico-studio serve --source ros`: frames reach the timeline, the status line says
+    live, then stale once the scans stop; a reset closes the old connection."""
+    import argparse
+
+    from pico_studio.cli.serve_cmd import build_app
+
+    config = tmp_path / "robot.yaml"
+    config.write_text(f"sources:\n  ros:\n    master_uri: {ros.uri}\n    stale_timeout: 0.5\n")
+    args = argparse.Namespace(
+        map=None, sim_config=None, config=str(config), behaviour="stop", source="ros", host="127.0.0.1",
+        port=_free_port(), seed=None, export_dir=str(tmp_path), paused=True,
+    )
+    app = build_app(args, verbose=False)
+    studio = app.studio
+    try:
+        studio.source.wait_connected(DEADLINE)
+        player = ros.start("rosbag", "play", "-q", "-l", "-d", "1", str(BAG))
+        try:
+            _wait("scans on the page's timeline", lambda: (studio.tick(0.05), len(studio.timeline) >= 10)[1])
+            app.redraw()
+            assert "live:" in app.status_md.content
+            assert len(studio.timeline.latest.laser.ranges) == 1081
+        finally:
+            ros.stop(player)
+        _wait("the page to show stale data", lambda: (studio.tick(0.05), studio.source.status().stale)[1])
+        app.redraw()
+        assert "stale" in app.status_md.content
+        first = studio.source
+        studio.reset()
+        assert not first.ok() and studio.source is not first
+    finally:
+        app.stop()
+        studio.source.close()
+
+
 def test_master_going_away_is_reported_and_survived(ros: RosRig) -> None:
     master = ros.procs[0]
     ros.stop(master)
