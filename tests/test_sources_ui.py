@@ -74,7 +74,7 @@ def test_recording_position_jumps_within_the_whole_bag(recordings_dir: Path, tmp
         assert studio.source.frame_index == 100
         assert studio.timeline.latest.time == pytest.approx(studio.source.frame_times[100])
         assert studio.timeline.latest.wm is not None  # perceived at once
-        assert "recording frame 101 / 243" in app.status_md.content
+        assert "recording frame 101 / 243 · 2.80 / 6.80 s" in app.status_md.content
         assert not studio.playing and app.play.label == "Play"
         for _ in range(10):
             studio.tick(0.05)

@@ -89,7 +89,9 @@ def source_status(studio: Studio) -> str:
         return f"**{text}**" if (s.stale or not s.master_up) else text
     count = getattr(source, "frame_count", None)
     if count:
-        return f"recording frame {max(source.frame_index, 0) + 1} / {count}"
+        t0, t1 = source.time_span
+        return (f"recording frame {max(source.frame_index, 0) + 1} / {count} · "
+                f"{source.now() - t0:.2f} / {t1 - t0:.2f} s")
     return ""
 
 
