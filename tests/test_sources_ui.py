@@ -93,3 +93,17 @@ def test_simulator_has_no_recording_position(tmp_path: Path) -> None:
         assert "recording frame" not in app.status_md.content
     finally:
         app.stop()
+
+
+def test_a_damaged_recording_plays_and_says_what_was_skipped(recordings_dir: Path, tmp_path: Path) -> None:
+    data = (recordings_dir / "pico_real_2019-05-07.bag").read_bytes()
+    cut = tmp_path / "cut.bag"
+    cut.write_bytes(data[: len(data) // 2])
+    app = _app(tmp_path, f"bag:{cut}")
+    try:
+        app.recording.seek(10)
+        assert app.studio.timeline.latest.wm is not None
+        text = app.recording.text.content
+        assert "problem(s)" in text and "index is unusable" in text
+    finally:
+        app.stop()

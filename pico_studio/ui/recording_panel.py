@@ -144,10 +144,20 @@ class RecordingControls:
         recording = self.recorder.active
         self.button.label = "Stop recording" if recording else "Record"
         self.button.icon = viser.Icon.PLAYER_STOP if recording else viser.Icon.PLAYER_RECORD
-        self.text.content = self.recorder.describe()
+        self.text.content = self.recorder.describe() + _replay_warnings(self.studio.source)
         if self.position is not None and getattr(self.studio.source, "frame_index", -1) >= 0:
             self._quiet = True
             try:
                 self.position.value = int(self.studio.source.frame_index)
             finally:
                 self._quiet = False
+
+
+def _replay_warnings(source: Any) -> str:
+    """What a replay skipped while reading its file (corrupt messages, bad lines)."""
+    warnings = getattr(source, "warnings", None) if hasattr(source, "frame_count") else None
+    if not warnings:
+        return ""
+    shown = "\n".join(f"- {w}" for w in warnings[:3])
+    more = f"\n- … and {len(warnings) - 3} more" if len(warnings) > 3 else ""
+    return f"\n\n**The recording had {len(warnings)} problem(s)**, skipped:\n{shown}{more}"
