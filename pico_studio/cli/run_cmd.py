@@ -66,6 +66,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--source", default="sim", help=SOURCE_HELP + " (default sim)")
     p.add_argument("--map", help="a JSON map or heightmap image (for --source sim)")
     p.add_argument("--record", metavar="FILE.bag", help="record the run as a ROS 1 bag (laser, odometry, base references, true pose)")
+    p.add_argument("--no-perceptor", action="store_true", help="recordings and robot: only read (and record), no perception")
     p.add_argument("--sim-config", help="the official simulator's config JSON (start pose, moving objects, ...)")
     p.add_argument("--config", help="a pico_studio config YAML (partial files merge over the defaults)")
     p.add_argument("--seed", type=int, help="random seed (default: sim.seed of the config)")
