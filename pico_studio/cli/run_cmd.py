@@ -63,6 +63,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--behaviour", default="idle", help="idle | drive:VX,VY,VA (default idle)")
     p.add_argument("--realtime", action="store_true", help="pace to wall-clock time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--localise", action="store_true",
+                   help="run the perceptor and localisation on the map; report the pose error against the truth")
     p.set_defaults(func=_run)
 
 
@@ -75,7 +77,8 @@ def _run(args: argparse.Namespace) -> int:
     params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
     behaviour = make_behaviour(args.behaviour)
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
-    session = Session(sim, behaviour=behaviour, history=1)
+    localising = _localising(cfg, sim) if args.localise else None
+    session = Session(sim, perceptor=localising, behaviour=behaviour, history=1)
     t0 = time.perf_counter()
     steps = session.run(args.seconds, args.dt)
     wall = time.perf_counter() - t0
@@ -92,6 +95,8 @@ def _run(args: argparse.Namespace) -> int:
         "true_pose": list(sim.truth.pose),
         "odom_pose": list(odom),
     }
+    if localising is not None:
+        result["localisation"] = localising.score.summary()
     if args.json:
         print(json.dumps(result))
         return 0
@@ -99,4 +104,20 @@ def _run(args: argparse.Namespace) -> int:
     print(f"{args.map}: {result['sim_seconds']:g} s simulated in {wall:.3f} s ({steps} steps)")
     print(f"  true pose ({x:.3f}, {y:.3f}, {a:.3f}), odometry ({odom[0]:.3f}, {odom[1]:.3f}, {odom[2]:.3f})")
     print(f"  distance {sim.truth.distance:.3f} m, collisions {sim.truth.collisions}")
+    if localising is not None:
+        from pico_studio.core.localisation.score import summary_line
+
+        print("  localisation " + summary_line(result["localisation"]))
     return 0
+
+
+def _localising(cfg: Any, sim: Simulator) -> Any:
+    """The perceptor with localisation on the simulator's map, scored against its truth; the
+    prior is the sim config's start pose when it has one, else the map's start area."""
+    from pico_studio.core.localisation import Localiser
+    from pico_studio.core.localisation.stage import LocalisingPerceptor
+    from pico_studio.core.perception import Perceptor
+
+    localiser = Localiser(cfg.localisation, sim.world.map, sim.sim_config.initial_pose)
+    return LocalisingPerceptor(Perceptor(cfg.perception), localiser, truth=lambda: sim.truth.pose)
+
