@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from pico_studio.core.config import Config, with_value
-from pico_studio.core.geometry import relative, wrap_angle
+from pico_studio.core.geometry import compose, relative, wrap_angle
 from pico_studio.core.localisation import Localiser
 from pico_studio.core.localisation.inputs import laser_points, odometry_pose
 from pico_studio.json_map import load_json_map
@@ -93,13 +93,15 @@ def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, 
     cfg = Config()
     cfg = with_value(cfg, "sim.odometry.gain_error", gain_error)
     cfg = with_value(cfg, "sim.odometry.random_offset", True)  # the odometry frame starts anywhere
+    cfg = with_value(cfg, "sim.odometry.uncertain", True)
     world_map = load_json_map(MAPS / f"{name}.json")
     sim_config = load_sim_config(MAPS / route["sim_config"]) if route["sim_config"] else None
     if sim_config is not None:
         sim_config = dataclasses.replace(sim_config, uncertain_odom=True)
     sim = Simulator(world_map, cfg.sim, sim_config, seed=seed, initial_pose=route["start"])
-    sim.odometry.uncertain = True
     start = sim.truth.pose
+    odom_start = sim.truth.odometry_pose
+    dead_reckoning = 0.0  # worst error of odometry alone (from the true start), before the kick
     global_map = load_json_map(MAPS / f"{localise_on or name}.json")
     loc = Localiser(cfg.localisation, global_map, initial_pose=start)
     follower = RouteFollower(route["waypoints"])
@@ -114,6 +116,9 @@ def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, 
         sim.send_base_reference(*follower.command(sim.truth.pose))
         sim.advance(DT)
         t = sim.now()
+        if kicked_t is None:
+            dr = compose(start, relative(odom_start, sim.truth.odometry_pose))
+            dead_reckoning = max(dead_reckoning, math.hypot(dr[0] - sim.truth.pose[0], dr[1] - sim.truth.pose[1]))
         if kick_at is not None and kicked_t is None and t >= kick_at:
             sim.base.pose = kicked_pose(sim, rng)
             kicked_t = t
@@ -130,6 +135,7 @@ def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, 
             rows.append((t, math.hypot(r.pose[0] - true[0], r.pose[1] - true[1]),
                          abs(float(wrap_angle(r.pose[2] - true[2]))), r.lost, loc.last_ms, r.searched))
     out = summarise(name, rows, kicked_t, sim, gain_error, localise_on)
+    out["odometry_alone_max_error_m"] = round(dead_reckoning, 3)
     out["_track"] = track
     out["_map"] = global_map
     return out
