@@ -197,18 +197,65 @@ def draw(global_map, track, path: Path, scale: float = 100.0) -> None:
     for poly in global_map.objects:
         for s in global_map.segments_of(poly):
             cv2.line(img, px(*s[:2]), px(*s[2:]), (170, 170, 170), 2, cv2.LINE_AA)
+    for poly in global_map.doors:
+        for s in global_map.segments_of(poly):
+            cv2.line(img, px(*s[:2]), px(*s[2:]), (0, 160, 230), 2, cv2.LINE_AA)
     for s in global_map.wall_segments:
         cv2.line(img, px(*s[:2]), px(*s[2:]), (0, 0, 0), 2, cv2.LINE_AA)
     for (t0, _, _), (t1, _, _) in zip(track, track[1:], strict=False):
         if math.hypot(t1[0] - t0[0], t1[1] - t0[1]) < 0.2:  # not across the kick
             cv2.line(img, px(*t0[:2]), px(*t1[:2]), (60, 180, 60), 3, cv2.LINE_AA)
-    for _, est, lost in track[::4]:
-        if est is not None:
+    for (t0, _, _), (t1, _, _) in zip(track, track[1:], strict=False):
+        if math.hypot(t1[0] - t0[0], t1[1] - t0[1]) >= 0.2:  # the kick: from, to
+            cv2.arrowedLine(img, px(*t0[:2]), px(*t1[:2]), (0, 0, 230), 2, cv2.LINE_AA, tipLength=0.25)
+    for k, (_, est, lost) in enumerate(track):
+        if est is not None and (lost or k % 4 == 0):
             cv2.circle(img, px(*est[:2]), 2, (0, 0, 230) if lost else (200, 80, 0), -1, cv2.LINE_AA)
-    cv2.putText(img, "true path (green), estimate (blue), estimate while lost (red)", (8, 20),
+    cv2.putText(img, "true path (green), estimate (blue; red while lost), kick (red arrow)", (8, 20),
                 cv2.FONT_HERSHEY_SIMPLEX, 0.5, (0, 0, 0), 1, cv2.LINE_AA)
     path.parent.mkdir(parents=True, exist_ok=True)
     cv2.imwrite(str(path), img)
+
+
+def cost(name: str, *, seconds: float = 20.0, repeats: int = 5, seed: int = 0) -> dict:
+    """Cost per step on recorded frames: the same scans replayed `repeats` times through a
+    fresh localiser; per step the median over the repeats, then the median and 95th
+    percentile over the steps. A lost-recovery search (1 m box, any heading) likewise."""
+    from pico_studio.core.localisation.tracker import _search_around
+
+    route = ROUTES[name]
+    cfg = with_value(with_value(Config(), "sim.odometry.uncertain", True), "sim.odometry.random_offset", True)
+    world_map = load_json_map(MAPS / f"{name}.json")
+    sim_config = load_sim_config(MAPS / route["sim_config"]) if route["sim_config"] else None
+    sim = Simulator(world_map, cfg.sim, sim_config, seed=seed, initial_pose=route["start"])
+    follower = RouteFollower(route["waypoints"])
+    frames, odom = [], None
+    for _ in range(int(round(seconds / DT))):
+        sim.send_base_reference(*follower.command(sim.truth.pose))
+        sim.advance(DT)
+        laser = sim.read_laser()
+        odom = odometry_pose(odom, sim.read_odometry())
+        if laser is not None and odom is not None:
+            frames.append((laser_points(laser), odom))
+    start = sim.truth.pose
+    times = np.zeros((repeats, len(frames)))
+    for r in range(repeats):
+        loc = Localiser(cfg.localisation, world_map, initial_pose=route["start"] or (6.0, 3.5, 3.14))
+        for k, (pts, o) in enumerate(frames):
+            t0 = time.perf_counter()
+            loc.step(pts, o)
+            times[r, k] = (time.perf_counter() - t0) * 1000
+    per_step = np.median(times, axis=0)[5:]  # the first steps search from the prior
+    search_ms = []
+    pts = frames[-1][0]
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        _search_around(loc.lmap, pts, start, cfg.localisation.search.lost_radius, cfg.localisation)
+        search_ms.append((time.perf_counter() - t0) * 1000)
+    return {"map": name, "steps": len(frames), "repeats": repeats,
+            "ms_per_step_median": round(float(np.median(per_step)), 2),
+            "ms_per_step_p95": round(float(np.percentile(per_step, 95)), 2),
+            "ms_per_recovery_search_median": round(float(np.median(search_ms)), 1)}
 
 
 def main() -> None:
@@ -218,9 +265,15 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--png-dir", default="", help="draw each run's map and paths here (e.g. docs)")
+    ap.add_argument("--cost-only", action="store_true", help="only the cost per step")
     args = ap.parse_args()
-    results = []
     t0 = time.perf_counter()
+    costs = [cost(name, seed=args.seed) for name in ROUTES]
+    for c in costs:
+        print(json.dumps(c))
+    if args.cost_only:
+        return
+    results = []
     for name in ROUTES:
         results.append(run(name, seconds=args.seconds, gain_error=args.gain_error,
                            kick_at=args.seconds / 2, seed=args.seed))
