@@ -7,7 +7,8 @@
 
 What plugs in (duck-typed, so each engineer's part stays independent):
 - `source`: a `RobotIO` with `advance(dt)`; when it has a `truth` (the simulator), its
-  `truth.as_dict()` is stored with every frame.
+  `truth.as_dict()` is stored with every frame; a replay that knows the true pose (CARMEN's
+  corrected pose, a recorded simulation) gives it by `truth_pose()`, stored as {"pose": ...}.
 - `perceptor`: anything with `step(laser, odometry) -> world model`; called when a new scan
   arrived (the newest odometry reading, possibly None, goes with it).
 - `behaviour`: a callable `(frame, world_model) -> command`, where command is a
@@ -102,7 +103,7 @@ class Session:
             laser=laser,
             odometry=odometry,
             time=self.source.now(),
-            truth=truth.as_dict() if truth is not None else {},
+            truth=truth.as_dict() if truth is not None else _replay_truth(self.source),
         )
         if self.perceptor is not None and laser is not None:
             self.world_model = self.perceptor.step(laser, odometry)
@@ -126,3 +127,9 @@ class Session:
             self.tick(min(dt, end - self.source.now()))
             n += 1
         return n
+
+
+def _replay_truth(source: Any) -> dict[str, object]:
+    truth_pose = getattr(source, "truth_pose", None)
+    pose = truth_pose() if callable(truth_pose) else None
+    return {"pose": pose} if pose is not None else {}

@@ -14,12 +14,14 @@ from pico_studio.core.config.perception_params import PerceptionParams
 from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.config.sources_params import SourcesParams
 from pico_studio.core.config.spec import section
+from pico_studio.core.config.ui_params import UiParams
 
 
 @dataclass(frozen=True)
 class Config:
     map: MapParams = section(MapParams, "Map loading")
     sim: SimParams = section(SimParams, "The simulator")
+    perception: PerceptionParams = section(PerceptionParams, "Perceptor: laser + odometry to world model")
     localisation: LocalisationParams = section(LocalisationParams, "Localisation in the global map and the combined map")
     sources: SourcesParams = section(SourcesParams, "Data sources: recordings and the live robot")
-    perception: PerceptionParams = section(PerceptionParams, "Perceptor: laser + odometry to world model")
+    ui: UiParams = section(UiParams, "The web UI (pico-studio serve)")

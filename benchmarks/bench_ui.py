@@ -1,0 +1,109 @@
+"""Web UI speed, with a real browser tab connected (Debian's chromium via Playwright).
+
+1. Slider change -> updated layers sent: the server-side time from a parameter edit arriving
+   (the GUI callback) to the re-processed frame's layers being flushed to the socket, for
+   edits typed into the page while paused. Median over the edits.
+2. Streaming at 20 Hz: the server process's CPU time / wall time while playing (1.0 = one
+   core), next to the same loop headless (studio tick + layer geometry, no viser) as a peer.
+
+    .venv/bin/python benchmarks/bench_ui.py [--edits 30] [--seconds 10]
+"""
+
+from __future__ import annotations
+
+import argparse
+import socket
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from pico_studio.cli.serve_cmd import build_app  # noqa: E402
+from pico_studio.core.config import Config  # noqa: E402
+from pico_studio.json_map import load_json_map  # noqa: E402
+from pico_studio.ui.runtime import Studio  # noqa: E402
+from pico_studio.ui.scene_data import frame_prims  # noqa: E402
+from pico_studio.ui.sources import DEFAULT_MAP, make_source_factory  # noqa: E402
+from tests.ui_browser_helpers import CHROMIUM, CHROMIUM_ARGS, VIEWPORT, set_number  # noqa: E402
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def cpu_share(seconds: float) -> float:
+    c0, w0 = time.process_time(), time.monotonic()
+    time.sleep(seconds)
+    return (time.process_time() - c0) / (time.monotonic() - w0)
+
+
+def headless_share(seconds: float) -> float:
+    """The same 20 Hz loop without viser: tick + layer geometry, paced like the page."""
+    studio = Studio(Config(), load_json_map(DEFAULT_MAP), make_source_factory("sim", None, 1), map_name="h")
+    c0, w0 = time.process_time(), time.monotonic()
+    next_t = w0
+    while time.monotonic() - w0 < seconds:
+        studio.tick(0.05)
+        frame_prims(studio, studio.shown())
+        studio.metrics()
+        next_t += 0.05
+        time.sleep(max(0.0, next_t - time.monotonic()))
+    return (time.process_time() - c0) / (time.monotonic() - w0)
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--edits", type=int, default=30)
+    ap.add_argument("--seconds", type=float, default=10.0)
+    a = ap.parse_args()
+    from playwright.sync_api import sync_playwright
+
+    args = argparse.Namespace(
+        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1",
+        port=free_port(), seed=1, export_dir=tempfile.mkdtemp(), paused=False,
+    )
+    app = build_app(args, verbose=False)
+    app.start()
+    try:
+        with sync_playwright() as p:
+            ctx = p.chromium.launch_persistent_context(
+                tempfile.mkdtemp(), executable_path=str(CHROMIUM), headless=True, args=CHROMIUM_ARGS, viewport=VIEWPORT
+            )
+            page = ctx.new_page()
+            page.goto(app.url + "/?fixedDpr=1")
+            page.get_by_text("hospital_2019.json").first.wait_for(timeout=30000)
+            time.sleep(3.0)  # let the tab settle and the timeline fill a little
+
+            share = cpu_share(a.seconds)
+            hz = app.studio.metrics()["hz"]
+
+            app.studio.playing = False
+            page.get_by_role("tab", name="Config").click()
+            page.get_by_text("scan", exact=True).locator("visible=true").first.click()
+            app.update_ms.clear()
+            for i in range(a.edits):
+                set_number(page, "min_length", 0.2 if i % 2 == 0 else 0.1)
+                deadline = time.monotonic() + 5.0
+                while len(app.update_ms) < i + 1 and time.monotonic() < deadline:
+                    time.sleep(0.01)
+            ctx.close()
+    finally:
+        app.stop()
+    peer = headless_share(a.seconds)
+    ms = app.update_ms
+    print(f"slider change -> layers sent (server side, paused, {len(ms)} edits): "
+          f"median {statistics.median(ms):.1f} ms, p90 {sorted(ms)[int(0.9 * (len(ms) - 1))]:.1f} ms")
+    print(f"streaming at 20 Hz with a tab connected: server CPU {100 * share:.0f}% of one core "
+          f"(perception {hz:.1f} Hz)")
+    print(f"peer, the same loop headless (no viser): {100 * peer:.0f}% of one core; "
+          f"page/headless ratio {share / peer:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,60 @@
+"""`pico-studio serve`: the web UI on a map, simulated (default) or on a recording / the robot."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import time
+from pathlib import Path
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("serve", help="open the interactive web UI (default: the hospital example, simulated)")
+    p.add_argument("--map", help="a JSON map or heightmap image (default: the built-in hospital_2019.json)")
+    p.add_argument("--sim-config", help="simulator config JSON (initial pose, moving objects, ...)")
+    p.add_argument("--config", help="a (partial) config YAML to start from")
+    p.add_argument("--behaviour", default="wander", help="what drives the robot: wander (default), teleop, stop")
+    p.add_argument("--source", default="sim", help="sim (default), bag:FILE, carmen:FILE or ros (a replay drives nothing: behaviours are ignored)")
+    p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
+    p.add_argument("--port", type=int, default=8080, help="port (default 8080)")
+    p.add_argument("--seed", type=int, default=None, help="simulator random seed")
+    p.add_argument("--export-dir", default="pico_studio_exports", help="where 'Export config' saves YAML files")
+    p.add_argument("--paused", action="store_true", help="start paused")
+    p.set_defaults(func=_serve)
+
+
+def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioApp
+    """The Studio and its page from parsed arguments (also used by the tests and benchmarks)."""
+    from pico_studio.core.config import load_config
+    from pico_studio.ui.app import StudioApp
+    from pico_studio.ui.runtime import Studio
+    from pico_studio.ui.sources import (
+        DEFAULT_MAP,
+        load_any_map,
+        make_source_factory,
+        sim_config_for,
+    )
+
+    cfg = load_config(args.config)
+    simulated = args.source == "sim"
+    # a recording has no map of its own: only the one asked for (the example is the sim's)
+    map_path = Path(args.map) if args.map else (DEFAULT_MAP if simulated else None)
+    global_map = load_any_map(map_path, cfg) if map_path is not None else None
+    sim_config = args.sim_config if args.sim_config else (sim_config_for(map_path) if simulated and not args.map else None)
+    factory = make_source_factory(args.source, sim_config, args.seed)
+    name = map_path.name if map_path is not None else args.source
+    studio = Studio(cfg, global_map, factory, behaviour=args.behaviour, map_name=name)
+    studio.playing = not args.paused
+    return StudioApp(studio, host=args.host, port=args.port, export_dir=args.export_dir, verbose=verbose)
+
+
+def _serve(args: argparse.Namespace) -> int:
+    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    app = build_app(args, verbose=False)
+    app.start()
+    print(f"pico-studio: serving {app.studio.map_name} at {app.url}  (Ctrl-C stops)", flush=True)
+    try:
+        while True:
+            time.sleep(3600)
+    finally:
+        app.stop()

@@ -1,0 +1,294 @@
+"""What each layer draws, as plain numpy in the map frame (no viser here).
+
+The page's view is the global map's frame. Robot-frame data (laser points, current map,
+proximity) is placed at `Studio.robot_pose_in_map`; zero-frame data (local map, corners,
+doors, behaviour target/plan) at `Studio.zero_frame_in_map`. Every field of the WorldModel
+contract that is None (or absent) draws nothing.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from pico_studio.core.geometry import transform_points, transform_segments
+from pico_studio.json_map import GlobalMap
+from pico_studio.ui import style
+from pico_studio.ui.runtime import Studio
+from pico_studio.ui.timeline import FrameRecord
+
+# PICO's footprint (DESIGN: about 0.4 m x 0.2 m), used when the config has no simulator section
+PICO_FOOTPRINT = (0.4, 0.2)
+CIRCLE_SIDES = 48
+
+
+@dataclass
+class Prim:
+    """One drawable: segments (N, 4) or points (N, 2), with one colour or one per item."""
+
+    kind: str  # "segments" | "points"
+    data: np.ndarray
+    colors: np.ndarray | None = None  # (N, 3) uint8 per item; None = the prim's fixed colour
+
+    def __len__(self) -> int:
+        return len(self.data)
+
+
+@dataclass(frozen=True)
+class PrimSpec:
+    name: str
+    kind: str
+    color: style.RGB
+    thickness: float = style.THICK_LAYER
+    point_size: float = style.POINT_SIZE
+
+
+@dataclass(frozen=True)
+class LayerSpec:
+    key: str
+    label: str
+    prims: tuple[PrimSpec, ...]
+    static: bool = False  # drawn once per map rather than per frame
+    default_on: bool = True
+
+
+S, P = "segments", "points"
+LAYERS: tuple[LayerSpec, ...] = (
+    LayerSpec("map", "Global map", (
+        PrimSpec("map_start", S, style.MAP_START, style.THICK_MAP),
+        PrimSpec("map_walls", S, style.MAP_WALL, style.THICK_MAP),
+        PrimSpec("map_objects", S, style.MAP_OBJECT, style.THICK_MAP),
+        PrimSpec("map_fronts", S, style.MAP_OBJECT_FRONT, 2 * style.THICK_MAP),
+        PrimSpec("map_doors", S, style.MAP_DOOR, style.THICK_MAP),
+    ), static=True),
+    LayerSpec("sim_world", "Simulated doors / moving objects", (PrimSpec("sim_world", S, style.SIM_WORLD, 0.05),)),
+    LayerSpec("trail", "Trail", (PrimSpec("trail", S, style.TRAIL, 0.02),)),
+    LayerSpec("combined", "Combined map", (PrimSpec("combined", S, style.COMBINED_MATCHED, 0.06),)),
+    LayerSpec("local", "Local map", (
+        PrimSpec("local_walls", S, style.LOCAL_WALL),
+        PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=0.07),
+        PrimSpec("corners", P, style.ENDPOINT[2], point_size=0.11),
+    )),
+    LayerSpec("current", "Current map segments", (PrimSpec("current", S, style.CURRENT_MAP),)),
+    LayerSpec("doors", "Doors and possible doors", (
+        PrimSpec("doors", S, style.DOOR, 0.08),
+        PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 0.06),
+    )),
+    LayerSpec("laser", "Laser points", (PrimSpec("laser", P, style.LASER, point_size=0.04),)),
+    LayerSpec("proximity", "Proximity bubble", (
+        PrimSpec("bubble", S, style.PROXIMITY, 0.02),
+        PrimSpec("flagged", S, style.PROXIMITY_FLAGGED, 0.015),
+    )),
+    LayerSpec("robot", "Robot footprint", (
+        PrimSpec("robot_true", S, style.ROBOT_TRUE, 0.03),
+        PrimSpec("robot_estimate", S, style.ROBOT_ESTIMATE, 0.03),
+    )),
+    LayerSpec("behaviour", "Behaviour target / plan", (
+        PrimSpec("plan", S, style.BEHAVIOUR_PLAN, 0.03),
+        PrimSpec("target", P, style.BEHAVIOUR_TARGET, point_size=0.2),
+    )),
+    LayerSpec("entrance", "Entrance estimate", (PrimSpec("entrance", S, style.ENTRANCE, 0.05),)),
+)
+PRIM_SPECS = {p.name: p for layer in LAYERS for p in layer.prims}
+
+
+def _segs(a: Any) -> np.ndarray:
+    if a is None:
+        return np.zeros((0, 4))
+    a = np.asarray(a, dtype=float)
+    return a.reshape(-1, 4) if a.size else np.zeros((0, 4))
+
+
+def _pts(a: Any) -> np.ndarray:
+    if a is None:
+        return np.zeros((0, 2))
+    a = np.asarray(a, dtype=float)
+    return a.reshape(-1, 2) if a.size else np.zeros((0, 2))
+
+
+def field(obj: Any, name: str, index: int | None = None) -> Any:
+    """A field of a WorldModel part that may be an object, a dict or a tuple."""
+    if obj is None:
+        return None
+    if isinstance(obj, dict):
+        return obj.get(name)
+    if hasattr(obj, name):
+        return getattr(obj, name)
+    if index is not None and isinstance(obj, (tuple, list)) and len(obj) > index:
+        return obj[index]
+    return None
+
+
+def polygon_segments(vertices: np.ndarray) -> np.ndarray:
+    """A closed polygon's vertices (K, 2) as its K edges (K, 4)."""
+    v = np.asarray(vertices, dtype=float)
+    return np.hstack([v, np.roll(v, -1, axis=0)]) if len(v) >= 2 else np.zeros((0, 4))
+
+
+def map_prims(m: GlobalMap | None) -> dict[str, Prim]:
+    """The static global-map layer."""
+    if m is None:
+        empty = Prim(S, np.zeros((0, 4)))
+        return {p.name: empty for p in LAYERS[0].prims}
+    objects = [m.segments_of(p) for p in m.objects]
+    doors = [polygon_segments(v) for v in m.door_polygons]
+    start = [polygon_segments(v) for v in m.start_polygons]
+    return {
+        "map_walls": Prim(S, m.wall_segments),
+        "map_objects": Prim(S, np.vstack(objects) if objects else np.zeros((0, 4))),
+        "map_fronts": Prim(S, m.object_fronts),
+        "map_doors": Prim(S, np.vstack(doors) if doors else np.zeros((0, 4))),
+        "map_start": Prim(S, np.vstack(start) if start else np.zeros((0, 4))),
+    }
+
+
+def footprint_segments(pose: tuple[float, float, float], length: float, width: float) -> np.ndarray:
+    """The robot's box and a heading tick (centre to front), map frame."""
+    hl, hw = length / 2, width / 2
+    box = np.array([[hl, hw], [-hl, hw], [-hl, -hw], [hl, -hw]])
+    segs = np.vstack([polygon_segments(box), [[0.0, 0.0, hl + 0.1, 0.0]]])
+    return transform_segments(segs, pose)
+
+
+def circle_segments(radius: float, sides: int = CIRCLE_SIDES) -> np.ndarray:
+    t = np.linspace(0.0, 2 * math.pi, sides + 1)
+    v = np.column_stack([radius * np.cos(t), radius * np.sin(t)])
+    return np.hstack([v[:-1], v[1:]])
+
+
+def laser_points_robot(frame: FrameRecord) -> np.ndarray:
+    """The scan's points in the robot frame: the WorldModel's when there is one, else the raw
+    valid returns."""
+    pts = field(frame.wm, "points")
+    if pts is not None:
+        return _pts(pts)
+    laser = frame.laser
+    if laser is None:
+        return np.zeros((0, 2))
+    r = np.asarray(laser.ranges, dtype=float)
+    ok = np.isfinite(r) & (r >= laser.range_min) & (r <= laser.range_max)
+    a = laser.angles[ok]
+    return np.column_stack([r[ok] * np.cos(a), r[ok] * np.sin(a)])
+
+
+def _param(cfg: Any, path: str) -> Any:
+    obj = cfg
+    for part in path.split("."):
+        if not hasattr(obj, part):
+            return None
+        obj = getattr(obj, part)
+    return obj
+
+
+def footprint_size(cfg: Any) -> tuple[float, float]:
+    length = _param(cfg, "sim.base.footprint_length")
+    width = _param(cfg, "sim.base.footprint_width")
+    if isinstance(length, float) and isinstance(width, float):
+        return (length, width)
+    return PICO_FOOTPRINT
+
+
+def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
+    """Every dynamic prim for one frame, map frame. Missing data -> empty prims."""
+    out: dict[str, Prim] = {
+        spec.name: Prim(spec.kind, np.zeros((0, 4 if spec.kind == S else 2)))
+        for layer in LAYERS if not layer.static for spec in layer.prims
+    }
+    if frame is None:
+        return out
+    wm = frame.wm
+    robot = studio.robot_pose_in_map(frame)
+    zero = studio.zero_frame_in_map(frame)
+    length, width = footprint_size(studio.cfg)
+
+    out["laser"] = Prim(P, transform_points(laser_points_robot(frame), robot))
+    if frame.sim_world is not None:
+        out["sim_world"] = Prim(S, frame.sim_world)
+    if frame.truth_pose is not None:
+        out["robot_true"] = Prim(S, footprint_segments(frame.truth_pose, length, width))
+    g = field(wm, "global_pose")
+    if g is not None:
+        out["robot_estimate"] = Prim(S, footprint_segments(tuple(map(float, g)), length, width))
+    elif frame.truth_pose is None:
+        # no truth and no localisation: the only pose there is, drawn as the estimate
+        out["robot_estimate"] = Prim(S, footprint_segments(robot, length, width))
+
+    trail = [f.map_xy for f in _trail_frames(studio, frame) if f.map_xy is not None]
+    if len(trail) >= 2:
+        t = np.asarray(trail)
+        segs = np.hstack([t[:-1], t[1:]])
+        jump = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1]) > 1.0
+        out["trail"] = Prim(S, segs[~jump])
+
+    if wm is None:
+        return out
+    out["current"] = Prim(S, transform_segments(_segs(field(wm, "current_map")), robot))
+    if zero is not None:
+        lm = field(wm, "local_map")
+        walls = _segs(field(lm, "walls", 0))
+        out["local_walls"] = Prim(S, transform_segments(walls, zero))
+        prop = field(lm, "endpoint_property", 1)
+        if len(walls):
+            ends = transform_points(walls.reshape(-1, 2), zero)
+            kinds = np.asarray(prop, dtype=int).reshape(-1) if prop is not None else np.zeros(len(ends), int)
+            kinds = kinds if len(kinds) == len(ends) else np.zeros(len(ends), int)
+            out["local_endpoints"] = Prim(P, ends, _palette(kinds, style.ENDPOINT))
+        corners = _pts(field(wm, "corners"))
+        if len(corners):
+            convex = field(wm, "corner_convex")
+            convex = np.asarray(convex, dtype=bool).reshape(-1) if convex is not None else np.ones(len(corners), bool)
+            kinds = np.where(convex, 2, 3) if len(convex) == len(corners) else np.full(len(corners), 2)
+            out["corners"] = Prim(P, transform_points(corners, zero), _palette(kinds, style.ENDPOINT))
+        out["doors"] = Prim(S, transform_segments(_segs(field(wm, "doors")), zero))
+        out["possible_doors"] = Prim(S, transform_segments(_segs(field(wm, "possible_doors")), zero))
+        target = frame.behaviour_target
+        if target is not None:
+            out["target"] = Prim(P, transform_points(_pts(target), zero))
+        if frame.behaviour_plan is not None:
+            plan = transform_points(_pts(frame.behaviour_plan), zero)
+            if len(plan) >= 2:
+                out["plan"] = Prim(S, np.hstack([plan[:-1], plan[1:]]))
+
+    combined = field(wm, "combined")
+    if combined is not None:
+        cw = _segs(field(combined, "walls", 0))
+        matched = field(combined, "wall_matched", 1)
+        matched = np.asarray(matched, dtype=bool).reshape(-1) if matched is not None else np.ones(len(cw), bool)
+        colors = np.where(matched[:, None], style.COMBINED_MATCHED, style.COMBINED_UNMATCHED).astype(np.uint8)
+        out["combined"] = Prim(S, cw, colors if len(colors) == len(cw) else None)
+
+    flags = field(wm, "proximity")
+    radius = _param(studio.cfg, "perception.proximity.radius")
+    if isinstance(radius, float):
+        out["bubble"] = Prim(S, transform_segments(circle_segments(radius), robot))
+    if flags is not None and frame.laser is not None:
+        f = np.asarray(flags, dtype=bool).reshape(-1)
+        r = np.asarray(frame.laser.ranges, dtype=float)
+        if len(f) == len(r) and f.any():
+            a = frame.laser.angles[f]
+            ends = np.column_stack([r[f] * np.cos(a), r[f] * np.sin(a)])
+            beams = np.hstack([np.zeros_like(ends), ends])
+            out["flagged"] = Prim(S, transform_segments(beams, robot))
+
+    entrance = field(wm, "entrance")
+    if entrance is not None:
+        angle, dist = float(entrance[0]), float(entrance[1])
+        seg = np.array([[0.0, 0.0, dist * math.cos(angle), dist * math.sin(angle)]])
+        out["entrance"] = Prim(S, transform_segments(seg, robot))
+    return out
+
+
+def _palette(kinds: np.ndarray, colours: dict[int, style.RGB]) -> np.ndarray:
+    table = np.array([colours.get(k, colours[0]) for k in range(max(colours) + 1)], dtype=np.uint8)
+    return table[np.clip(kinds, 0, len(table) - 1)]
+
+
+def _trail_frames(studio: Studio, frame: FrameRecord) -> list[FrameRecord]:
+    n = studio.cfg.ui.trail_length
+    if n <= 0 or not len(studio.timeline):
+        return []
+    first = studio.timeline[0].index
+    return studio.timeline.up_to(frame.index - first, n)

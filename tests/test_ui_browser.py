@@ -1,0 +1,221 @@
+"""The web page in a real browser: Debian's chromium driven by Playwright (never downloaded).
+
+One server (the default hospital example, simulated, started paused so the first screenshot
+shows the map alone) and one browser for the module; the tests run in file order.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pico_studio.core.config import loads_config, to_dict
+from pico_studio.ui import style
+from tests.ui_browser_helpers import (
+    CHROMIUM,
+    CHROMIUM_ARGS,
+    VIEWPORT,
+    colour_near,
+    count_colour,
+    free_port,
+    input_of,
+    screenshot,
+    set_number,
+    visible_on_screen,
+    wait_until,
+    world_to_pixel,
+)
+
+pytestmark = pytest.mark.browser
+sync_api = pytest.importorskip("playwright.sync_api")
+if not CHROMIUM.exists():
+    pytest.skip("Debian's chromium is not installed (./dev test installs it)", allow_module_level=True)
+
+
+@pytest.fixture(scope="module")
+def app(tmp_path_factory: pytest.TempPathFactory):
+    from pico_studio.cli.serve_cmd import build_app
+
+    args = argparse.Namespace(
+        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1",
+        port=free_port(), seed=3, export_dir=str(tmp_path_factory.mktemp("exports")), paused=True,
+    )
+    app = build_app(args, verbose=False)
+    app.start()
+    yield app
+    app.stop()
+
+
+@pytest.fixture(scope="module")
+def browser(tmp_path_factory: pytest.TempPathFactory):
+    with sync_api.sync_playwright() as p:
+        ctx = p.chromium.launch_persistent_context(
+            str(tmp_path_factory.mktemp("chromium-profile")), executable_path=str(CHROMIUM), headless=True,
+            args=CHROMIUM_ARGS, viewport=VIEWPORT, accept_downloads=True,
+        )
+        yield ctx
+        ctx.close()
+
+
+@pytest.fixture(scope="module")
+def page(app, browser):
+    page = browser.new_page()
+    page.goto(app.url + "/?fixedDpr=1")
+    page.get_by_text("hospital_2019.json").first.wait_for(timeout=30000)
+    return page
+
+
+def _client(app):
+    clients = list(app.server.get_clients().values())
+    assert clients, "no browser tab is connected"
+    return clients[-1]
+
+
+def _wall_hits(app, img: np.ndarray) -> tuple[int, int]:
+    """How many on-screen wall midpoints show the wall colour, out of how many."""
+    client = _client(app)
+    segs = app.studio.global_map.wall_segments
+    mids = (segs[:, :2] + segs[:, 2:]) / 2
+    px = [world_to_pixel(client, x, y) for x, y in mids]
+    px = [p for p in px if visible_on_screen(p, (img.shape[1], img.shape[0]))]
+    return sum(colour_near(img, p, style.MAP_WALL) for p in px), len(px)
+
+
+def test_page_loads_and_connects(app, page) -> None:
+    assert wait_until(lambda: len(app.server.get_clients()) >= 1)
+    assert page.get_by_text("paused").first.is_visible()
+
+
+def test_screenshot_shows_the_map_walls(app, page) -> None:
+    def drawn() -> bool:
+        hits, total = _wall_hits(app, screenshot(page))
+        return total >= 10 and hits >= 0.9 * total
+
+    assert wait_until(drawn), "the map's walls are not drawn in their colour where they are"
+
+
+def test_toggling_a_layer_hides_it(app, page) -> None:
+    page.get_by_role("tab", name="Layers").click()
+    page.locator("label", has_text="Global map").click()
+    assert wait_until(lambda: _wall_hits(app, screenshot(page))[0] == 0), "walls still drawn with the layer off"
+    page.locator("label", has_text="Global map").click()
+    assert wait_until(lambda: _wall_hits(app, screenshot(page))[0] > 0)
+
+
+def _current_count(page) -> int:
+    text = page.locator("body").inner_text()
+    m = re.search(r"current map (\d+)", text)
+    return int(m.group(1)) if m else -1
+
+
+def test_slider_changes_drawing_and_metric(app, page) -> None:
+    page.get_by_role("tab", name="Run").click()
+    page.get_by_role("button", name="Play").click()
+    assert wait_until(lambda: len(app.studio.timeline) >= 40)
+    page.get_by_role("button", name="Pause").click()
+    assert wait_until(lambda: _current_count(page) > 0)
+    before_count = _current_count(page)
+    page.get_by_role("tab", name="Layers").click()
+    for covering in ("Laser points", "Proximity bubble"):  # drawn over the current map
+        page.locator("label", has_text=covering).click()
+    assert wait_until(lambda: count_colour(screenshot(page), style.CURRENT_MAP) > 50), "the current map is not drawn"
+    before_px = count_colour(screenshot(page), style.CURRENT_MAP)
+
+    page.get_by_role("tab", name="Config").click()
+    page.get_by_text("scan", exact=True).locator("visible=true").first.click()
+    set_number(page, "min_length", 5.0)
+    assert wait_until(lambda: app.studio.cfg.perception.scan.min_length == 5.0)
+    page.get_by_role("tab", name="Run").click()
+    assert wait_until(lambda: _current_count(page) < before_count), "the metric did not change"
+    assert wait_until(lambda: count_colour(screenshot(page), style.CURRENT_MAP) < before_px / 4), "the drawing did not change"
+    page.get_by_role("tab", name="Layers").click()
+    for covering in ("Laser points", "Proximity bubble"):
+        page.locator("label", has_text=covering).click()
+
+
+def test_export_downloads_the_live_config(app, page, tmp_path: Path) -> None:
+    page.get_by_role("tab", name="Config").click()
+    with page.expect_download(timeout=20000) as info:
+        page.get_by_role("button", name="Export config (YAML)").click()
+    path = tmp_path / "exported.yaml"
+    info.value.save_as(path)
+    text = path.read_text()
+    assert to_dict(loads_config(text)) == to_dict(app.studio.cfg)
+    assert app.studio.cfg.perception.scan.min_length == 5.0  # the tuned value went out
+    check = subprocess.run(
+        [sys.executable, "-m", "pico_studio", "config", "check", str(path)], capture_output=True, text=True
+    )
+    assert check.returncode == 0, check.stderr
+    assert app.last_export is not None and app.last_export.read_text() == text
+    assert page.get_by_text(str(app.last_export)).first.is_visible()
+
+
+def test_broken_map_upload_shows_the_error_and_the_page_keeps_working(app, page, tmp_path: Path) -> None:
+    bad = tmp_path / "broken_map.json"
+    bad.write_text(json.dumps({"points": [{"x": 0, "y": 0}], "walls": [[0, 7]]}))
+    page.get_by_role("tab", name="Run").click()
+    with page.expect_file_chooser() as chooser:
+        page.get_by_role("button", name=re.compile("Upload map")).click()
+    chooser.value.set_files(str(bad))
+    page.get_by_text(re.compile(r"broken_map\.json")).first.wait_for(timeout=20000)
+    assert app.studio.map_name == "hospital_2019.json"
+    assert app.studio.cfg.perception.scan.min_length == 5.0  # nothing tuned is lost
+    frames = len(app.studio.timeline)
+    page.get_by_role("button", name="Step one frame").click()
+    assert wait_until(lambda: len(app.studio.timeline) == frames + 1)
+
+
+def test_a_second_tab_sees_the_scene(app, browser) -> None:
+    second = browser.new_page()
+    second.goto(app.url + "/?fixedDpr=1")
+    second.get_by_text("hospital_2019.json").first.wait_for(timeout=30000)
+    assert wait_until(lambda: len(app.server.get_clients()) >= 2)
+
+    def drawn() -> bool:
+        hits, total = _wall_hits(app, screenshot(second))
+        return total >= 10 and hits >= 0.5 * total
+
+    assert wait_until(drawn)
+    second.keyboard.press("w")
+    assert wait_until(lambda: app.studio.behaviour_name == "teleop"), "the W key did not drive the robot"
+    second.close()
+
+
+def test_import_yaml_sets_the_sliders_and_a_bad_one_is_reported(app, page, tmp_path: Path) -> None:
+    page.get_by_role("tab", name="Config").click()
+    good = tmp_path / "tuned.yaml"
+    good.write_text("perception:\n  scan:\n    min_length: 0.3\n")
+    with page.expect_file_chooser() as chooser:
+        page.get_by_role("button", name=re.compile("Import config")).click()
+    chooser.value.set_files(str(good))
+    assert wait_until(lambda: app.studio.cfg.perception.scan.min_length == 0.3)
+    assert wait_until(lambda: input_of(page, "min_length").input_value() == "0.3")
+    bad = tmp_path / "typo.yaml"
+    bad.write_text("perception:\n  scan:\n    min_lenght: 0.3\n")
+    with page.expect_file_chooser() as chooser:
+        page.get_by_role("button", name=re.compile("Import config")).click()
+    chooser.value.set_files(str(bad))
+    page.get_by_text(re.compile("did you mean 'min_length'")).first.wait_for(timeout=20000)
+    assert app.studio.cfg.perception.scan.min_length == 0.3  # the tuned config is kept
+
+
+def test_click_on_a_wall_shows_its_numbers(app, page) -> None:
+    page.get_by_role("tab", name="Tools").click()
+    client = _client(app)
+    img = screenshot(page)
+    segs = app.studio.global_map.wall_segments
+    lengths = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
+    for i in np.argsort(-lengths):
+        mid = (segs[i, :2] + segs[i, 2:]) / 2
+        px = world_to_pixel(client, *mid)
+        if visible_on_screen(px, (img.shape[1], img.shape[0])):
+            break
+    page.mouse.click(*px)
+    page.get_by_text(re.compile(r"wall.*length .* m.*from the click")).first.wait_for(timeout=20000)

@@ -1,0 +1,183 @@
+"""The page's core without a browser: wander, the studio loop and timeline, layer geometry,
+inspect/measure, line colours, the generated config panel and `serve`'s bad input."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import socket
+
+import numpy as np
+import pytest
+
+from pico_studio.cli import main
+from pico_studio.core.behaviours.wander import Wander
+from pico_studio.core.config import Config, params, with_value
+from pico_studio.core.geometry import point_segment_distance
+from pico_studio.errors import ConfigError
+from pico_studio.json_map import load_json_map
+from pico_studio.sim import Simulator
+from pico_studio.ui import style
+from pico_studio.ui.colour import line_display
+from pico_studio.ui.inspect import measure_text, nearest_feature, ray_to_ground
+from pico_studio.ui.runtime import Studio
+from pico_studio.ui.scene_data import LAYERS, PRIM_SPECS, frame_prims, map_prims
+from pico_studio.ui.sources import DEFAULT_MAP, example_maps, make_source_factory
+
+
+def _studio(cfg: Config | None = None, seed: int = 2) -> Studio:
+    cfg = cfg or Config()
+    return Studio(cfg, load_json_map(DEFAULT_MAP), make_source_factory("sim", None, seed), map_name=DEFAULT_MAP.name)
+
+
+def test_wander_drives_around_the_hospital_without_hitting_anything() -> None:
+    sim = Simulator(load_json_map(DEFAULT_MAP), seed=4)
+    wander = Wander(Config().ui.wander)
+    states = set()
+    for _ in range(1200):  # 60 s at 20 Hz
+        sim.advance(0.05)
+        cmd = wander.step(sim.read_laser())
+        states.add(wander.state)
+        sim.send_base_reference(cmd.vx, cmd.vy, cmd.va)
+    assert sim.truth.collisions == 0
+    assert sim.truth.distance > 5.0
+    assert states == {"drive", "turn"}  # it met walls and turned away from them
+
+
+def test_timeline_keeps_the_last_n_frames() -> None:
+    cfg = with_value(Config(), "ui.timeline_seconds", 1.0)
+    s = _studio(cfg)
+    for _ in range(35):
+        s.tick(0.05)
+    assert len(s.timeline) == 20
+    assert s.timeline[0].index == 15 and s.timeline.latest.index == 34
+
+
+def test_scrubbed_frame_is_reprocessed_with_the_new_value() -> None:
+    s = _studio()
+    for _ in range(40):
+        s.tick(0.05)
+    s.playing = False
+    frame = s.scrub(10)
+    assert frame is not None and frame.index == 10 and len(frame.wm.current_map) > 0
+    live_state = s.state
+    s.set_param("perception.scan.min_length", 5.0)
+    assert len(s.shown().wm.current_map) == 0
+    assert s.state is live_state  # re-processing an old frame leaves the live loop alone
+    s.set_param("perception.scan.min_length", 0.1)
+    assert len(s.shown().wm.current_map) > 0
+
+
+def test_an_invalid_value_is_refused_and_the_config_kept() -> None:
+    s = _studio()
+    before = s.cfg
+    with pytest.raises(ConfigError, match="clear_distance"):
+        s.set_param("ui.wander.clear_distance", 0.1)  # below stop_distance
+    assert s.cfg is before
+
+
+def test_laser_points_are_drawn_on_the_walls() -> None:
+    s = _studio()
+    for _ in range(20):
+        s.tick(0.05)
+    prims = frame_prims(s, s.shown())
+    pts = prims["laser"].data
+    assert len(pts) > 500
+    d = point_segment_distance(pts, s.global_map.solid_segments).min(axis=1)
+    assert np.mean(d < 0.05) > 0.95
+    assert len(prims["robot_true"]) == 5 and len(prims["robot_estimate"]) == 5
+    # the combined map is drawn in the global frame, on the map's walls where matched
+    combined = prims["combined"]
+    assert len(combined) > 0 and combined.colors is not None
+    matched = (combined.colors == style.COMBINED_MATCHED).all(axis=1)
+    mid = (combined.data[matched, :2] + combined.data[matched, 2:]) / 2
+    assert np.median(point_segment_distance(mid, s.global_map.solid_segments).min(axis=1)) < 0.05
+    loc = s.metrics()["localisation"]
+    assert loc["error_m"] < 0.1
+
+
+def test_live_frames_are_scored_against_the_truth() -> None:
+    s = _studio()
+    for _ in range(30):
+        s.tick(0.05)
+    scores = s.metrics()["scores"]
+    assert 0.5 < scores["run"]["wall P"] <= 1.0 and 0.0 <= scores["frame"]["wall R"] <= 1.0
+    assert scores["frame"]["pose err m"] < 0.05  # exact odometry in the default simulator
+    s.scrub(5)
+    assert s.metrics()["scores"] == {}  # an old frame: the truth is no longer its truth
+
+
+def test_map_layer_has_every_wall_and_cabinet_front() -> None:
+    m = load_json_map(DEFAULT_MAP)
+    prims = map_prims(m)
+    assert len(prims["map_walls"]) == len(m.walls)
+    assert len(prims["map_fronts"]) == len(m.objects)
+    assert all(p.name in PRIM_SPECS for layer in LAYERS for p in layer.prims)
+
+
+def test_inspect_finds_the_nearest_wall_with_its_numbers() -> None:
+    prims = map_prims(load_json_map(DEFAULT_MAP))
+    seg = prims["map_walls"].data[0]
+    mid = ((seg[0] + seg[2]) / 2 + 0.02, (seg[1] + seg[3]) / 2)
+    f = nearest_feature(mid, prims)
+    assert f is not None and f.kind == "map wall"
+    assert f.distance == pytest.approx(0.02, abs=0.021)
+    assert f"length {math.hypot(seg[2] - seg[0], seg[3] - seg[1]):.3f} m" in f.describe()
+    assert nearest_feature((100.0, 100.0), prims) is None
+    assert "distance 5.000 m" in measure_text((0.0, 0.0), (3.0, 4.0))
+    assert ray_to_ground((1.0, 2.0, 10.0), (0.0, 0.0, -1.0)) == pytest.approx((1.0, 2.0))
+
+
+def test_line_colours_show_as_declared() -> None:
+    line_colours = {spec.color for spec in PRIM_SPECS.values() if spec.kind == "segments"}
+    line_colours |= {style.MEASURE, style.INSPECT, style.COMBINED_UNMATCHED}
+    for rgb in line_colours:
+        shown = line_display(rgb)
+        assert max(abs(a - b) for a, b in zip(shown, rgb, strict=True)) <= 2, (rgb, shown)
+
+
+def test_examples_list_maps_not_sim_configs() -> None:
+    names = set(example_maps())
+    assert "hospital_2019.json" in names
+    assert not any(n.endswith("_sim.json") for n in names)
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_config_panel_has_an_input_for_every_parameter_and_reverts_bad_values(tmp_path) -> None:
+    from pico_studio.cli.serve_cmd import build_app
+
+    args = argparse.Namespace(
+        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1",
+        port=_free_port(), seed=1, export_dir=str(tmp_path), paused=True,
+    )
+    app = build_app(args, verbose=False)
+    try:
+        inputs = app.config_panel.inputs
+        assert set(inputs) == {p.path for p in params(app.studio.cfg)}
+        assert type(inputs["perception.scan.segmenter"]).__name__.startswith("GuiDropdown")
+        assert type(inputs["perception.locate.laser_motion_without_odometry"]).__name__.startswith("GuiCheckbox")
+        inputs["ui.wander.clear_distance"].value = 0.1  # invalid: below stop_distance
+        assert app.studio.cfg.ui.wander.clear_distance == Config().ui.wander.clear_distance
+        assert inputs["ui.wander.clear_distance"].value == Config().ui.wander.clear_distance
+        inputs["perception.scan.min_length"].value = 0.5
+        assert app.studio.cfg.perception.scan.min_length == 0.5
+        assert app.update_ms  # the change was redrawn and timed
+        restaurant = example_maps()["restaurant_2024.json"]
+        app.switch_map(restaurant, restaurant.name, None)
+        assert app.studio.map_name == "restaurant_2024.json"
+        assert app.layers.sizes["map_walls"] == len(app.studio.global_map.walls)
+        assert app.studio.cfg.perception.scan.min_length == 0.5  # tuned values survive a map change
+    finally:
+        app.stop()
+
+
+def test_serve_bad_input_is_one_line_and_exit_2(capsys: pytest.CaptureFixture[str], tmp_path) -> None:
+    assert main(["serve", "--map", str(tmp_path / "missing.json")]) == 2
+    assert "missing.json" in capsys.readouterr().err
+    assert main(["serve", "--source", "tape:foo"]) == 2
+    assert "--source" in capsys.readouterr().err
