@@ -75,6 +75,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--behaviour", default="idle", help="idle | drive:VX,VY,VA (default idle)")
     p.add_argument("--realtime", action="store_true", help="pace to wall-clock time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--localise", action="store_true",
+                   help="run the perceptor and localisation on the map; report the pose error against the truth")
     p.set_defaults(func=_run)
 
 
@@ -88,12 +90,17 @@ def _run(args: argparse.Namespace) -> int:
     cfg = load_config(args.config)
     behaviour = make_behaviour(args.behaviour)
     if spec.kind != "sim":
+        if args.localise:
+            raise UserError("needs the simulator (--source sim): a map and the true pose", field="--localise")
         return run_source(args, spec, cfg, behaviour)
     params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
     perceptor = make_perceptor(cfg)
     session = Session(sim, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
+    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
+    localising = _localising(cfg, sim) if args.localise else None
+    session = Session(sim, perceptor=localising, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
     scores = None
     try:
@@ -120,6 +127,8 @@ def _run(args: argparse.Namespace) -> int:
         "recorded": record,
         "perceptor": scores.summary() if scores is not None else None,
     }
+    if localising is not None:
+        result["localisation"] = localising.score.summary()
     if args.json:
         print(json.dumps(result))
         return 0
@@ -135,4 +144,20 @@ def _run(args: argparse.Namespace) -> int:
               f"doors P {r['door_precision']:.3f} R {r['door_recall']:.3f}, corners P {r['corner_precision']:.3f} "
               f"R {r['corner_recall']:.3f}, convexity {r['convexity_accuracy']:.3f}, "
               f"pose error {r['pose_error_m']:.3f} m, {r['ms_per_scan']:.2f} ms/scan")
+    if localising is not None:
+        from pico_studio.core.localisation.score import summary_line
+
+        print("  localisation " + summary_line(result["localisation"]))
     return 0
+
+
+def _localising(cfg: Any, sim: Simulator) -> Any:
+    """The perceptor with localisation on the simulator's map, scored against its truth; the
+    prior is the sim config's start pose when it has one, else the map's start area."""
+    from pico_studio.core.localisation import Localiser
+    from pico_studio.core.localisation.stage import LocalisingPerceptor
+    from pico_studio.core.perception import Perceptor
+
+    localiser = Localiser(cfg.localisation, sim.world.map, sim.sim_config.initial_pose)
+    return LocalisingPerceptor(Perceptor(cfg.perception), localiser, truth=lambda: sim.truth.pose)
+
