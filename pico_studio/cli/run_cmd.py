@@ -21,6 +21,11 @@ from pico_studio.cli.run_sources import (
     recorded,
     run_source,
 )
+from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
+from pico_studio.cli.run_sources import check_source_args, open_recorder, recorded, run_source
+from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
+from pico_studio.core.behaviours.registry import is_behaviour
+from pico_studio.core.behaviours.registry import make_behaviour as make_core_behaviour
 from pico_studio.core.config import load_config
 from pico_studio.errors import UserError
 from pico_studio.session import Action, Session
@@ -57,7 +62,8 @@ BEHAVIOURS["drive"] = _drive
 def make_behaviour(spec: str) -> Callable[..., Any]:
     name, _, arg = spec.partition(":")
     if name not in BEHAVIOURS:
-        raise UserError(f"unknown behaviour {name!r}; known: {', '.join(sorted(BEHAVIOURS))}", field="--behaviour")
+        known = sorted(BEHAVIOURS) + list(CORE_BEHAVIOURS)
+        raise UserError(f"unknown behaviour {name!r}; known: {', '.join(known)}", field="--behaviour")
     return BEHAVIOURS[name](arg)
 
 
@@ -72,7 +78,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, help="random seed (default: sim.seed of the config)")
     p.add_argument("--seconds", type=float, help="seconds to run (default 10; a replay runs to its end)")
     p.add_argument("--dt", type=float, help="control period in seconds (default 0.05 = 20 Hz; a replay meets every frame unless given)")
-    p.add_argument("--behaviour", default="idle", help="idle | drive:VX,VY,VA (default idle)")
+    p.add_argument("--behaviour", default="idle", help="idle | drive:VX,VY,VA | escape-room | room-finder | hospital[:I,J,K] (default idle)")
     p.add_argument("--realtime", action="store_true", help="pace to wall-clock time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--localise", action="store_true",
@@ -88,6 +94,15 @@ def _run(args: argparse.Namespace) -> int:
     spec = parse_source(args.source)
     check_source_args(args, spec)
     cfg = load_config(args.config)
+    if is_behaviour(args.behaviour):  # the reference behaviours (core/behaviours/registry.py)
+        if spec.kind != "sim":
+            return run_source(args, spec, cfg, make_core_behaviour(args.behaviour, cfg.behaviour))
+        result = run_sim_behaviour(args, cfg)
+        if args.json:
+            print(json.dumps(result))
+        else:
+            print_behaviour_result(result)
+        return 0
     behaviour = make_behaviour(args.behaviour)
     if spec.kind != "sim":
         if args.localise:
