@@ -428,11 +428,18 @@ class StudioApp:
         self.redraw()
         self.server.flush()
         self.update_ms.append((time.perf_counter() - t0) * 1000.0)
+        self._rescore()
+
+    def _rescore(self) -> None:
+        """The truth scores of a re-processed live frame, after its layers went out."""
+        self.studio.rescore()
+        self.metrics_md.content = self._metrics_text(self.studio.metrics())
 
     def apply_config(self, cfg: Config) -> None:
         self.studio.set_config(cfg)
         self.config_panel.show(cfg)
         self.redraw()
+        self._rescore()
 
     def export_yaml(self) -> tuple[str, Path]:
         text = dump_yaml(self.studio.cfg)

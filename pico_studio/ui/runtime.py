@@ -279,9 +279,16 @@ class Studio:
             state_after = self._perceive(frame, live=False)
             if frame is self.timeline.latest:
                 self.state = state_after
-                if self.cfg.ui.score_rate_hz > 0:
-                    self._score_live(frame, add=False)
+                frame.score = None  # stale; `rescore()` (after the redraw) computes it again
             return frame
+
+    def rescore(self) -> None:
+        """Score the live frame again after a re-processing (kept apart: it is slow, and the
+        page redraws the layers before it)."""
+        with self.lock:
+            frame = self.shown()
+            if frame is not None and frame is self.timeline.latest and frame.score is None and self.cfg.ui.score_rate_hz > 0:
+                self._score_live(frame, add=False)
 
     def scrub(self, position: int | None) -> FrameRecord | None:
         """Show timeline position `position` (None: the live frame), re-processed."""
