@@ -36,7 +36,7 @@ def test_wander_drives_around_the_hospital_without_hitting_anything() -> None:
     states = set()
     for _ in range(1200):  # 60 s at 20 Hz
         sim.advance(0.05)
-        cmd = wander.step(sim.read_laser())
+        cmd = wander.step(None, sim.read_laser())
         states.add(wander.state)
         sim.send_base_reference(cmd.vx, cmd.vy, cmd.va)
     assert sim.truth.collisions == 0
@@ -181,3 +181,21 @@ def test_serve_bad_input_is_one_line_and_exit_2(capsys: pytest.CaptureFixture[st
     assert "missing.json" in capsys.readouterr().err
     assert main(["serve", "--source", "tape:foo"]) == 2
     assert "--source" in capsys.readouterr().err
+    assert main(["serve", "--behaviour", "dance"]) == 2
+    assert "dance" in capsys.readouterr().err
+
+
+def test_behaviour_target_and_plan_are_drawn_in_their_frame() -> None:
+    s = _studio()
+    for _ in range(5):
+        s.tick(0.05)
+    frame = s.shown()
+    frame.behaviour_target, frame.behaviour_plan = (1.0, 0.0), np.array([[0.0, 0.0], [1.0, 0.0]])
+    frame.behaviour_frame = "global"
+    assert frame_prims(s, frame)["target"].data[0] == pytest.approx([1.0, 0.0])
+    frame.behaviour_frame, frame.behaviour_pose = "odom", (0.0, 0.0, 0.0)
+    robot = s.robot_pose_in_map(frame)
+    # the target 1 m ahead of where the behaviour thinks it is = 1 m ahead of the robot
+    ahead = (robot[0] + math.cos(robot[2]), robot[1] + math.sin(robot[2]))
+    assert frame_prims(s, frame)["target"].data[0] == pytest.approx(ahead)
+    assert len(frame_prims(s, frame)["plan"]) == 1
