@@ -74,6 +74,7 @@ class StudioApp:
         self.last_export: Path | None = None
         self._last_follow: tuple[float, float] | None = None
         self._stop = threading.Event()
+        self._draw_lock = threading.RLock()
         self._thread: threading.Thread | None = None
         self._build_gui()
         if studio.global_map is None:  # a recording without a map: keep the robot in view
@@ -150,7 +151,12 @@ class StudioApp:
             self._stop.wait(max(0.0, next_t - now))
 
     def redraw(self) -> None:
-        """Push the frame under the cursor: layers, metrics, timeline, follow camera."""
+        """Push the frame under the cursor: layers, metrics, timeline, follow camera. The loop
+        and the callbacks both redraw; one at a time."""
+        with self._draw_lock:
+            self._redraw()
+
+    def _redraw(self) -> None:
         with self.studio.lock:
             frame = self.studio.shown()
             prims = frame_prims(self.studio, frame)
@@ -227,7 +233,10 @@ class StudioApp:
         self._last_follow = xy
         span = self.studio.cfg.ui.follow_span
         for tab in list(self.tabs.values()):
-            self._view(tab.client, xy[0], xy[1], span, span)
+            try:
+                self._view(tab.client, xy[0], xy[1], span, span)
+            except Exception:  # a tab closing right now must not stop the loop
+                log.debug("camera of a closed tab not moved")
 
     # ----- tabs ---------------------------------------------------------------------------------
     def _on_connect(self, client: viser.ClientHandle) -> None:
