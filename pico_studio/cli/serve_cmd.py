@@ -50,6 +50,7 @@ def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioAp
 
 def _serve(args: argparse.Namespace) -> int:
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    logging.getLogger("websockets").setLevel(logging.WARNING)  # not a line per tab
     app = build_app(args, verbose=False)
     app.start()
     print(f"pico-studio: serving {app.studio.map_name} at {app.url}  (Ctrl-C stops)", flush=True)

@@ -48,9 +48,10 @@ class ConfigPanel:
             with ctx if ctx is not None else contextlib.nullcontext():
                 if isinstance(item, SectionInfo):
                     top = "." not in item.path
-                    folders[item.path] = gui.add_folder(
-                        item.path.rsplit(".", 1)[-1], expand_by_default=top and item.path in expand
-                    )
+                    folder = gui.add_folder(item.path.rsplit(".", 1)[-1], expand_by_default=top and item.path in expand)
+                    with folder:
+                        gui.add_markdown(f"<small>{item.help}</small>")
+                    folders[item.path] = folder
                 else:
                     self.inputs[item.path] = self._add_input(gui, item)
 
