@@ -7,7 +7,8 @@
 
 What plugs in (duck-typed, so each engineer's part stays independent):
 - `source`: a `RobotIO` with `advance(dt)`; when it has a `truth` (the simulator), its
-  `truth.as_dict()` is stored with every frame.
+  `truth.as_dict()` is stored with every frame; a replay that knows the true pose (CARMEN's
+  corrected pose, a recorded simulation) gives it by `truth_pose()`, stored as {"pose": ...}.
 - `perceptor`: anything with `step(laser, odometry) -> world model`; called when a new scan
   arrived (the newest odometry reading, possibly None, goes with it).
 - `behaviour`: a callable `(frame, world_model) -> command`, where command is a
@@ -63,6 +64,8 @@ def as_action(command: Any) -> Action | None:
         return command
     if isinstance(command, BaseReference):
         return Action(command.vx, command.vy, command.va)
+    if all(hasattr(command, k) for k in ("vx", "vy", "va")):  # e.g. core.behaviours' Command
+        return Action(float(command.vx), float(command.vy), float(command.va), bool(getattr(command, "open_door", False)))
     if isinstance(command, (tuple, list)) and len(command) == 3:
         return Action(float(command[0]), float(command[1]), float(command[2]))
     raise TypeError(f"a behaviour must return an Action, BaseReference, (vx, vy, va) or None, got {command!r}")
@@ -102,7 +105,7 @@ class Session:
             laser=laser,
             odometry=odometry,
             time=self.source.now(),
-            truth=truth.as_dict() if truth is not None else {},
+            truth=truth.as_dict() if truth is not None else _replay_truth(self.source),
         )
         if self.perceptor is not None and laser is not None:
             self.world_model = self.perceptor.step(laser, odometry)
@@ -126,3 +129,9 @@ class Session:
             self.tick(min(dt, end - self.source.now()))
             n += 1
         return n
+
+
+def _replay_truth(source: Any) -> dict[str, object]:
+    truth_pose = getattr(source, "truth_pose", None)
+    pose = truth_pose() if callable(truth_pose) else None
+    return {"pose": pose} if pose is not None else {}

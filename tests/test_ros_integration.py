@@ -151,6 +151,7 @@ def ros(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RosRig]:
         "ROS_LOG_DIR": str(home / "log"),
     }
     rig = RosRig(port, env, home)
+    os.environ.setdefault("ROS_HOME", str(home))  # the in-process node's logs, when HOME has none
     try:
         rig.start_master()
         params = SourcesParams(
@@ -236,6 +237,43 @@ def test_stale_data_is_reported_and_stops_the_base(ros: RosRig) -> None:
     out = _echo_one(ros, "/pico/cmd_vel", lambda: ros.source.send_base_reference(0.4, 0.0, 0.0))
     twist = yaml.safe_load(out.split("---")[0])
     assert twist["linear"]["x"] == 0.0
+
+
+def test_scan_with_a_wrong_beam_layout_is_skipped_with_a_warning(ros: RosRig) -> None:
+    before = ros.source.skipped_scans
+    bad = ros.start(
+        "rostopic", "pub", "-r", "5", "/pico/laser", "sensor_msgs/LaserScan",
+        "{angle_min: -1.0, angle_max: 1.0, angle_increment: 0.5, range_max: 10.0, ranges: [1, 1, 1]}",
+    )
+    try:
+        _wait("the bad scan to arrive", lambda: ros.source.skipped_scans > before)
+    finally:
+        ros.stop(bad)
+    scan = ros.source.read_laser()  # a bad scan never reaches the reader
+    assert scan is None or len(scan.ranges) == 1081
+    assert any("/pico/laser" in w and "angle_increment" in w and "ranges holds 3" in w for w in ros.source.warnings)
+
+
+def test_run_command_on_the_live_robot(ros: RosRig, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """`pico-studio run --source ros` against the master, recording what it saw."""
+    import json
+
+    from pico_studio.cli import main
+
+    config = tmp_path / "robot.yaml"
+    config.write_text(f"sources:\n  ros:\n    master_uri: {ros.uri}\n")
+    out = tmp_path / "live.bag"
+    player = ros.start("rosbag", "play", "-q", "-l", "-d", "1", str(BAG))
+    try:
+        _collect(ros.source, 3)
+        code = main(["run", "--source", "ros", "--config", str(config), "--seconds", "1.5",
+                     "--behaviour", "drive:0.1,0,0", "--record", str(out), "--json"])
+    finally:
+        ros.stop(player)
+    assert code == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["master_up"] and report["frames_read"] >= 20
+    assert open_bag(out).frame_count == report["frames_read"]
 
 
 def test_master_going_away_is_reported_and_survived(ros: RosRig) -> None:

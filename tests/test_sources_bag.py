@@ -218,3 +218,31 @@ def test_loop_that_advances_before_it_reads_meets_the_first_frame(real_bag: Path
     assert replay.read_laser() is replay.frame(10).laser
     replay.advance(0.05)  # from here on the cursor moves
     assert replay.now() == pytest.approx(replay.frame_times[10] + 0.05)
+
+
+def test_laser_topic_of_the_wrong_type_is_a_clear_error(tmp_path: Path) -> None:
+    from pico_studio.core.io import BaseReference
+
+    path = tmp_path / "twist_on_laser.bag"
+    with BagRecorder(path, TopicParams(laser="/scan", base_reference="/pico/laser")) as rec:
+        rec.record_base_reference(BaseReference(0.1, 0.0, 0.0, 1.0))
+    with pytest.raises(SourceError) as err:
+        open_bag(path)
+    text = str(err.value)
+    assert "no usable laser scan" in text and "geometry_msgs/msg/Twist" in text and "LaserScan" in text
+
+
+@pytest.mark.parametrize("compression", ["lz4", "bz2"])
+def test_truncated_compressed_bag_replays_what_is_left(real_bag: Path, tmp_path: Path, compression: str) -> None:
+    src = open_bag(real_bag)
+    whole = tmp_path / "whole.bag"
+    with BagRecorder(whole, compression=compression) as rec:
+        rec._writer.chunk_threshold = 200_000  # several chunks, so a cut keeps some whole
+        for i in range(src.frame_count):
+            rec.record_laser(src.frame(i).laser)
+    data = whole.read_bytes()
+    cut = tmp_path / "cut.bag"
+    cut.write_bytes(data[: len(data) // 2])
+    replay = open_bag(cut)
+    assert 0 < replay.frame_count < 243
+    assert np.array_equal(replay.frame(0).laser.ranges, src.frame(0).laser.ranges)

@@ -37,7 +37,7 @@ def test_intel_log_plays_with_corrected_pose_as_truth(intel: Path) -> None:
     # odometry is the raw ODOM line at the scan's time, not the corrected pose
     odom = replay.read_odometry()
     assert odom is not None and (odom.x, odom.y, odom.a) == pytest.approx((0.698035, -0.0132843, -0.460915))
-    assert replay.summary()["untimed_odom_lines_ignored"] == 841
+    assert replay.summary()["odom_pose_copies_ignored"] == 910
 
 
 def test_intel_odometry_is_its_own_series_not_the_truth(intel: Path) -> None:
@@ -51,6 +51,19 @@ def test_intel_odometry_is_its_own_series_not_the_truth(intel: Path) -> None:
         differ += math.hypot(f.odometry.x - tx, f.odometry.y - ty) > 1e-3
         assert abs(wrap_angle(f.odometry.a)) <= math.pi
     assert differ > 800
+
+
+def test_intel_odometry_keeps_the_log_order(intel: Path) -> None:
+    """Jittering ODOM stamps and the corrected-pose copies (some with garbage stamps) must
+    not make the odometry jump: readings come in log order, each step a short one."""
+    replay = open_carmen(intel)
+    odom = replay.recording.odometry
+    stamps = np.array([o.timestamp for o in odom])
+    steps = np.hypot(np.diff([o.x for o in odom]), np.diff([o.y for o in odom]))
+    assert np.all(np.diff(stamps) >= 0)
+    assert steps.max() < 0.3  # the robot moves < 0.3 m between two readings in this log
+    info = replay.summary()
+    assert info["odom_pose_copies_ignored"] == 910 and info["odometry_readings"] == 14541 - 910
 
 
 def test_whole_intel_log_through_the_loop(intel: Path) -> None:
@@ -133,7 +146,7 @@ def test_truncated_gzip_replays_what_was_read(intel: Path, tmp_path: Path) -> No
 def test_file_without_scans_is_a_clear_error(tmp_path: Path) -> None:
     path = tmp_path / "odom_only.log"
     path.write_text("PARAM robot_frontlaser_offset 0.0 nohost 0\nODOM 0 0 0 0 0 0 1.0 host 1.0\n")
-    with pytest.raises(SourceError, match="odom_only.log: holds no FLASER line"):
+    with pytest.raises(SourceError, match="odom_only.log: holds no FLASER or ROBOTLASER1 line"):
         open_carmen(path)
 
 
@@ -142,3 +155,36 @@ def test_file_with_only_broken_scans_says_why(tmp_path: Path) -> None:
     path.write_text("FLASER 3 1 2 3 0 0 0 0 0 0 1.0 host\n")
     with pytest.raises(SourceError, match="no usable laser scan.*needs 14 fields, found 13"):
         open_carmen(path)
+
+
+def _robotlaser_line(flaser: str) -> str:
+    """The same scan as a ROBOTLASER1 line (start -90 deg, 1 deg steps, 2 remissions)."""
+    t = flaser.split()
+    n = int(t[1])
+    ranges, (x, y, a, _ox, _oy, _oa), tail = t[2 : 2 + n], t[2 + n : 8 + n], t[8 + n :]
+    fields = ["ROBOTLASER1", "0", f"{-math.pi / 2!r}", f"{math.pi!r}", f"{math.pi / 180!r}", "81.9", "0.01", "0",
+              str(n), *ranges, "2", "7", "8", x, y, a, x, y, a, "0", "0", "0.5", "0.3", "1", *tail]
+    return " ".join(fields) + "\n"
+
+
+def test_robotlaser1_lines_play_like_flaser(intel: Path, tmp_path: Path) -> None:
+    lines = [line for line in _lines(intel, 4) if line.startswith("FLASER")]
+    path = tmp_path / "robotlaser.log"
+    path.write_text("".join(_robotlaser_line(line) for line in lines) + "ROBOTLASER1 0 0 3.14 0.01 80 0 0 5 1 2\n")
+    replay = open_carmen(path)
+    reference = open_carmen(intel)
+    assert replay.frame_count == 4
+    (warning,) = replay.warnings
+    assert "ROBOTLASER1 num_remissions: must be a number" in warning
+    for i in range(4):
+        a, b = reference.frame(i), replay.frame(i)
+        assert np.array_equal(a.laser.ranges, b.laser.ranges) and a.time == b.time
+        assert b.laser.angle_min == pytest.approx(-math.pi / 2) and b.laser.range_max == 81.9
+        assert b.laser.angle_increment == pytest.approx(a.laser.angle_increment)
+        assert b.truth["pose"] == pytest.approx(a.truth["pose"])
+
+
+def test_raw_logs_offer_no_truth(intel: Path) -> None:
+    params = SourcesParams(carmen=CarmenParams(pose_is_truth=False))
+    replay = open_carmen(intel, params)
+    assert not replay.has_truth and replay.truth_pose() is None and replay.frame(3).truth == {}

@@ -152,3 +152,20 @@ def test_record_a_session_frame(tmp_path: Path) -> None:
     replay.read_laser()
     assert replay.truth_pose() == pytest.approx((1.03, 2.0, 0.1))
     assert replay.frame_times == pytest.approx([0.05, 0.10, 0.15, 0.20, 0.25])
+
+
+@pytest.mark.parametrize("compression", ["lz4", "bz2"])
+def test_compressed_recordings_play_back(recordings_dir: Path, tmp_path: Path, compression: str) -> None:
+    src = open_bag(recordings_dir / "pico_real_2019-05-07.bag")
+    path = tmp_path / f"{compression}.bag"
+    with BagRecorder(path, compression=compression) as rec:
+        for i in range(30):
+            rec.record_laser(src.frame(i).laser)
+    back = open_bag(path)
+    assert back.frame_count == 30
+    assert np.array_equal(back.frame(29).laser.ranges, src.frame(29).laser.ranges)
+    assert path.stat().st_size < 30 * 1081 * 4  # smaller than the raw ranges
+    if shutil.which("rosbag"):
+        out = subprocess.run(["rosbag", "info", "--yaml", str(path)], capture_output=True, text=True,
+                             timeout=60, check=True).stdout
+        assert f"compression: {compression}" in out

@@ -14,10 +14,16 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
+from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
+from pico_studio.cli.run_sources import check_source_args, open_recorder, recorded, run_source
+from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
+from pico_studio.core.behaviours.registry import is_behaviour
+from pico_studio.core.behaviours.registry import make_behaviour as make_core_behaviour
 from pico_studio.core.config import load_config
 from pico_studio.errors import UserError
 from pico_studio.session import Action, Session
 from pico_studio.sim import Simulator
+from pico_studio.sources import SOURCE_HELP, parse_source
 
 # name -> factory(argument text after "name:", or "") -> behaviour callable; others add theirs
 BEHAVIOURS: dict[str, Callable[[str], Callable[..., Any]]] = {}
@@ -48,36 +54,56 @@ BEHAVIOURS["drive"] = _drive
 def make_behaviour(spec: str) -> Callable[..., Any]:
     name, _, arg = spec.partition(":")
     if name not in BEHAVIOURS:
-        raise UserError(f"unknown behaviour {name!r}; known: {', '.join(sorted(BEHAVIOURS))}", field="--behaviour")
+        known = sorted(BEHAVIOURS) + list(CORE_BEHAVIOURS)
+        raise UserError(f"unknown behaviour {name!r}; known: {', '.join(known)}", field="--behaviour")
     return BEHAVIOURS[name](arg)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("run", help="run the simulator headless with a behaviour and report")
-    p.add_argument("--map", required=True, help="a JSON map or heightmap image")
+    p = sub.add_parser("run", help="run the simulator, a recording or the robot headless and report")
+    p.add_argument("--source", default="sim", help=SOURCE_HELP + " (default sim)")
+    p.add_argument("--map", help="a JSON map or heightmap image (for --source sim)")
+    p.add_argument("--record", metavar="FILE.bag", help="record the run as a ROS 1 bag (laser, odometry, base references, true pose)")
     p.add_argument("--sim-config", help="the official simulator's config JSON (start pose, moving objects, ...)")
     p.add_argument("--config", help="a pico_studio config YAML (partial files merge over the defaults)")
     p.add_argument("--seed", type=int, help="random seed (default: sim.seed of the config)")
-    p.add_argument("--seconds", type=float, default=10.0, help="simulated seconds to run (default 10)")
-    p.add_argument("--dt", type=float, default=0.05, help="control period in seconds (default 0.05 = 20 Hz)")
-    p.add_argument("--behaviour", default="idle", help="idle | drive:VX,VY,VA (default idle)")
+    p.add_argument("--seconds", type=float, help="seconds to run (default 10; a replay runs to its end)")
+    p.add_argument("--dt", type=float, help="control period in seconds (default 0.05 = 20 Hz; a replay meets every frame unless given)")
+    p.add_argument("--behaviour", default="idle", help="idle | drive:VX,VY,VA | escape-room | room-finder | hospital[:I,J,K] (default idle)")
     p.add_argument("--realtime", action="store_true", help="pace to wall-clock time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_run)
 
 
 def _run(args: argparse.Namespace) -> int:
-    if not (math.isfinite(args.seconds) and args.seconds >= 0):
+    if args.seconds is not None and not (math.isfinite(args.seconds) and args.seconds >= 0):
         raise UserError(f"must be a finite, non-negative number, got {args.seconds}", field="--seconds")
-    if not (math.isfinite(args.dt) and args.dt > 0):
+    if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
         raise UserError(f"must be a positive number, got {args.dt}", field="--dt")
+    spec = parse_source(args.source)
+    check_source_args(args, spec)
     cfg = load_config(args.config)
-    params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
+    if is_behaviour(args.behaviour):  # the reference behaviours (core/behaviours/registry.py)
+        if spec.kind != "sim":
+            return run_source(args, spec, cfg, make_core_behaviour(args.behaviour, cfg.behaviour))
+        result = run_sim_behaviour(args, cfg)
+        if args.json:
+            print(json.dumps(result))
+        else:
+            print_behaviour_result(result)
+        return 0
     behaviour = make_behaviour(args.behaviour)
+    if spec.kind != "sim":
+        return run_source(args, spec, cfg, behaviour)
+    params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
-    session = Session(sim, behaviour=behaviour, history=1)
+    recorder = open_recorder(args, cfg)
+    session = Session(sim, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
-    steps = session.run(args.seconds, args.dt)
+    try:
+        steps = session.run(10.0 if args.seconds is None else args.seconds, args.dt or 0.05)
+    finally:
+        record = recorded(recorder)
     wall = time.perf_counter() - t0
     odom = sim.odometry.pose
     result = {
@@ -91,6 +117,7 @@ def _run(args: argparse.Namespace) -> int:
         "distance_m": sim.truth.distance,
         "true_pose": list(sim.truth.pose),
         "odom_pose": list(odom),
+        "recorded": record,
     }
     if args.json:
         print(json.dumps(result))
@@ -99,4 +126,6 @@ def _run(args: argparse.Namespace) -> int:
     print(f"{args.map}: {result['sim_seconds']:g} s simulated in {wall:.3f} s ({steps} steps)")
     print(f"  true pose ({x:.3f}, {y:.3f}, {a:.3f}), odometry ({odom[0]:.3f}, {odom[1]:.3f}, {odom[2]:.3f})")
     print(f"  distance {sim.truth.distance:.3f} m, collisions {sim.truth.collisions}")
+    if record:
+        print(f"  recorded {record['file']}: {record['messages']}")
     return 0

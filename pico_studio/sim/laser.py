@@ -65,7 +65,8 @@ class Laser:
             angle_max=p.angle_max,
             angle_increment=self.increment,
             timestamp=timestamp,
-            ranges=noisy,
+            # float32 like sensor_msgs/LaserScan: a recorded run then replays bit-identically
+            ranges=noisy.astype(np.float32),
         )
 
     def _next_noise(self) -> np.ndarray:

@@ -11,9 +11,16 @@ One message a line, the last three fields always `ipc_timestamp ipc_hostname log
   log it is the SLAM-corrected pose, which the replay offers as ground truth. Angles are
   wrapped to (-pi, pi] (the logs hold some just beyond pi).
 * ODOM: the raw wheel odometry, used as the robot's odometry. In corrected logs an ODOM
-  line with timestamp 0 follows each FLASER repeating the corrected pose: it has no time
-  and is not odometry, so it is ignored. A log without timed ODOM lines uses the FLASER's
-  `odom_*` fields instead.
+  line follows each FLASER repeating its corrected pose, with timestamp 0 or garbage
+  (6e-62, 2.79 in the middle of a run at 2683 s): it is not odometry, so an ODOM line with
+  timestamp 0 or with exactly the pose of the scan line before it is ignored. ODOM stamps
+  jitter against the log's order; a reading stamped after something logged later takes
+  that earlier stamp, so the replay delivers odometry in the order it was logged. A log
+  without other ODOM lines uses the FLASER's `odom_*` fields instead.
+* ROBOTLASER1 (the newer CARMEN scan line) carries its own start angle, resolution and
+  maximum range, and the robot pose, used like FLASER's.
+* With `sources.carmen.pose_is_truth` off (raw, uncorrected logs, whose scan poses are
+  odometry) the replay offers no ground truth.
 * Anything else (PARAM, SYNC, NEFF, RLASER, TRUEPOS, comments) is ignored.
 
 A line with the wrong number of fields or a field that is not a number is skipped with a
@@ -60,36 +67,46 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
     truth: list[TimedPose] = []
     flaser_odometry: list[OdometryData] = []
     odometry: list[OdometryData] = []
-    untimed_odom = 0
+    pose_copies = 0
+    scans_before: list[int] = []
+    last_pose_tokens: list[str] = []
     for number, line in _lines(path, warnings):
         tokens = line.split()
         if not tokens or tokens[0].startswith("#"):
             continue
         try:
-            if tokens[0] == "FLASER":
-                scan, pose, odom = _flaser(tokens, cfg)
+            if tokens[0] in ("FLASER", "ROBOTLASER1"):
+                parse = _flaser if tokens[0] == "FLASER" else _robotlaser
+                scan, pose, odom = parse(tokens, cfg)
+                last_pose_tokens = _pose_tokens(tokens)
                 scans.append(scan)
                 truth.append(TimedPose(scan.timestamp, pose))
                 flaser_odometry.append(odom)
             elif tokens[0] == "ODOM":
                 reading = _odom(tokens)
-                if reading.timestamp == 0.0:
-                    untimed_odom += 1
+                if reading.timestamp == 0.0 or (truth and tokens[1:4] == last_pose_tokens):
+                    pose_copies += 1
                 else:
                     odometry.append(reading)
+                    scans_before.append(len(scans))
         except _BadLine as e:
             warnings.append(f"{path}: line {number}: {tokens[0]} {e}; line skipped")
     if not scans and not warnings:
-        raise SourceError("holds no FLASER line: not a CARMEN log with front laser scans", file=path)
+        raise SourceError(
+            "holds no FLASER or ROBOTLASER1 line: not a CARMEN log with front laser scans", file=path
+        )
+    odometry, restamped = _in_log_order(odometry, scans_before, scans)
     return Recording(
         name=str(path),
         scans=scans,
         odometry=odometry or flaser_odometry,
-        truth=truth,
+        truth=truth if cfg.pose_is_truth else [],
         warnings=warnings,
         info={
-            "odometry_from": "ODOM lines" if odometry else "FLASER odom fields",
-            "untimed_odom_lines_ignored": untimed_odom,
+            "odometry_from": "ODOM lines" if odometry else "the scan lines' odometry",
+            "truth_from": "the scan lines' pose" if cfg.pose_is_truth else None,
+            "odom_pose_copies_ignored": pose_copies,
+            "odom_stamps_moved_to_log_order": restamped,
         },
     )
 
@@ -132,6 +149,74 @@ def _flaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[floa
         angle_increment=increment, timestamp=t, ranges=ranges,
     )
     return scan, (x, y, _wrap(theta)), OdometryData(ox, oy, _wrap(otheta), t)
+
+
+def _in_log_order(
+    readings: list[OdometryData], scans_before: list[int], scans: list[LaserData]
+) -> tuple[list[OdometryData], int]:
+    """The readings re-stamped, where needed, so that time agrees with the log's order,
+    and how many were: ODOM stamps jitter (a reading stamped 0.3 s before the one logged
+    just ahead of it; one logged before a scan stamped after it). Sorting by them would
+    make the odometry jump back and forth, so a reading takes the earliest stamp of
+    anything logged after it (later readings and scans) when that is earlier than its own.
+    `scans_before[i]` is how many scans were logged before reading i."""
+    out = list(readings)
+    changed = 0
+    bound = math.inf
+    for i in range(len(out) - 1, -1, -1):
+        k = scans_before[i]
+        if k < len(scans):
+            bound = min(bound, scans[k].timestamp)
+        if out[i].timestamp > bound:
+            out[i] = OdometryData(out[i].x, out[i].y, out[i].a, bound, out[i].form)
+            changed += 1
+        bound = min(bound, out[i].timestamp)
+    return out, changed
+
+
+def _pose_tokens(tokens: list[str]) -> list[str]:
+    """The x y theta fields of a scan line, as written (to spot ODOM copies of them)."""
+    if tokens[0] == "FLASER":
+        n = int(float(tokens[1]))
+        return tokens[2 + n : 5 + n]
+    n, m = int(float(tokens[8])), int(float(tokens[9 + int(float(tokens[8]))]))
+    return tokens[13 + n + m : 16 + n + m]
+
+
+def _robotlaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[float, float, float], OdometryData]:
+    """ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range
+    accuracy remission_mode n r1..rn m e1..em laser_x laser_y laser_theta robot_x robot_y
+    robot_theta tv rv forward_safety_dist side_safety_dist turn_axis timestamp host logger_timestamp
+
+    The angles are in the line itself; the robot pose is the pose (truth in a corrected
+    log, else odometry) and, without ODOM lines, the odometry."""
+    n = _count(tokens, 8, "num_readings")
+    if n < 1:
+        raise _BadLine("num_readings", "must be at least 1")
+    m = _count(tokens, 9 + n, "num_remissions")
+    expected = 10 + n + m + 6 + 5 + _TAIL
+    if len(tokens) != expected:
+        raise _BadLine(
+            "fields", f"with num_readings {n} and num_remissions {m} needs {expected} fields, found {len(tokens)}"
+        )
+    start, increment, range_max = (_number(tokens, k, name) for k, name in (
+        (2, "start_angle"), (4, "angular_resolution"), (5, "maximum_range")))
+    ranges = _numbers(tokens, 9, n, "range")
+    k = 10 + n + m
+    x, y, theta = (_number(tokens, k + 3 + j, name) for j, name in enumerate(("robot_x", "robot_y", "robot_theta")))
+    t = _number(tokens, k + 11, "timestamp")
+    scan = LaserData(
+        range_min=cfg.range_min, range_max=range_max, angle_min=start,
+        angle_max=start + (n - 1) * increment, angle_increment=increment, timestamp=t, ranges=ranges,
+    )
+    return scan, (x, y, _wrap(theta)), OdometryData(x, y, _wrap(theta), t)
+
+
+def _count(tokens: list[str], index: int, field: str) -> int:
+    value = _number(tokens, index, field)
+    if value != int(value) or value < 0:
+        raise _BadLine(field, f"must be a whole number, got {tokens[index]!r}")
+    return int(value)
 
 
 def _odom(tokens: list[str]) -> OdometryData:

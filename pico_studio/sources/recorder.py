@@ -42,7 +42,14 @@ MAP_FRAME = "map"
 class BagRecorder:
     """Writes a ROS 1 bag; use as a context manager or call `close()`."""
 
-    def __init__(self, path: str | Path, topics: TopicParams | None = None, *, overwrite: bool = False):
+    def __init__(
+        self,
+        path: str | Path,
+        topics: TopicParams | None = None,
+        *,
+        compression: str = "none",
+        overwrite: bool = False,
+    ):
         self.path = Path(path)
         self.topics = topics or TopicParams()
         if self.path.exists():
@@ -52,6 +59,12 @@ class BagRecorder:
         if not self.path.parent.is_dir():
             raise SourceError("its folder does not exist", file=self.path)
         self._writer = Writer(self.path)
+        if compression != "none":
+            formats = {"lz4": Writer.CompressionFormat.LZ4, "bz2": Writer.CompressionFormat.BZ2}
+            if compression not in formats:
+                raise SourceError(f"unknown compression {compression!r}; use none, lz4 or bz2",
+                                  field="sources.recorder.compression")
+            self._writer.set_compression(formats[compression])
         try:
             self._writer.open()
         except (OSError, WriterError) as e:

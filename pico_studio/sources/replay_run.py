@@ -25,17 +25,21 @@ def frame_steps(replay: Replay) -> Iterator[float]:
         yield 0.0 if i < 0 else max(float(replay.frame_times[i + 1]) - replay.now(), 0.0)
 
 
-def run_replay(session: Any, replay: Replay, *, dt: float | None = None, limit: int | None = None) -> dict[str, Any]:
-    """Tick `session` (whose source is `replay`) to the end of the file; the report.
+def run_replay(
+    session: Any, replay: Replay, *, dt: float | None = None, seconds: float | None = None
+) -> dict[str, Any]:
+    """Tick `session` (whose source is `replay`) to the end of the file, or for `seconds`
+    of recording time; the report.
 
     `dt=None` meets every frame; a number ticks at that period instead, dropping scans the
     way a loop of that rate would on the robot.
     """
     steps: Iterator[float] = frame_steps(replay) if dt is None else _fixed(replay, dt)
+    end = None if seconds is None else replay.now() + seconds
     figures = _Figures()
     ticks = 0
     for step in steps:
-        if limit is not None and ticks >= limit:
+        if end is not None and replay.now() + step > end + 1e-9:
             break
         out = session.tick(step)
         ticks += 1

@@ -21,6 +21,7 @@ Safety and failures, as the robot's user needs them:
 
 from __future__ import annotations
 
+import logging
 import os
 import sys
 import threading
@@ -269,7 +270,15 @@ class LiveRosSource:
             ):
                 # a local master: be reachable as 127.0.0.1 whatever the host name resolves to
                 os.environ["ROS_IP"] = "127.0.0.1"
-            rospy.init_node(self._ros.node_name, anonymous=True, disable_signals=True)
+            # init_node re-configures Python's root logger from ROS's logging file (to a
+            # ROS log file); pico_studio's own logging set-up is kept as it was
+            root = logging.getLogger()
+            handlers, level = root.handlers[:], root.level
+            try:
+                rospy.init_node(self._ros.node_name, anonymous=True, disable_signals=True)
+            finally:
+                root.handlers[:] = handlers
+                root.setLevel(level)
         self._register()
         self._connected = True
 

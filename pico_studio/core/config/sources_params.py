@@ -85,6 +85,19 @@ class CarmenParams:
     range_min: float = param(
         0.0, lo=0.0, hi=1.0, step=0.01, unit="m", help="Shortest valid range of a CARMEN scan"
     )
+    pose_is_truth: bool = param(
+        True,
+        help="The scan lines' pose is the corrected (SLAM) pose, offered as ground truth; "
+        "off for raw logs, where it is only odometry",
+    )
+
+
+@dataclass(frozen=True)
+class RecorderParams:
+    compression: str = param(
+        "none", choices=("none", "lz4", "bz2"),
+        help="Chunk compression of recorded bags (lz4: ~fast, bz2: smallest; ROS tools read all three)",
+    )
 
 
 @dataclass(frozen=True)
@@ -93,3 +106,4 @@ class SourcesParams:
     ros: LiveRosParams = section(LiveRosParams, "The live ROS 1 connection (--source ros)")
     replay: ReplayParams = section(ReplayParams, "Replay of recordings (bags and CARMEN logs)")
     carmen: CarmenParams = section(CarmenParams, "CARMEN log files (FLASER/ODOM lines)")
+    recorder: RecorderParams = section(RecorderParams, "Recording runs as ROS 1 bags")
