@@ -199,3 +199,18 @@ def test_behaviour_target_and_plan_are_drawn_in_their_frame() -> None:
     ahead = (robot[0] + math.cos(robot[2]), robot[1] + math.sin(robot[2]))
     assert frame_prims(s, frame)["target"].data[0] == pytest.approx(ahead)
     assert len(frame_prims(s, frame)["plan"]) == 1
+
+
+def test_core_behaviours_run_on_the_page_and_their_plan_is_drawn() -> None:
+    s = Studio(Config(), load_json_map(DEFAULT_MAP), make_source_factory("sim", None, 2), behaviour="hospital")
+    for _ in range(30):
+        s.tick(0.05)
+    frame = s.shown()
+    assert frame.behaviour_state.startswith("hospital") and frame.behaviour_frame == "global"
+    plan = frame_prims(s, frame)["plan"].data
+    assert len(plan) >= 1
+    x0, y0, x1, y1 = s.global_map.bounds
+    assert ((plan[:, [0, 2]] >= x0 - 0.5) & (plan[:, [0, 2]] <= x1 + 0.5)).all()
+    s.set_behaviour("escape-room")
+    s.tick(0.05)
+    assert s.shown().behaviour_state.startswith("escape-room")

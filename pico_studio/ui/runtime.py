@@ -20,6 +20,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
+from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.behaviours.wander import Wander
 from pico_studio.core.config import Config, get_value, with_value
 from pico_studio.core.geometry import compose, invert, wrap_angle
@@ -52,14 +54,19 @@ class SourceBundle:
 
 SourceFactory = Callable[[Config, GlobalMap | None], SourceBundle]
 
-BehaviourFactory = Callable[[Config, GlobalMap | None], Any]
+BehaviourFactory = Callable[[Config, GlobalMap | None, Pose | None], Any]
 
 
 def behaviour_factories() -> dict[str, BehaviourFactory]:
-    """Behaviours the page can run: objects with `step(world_model, laser, odometry, now, *,
-    ok)` returning a command (vx, vy, va, optional open_door) and `state`, `target`, `plan`,
-    `frame` for drawing (see docs/ARCHITECTURE.md, the web UI)."""
-    return {"wander": lambda cfg, _map: Wander(cfg.ui.wander)}
+    """Behaviours the page can run: the built-in wander and the core registry's, all objects
+    with `step(world_model, laser, odometry, now, *, ok)` returning a command (vx, vy, va,
+    optional open_door) and `state`, `target`, `plan`, `frame` for drawing (see
+    docs/ARCHITECTURE.md, the web UI). Factories get the config, the map and the robot's
+    map pose now (when known)."""
+    out: dict[str, BehaviourFactory] = {"wander": lambda cfg, _map, _pose: Wander(cfg.ui.wander)}
+    for name in CORE_BEHAVIOURS:
+        out[name] = lambda cfg, m, pose, name=name: make_behaviour(name, cfg.behaviour, m, initial_pose=pose)
+    return out
 
 
 BEHAVIOURS = (*behaviour_factories(), "teleop", "stop")  # what the behaviour dropdown offers
@@ -220,7 +227,11 @@ class Studio:
 
     def _make_behaviour(self, name: str) -> Any:
         factory = behaviour_factories().get(name)
-        return factory(self.cfg, self.global_map) if factory is not None else None
+        if factory is None:
+            return None
+        latest = self.timeline.latest if hasattr(self, "timeline") else None
+        pose = self.robot_pose_in_map(latest) if latest is not None else self.bundle.truth_pose()
+        return factory(self.cfg, self.global_map, pose)
 
     def _behave(self, frame: FrameRecord) -> BaseReference:
         now = frame.time
