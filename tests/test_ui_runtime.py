@@ -172,6 +172,9 @@ def test_config_panel_has_an_input_for_every_parameter_and_reverts_bad_values(tm
         assert app.studio.map_name == "restaurant_2024.json"
         assert app.layers.sizes["map_walls"] == len(app.studio.global_map.walls)
         assert app.studio.cfg.perception.scan.min_length == 0.5  # tuned values survive a map change
+        png = example_maps()["escape_room.png"]  # a heightmap, vectorised on loading
+        app.switch_map(png, png.name, None)
+        assert app.studio.map_name == "escape_room.png" and app.layers.sizes["map_walls"] > 4
     finally:
         app.stop()
 
