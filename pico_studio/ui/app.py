@@ -311,27 +311,12 @@ class StudioApp:
         live = gui.add_button("Back to live", icon=viser.Icon.PLAYER_SKIP_FORWARD)
         self.metrics_md = gui.add_markdown("")
 
-        @self.play.on_click
-        def _(event: viser.GuiEvent) -> None:
-            s.playing = not s.playing
-            if s.playing:
-                s.scrub(None)
-            self._sync_play_button()
-            self.redraw()
-
-        step.on_click(self._guard("step", lambda e: (setattr(s, "playing", False), s.scrub(None), s.tick(1.0 / s.cfg.ui.rate_hz), self._sync_play_button(), self.redraw())))
-        reset.on_click(self._guard("reset", lambda e: (s.reset(), self.redraw())))
-        speed.on_update(lambda e: setattr(s, "speed", float(e.target.value)))
-        live.on_click(self._guard("live", lambda e: (s.scrub(None), setattr(s, "playing", True), self._sync_play_button(), self.redraw())))
-
-        @self.timeline.on_update
-        def _(event: viser.GuiEvent) -> None:
-            if self._timeline_quiet:
-                return
-            s.playing = False
-            s.scrub(int(event.target.value))
-            self._sync_play_button()
-            self.redraw()
+        self.play.on_click(self._guard("play/pause", self._on_play))
+        step.on_click(self._guard("step", self._on_step))
+        reset.on_click(self._guard("reset", self._on_reset))
+        speed.on_update(self._guard("speed", lambda e: setattr(s, "speed", float(e.target.value))))
+        live.on_click(self._guard("back to live", self._on_live))
+        self.timeline.on_update(self._guard("timeline", self._on_scrub))
 
         with gui.add_folder("Behaviour"):
             behaviour = gui.add_dropdown("Behaviour", list(BEHAVIOURS), initial_value=s.behaviour_name)
@@ -351,11 +336,53 @@ class StudioApp:
                 name = event.target.value
                 if name == "(keep)" or name == s.map_name:
                     return
-                self.switch_map(maps[name], name, event.client)
+                try:
+                    self.switch_map(maps[name], name, event.client)
+                except Exception:
+                    with _NoCallbacks(choice):  # show the map that is really loaded
+                        choice.value = s.map_name if s.map_name in maps else "(keep)"
+                    raise
 
             choice.on_update(self._guard("map", pick))
             upload.on_upload(self._guard("map upload", self._on_map_upload))
             self.map_choice = choice
+
+    # ----- run control -------------------------------------------------------------------------
+    def _on_play(self, _event: Any = None) -> None:
+        s = self.studio
+        s.playing = not s.playing
+        if s.playing:
+            s.scrub(None)
+        self._sync_play_button()
+        self.redraw()
+
+    def _on_step(self, _event: Any = None) -> None:
+        """Pause and advance exactly one control period."""
+        s = self.studio
+        s.playing = False
+        s.scrub(None)
+        s.tick(1.0 / s.cfg.ui.rate_hz)
+        self._sync_play_button()
+        self.redraw()
+
+    def _on_reset(self, _event: Any = None) -> None:
+        self.studio.reset()
+        self.redraw()
+
+    def _on_live(self, _event: Any = None) -> None:
+        self.studio.scrub(None)
+        self.studio.playing = True
+        self._sync_play_button()
+        self.redraw()
+
+    def _on_scrub(self, event: viser.GuiEvent) -> None:
+        """The timeline slider moved (by the user): pause on that frame, re-processed."""
+        if self._timeline_quiet:
+            return
+        self.studio.playing = False
+        self.studio.scrub(int(event.target.value))
+        self._sync_play_button()
+        self.redraw()
 
     _timeline_quiet = False
 
