@@ -110,9 +110,11 @@ def test_heightmap_to_json_round_trip(maps_dir: Path, tmp_path: Path, name: str)
     assert data["heightmap"]["walls"] == "outlines"
     back = load_map(tmp_path / "out.json")
     assert len(back.walls) == len(res.map.walls)
-    # and back to an image again: the same geometry
+    # and back to an image again: the same geometry, in the same place (the YAML's origin is
+    # negative for the centred bare images)
     again = convert(tmp_path / "out.json", tmp_path / "again.png")
     assert again.check.iou >= 0.95
+    np.testing.assert_allclose(load_map(tmp_path / "again.yaml").bounds, back.bounds, atol=0.1)
 
 
 def test_round_trip_detects_a_wrong_map(maps_dir: Path) -> None:
@@ -140,9 +142,12 @@ def test_convert_resolution_and_yaml_output(maps_dir: Path, tmp_path: Path) -> N
         ("hospital_2019.json", "out.txt", "unknown output format '.txt'"),
         ("missing.json", "out.png", "cannot read"),
         ("hospital_2021_sim.json", "out.png", "missing key"),
+        ("hospital_2021.png", "a_file/out.json", "cannot write"),
+        ("hospital_2019.json", "a_file/out.png", "cannot write"),
     ],
 )
 def test_convert_errors(maps_dir: Path, tmp_path: Path, src: str, dst: str, message: str) -> None:
+    (tmp_path / "a_file").write_text("not a directory")
     with pytest.raises(MapError, match=message.replace("(", r"\(")):
         convert(maps_dir / src, tmp_path / dst)
 

@@ -136,6 +136,7 @@ def test_restaurant_png_with_yaml_overlays_the_restaurant_json(maps_dir: Path) -
 
 def test_door_regions_become_rectangles(maps_dir: Path) -> None:
     m = load_map(maps_dir / "doors_heightmap_example.png")
+    assert sorted(m.extra["heightmap"]["door_grey"]) == [90, 90, 180, 180]
     for poly in m.door_polygons:
         assert poly.shape == (4, 2)
         sides = np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1)
@@ -185,6 +186,16 @@ def _write(path: Path, img: np.ndarray) -> Path:
 def _yaml(path: Path, text: str) -> Path:
     path.write_text(text)
     return path
+
+
+def test_many_specks_are_counted_not_all_listed(tmp_path: Path) -> None:
+    img = _room()
+    img[20:50:3, 20:70:3] = 0  # 10 x 17 single-pixel specks inside the room
+    m = load_map(_write(tmp_path / "noisy.png", img))
+    listed = [w for w in m.warnings if w.startswith("dropped a speck")]
+    assert len(listed) == 20
+    assert "dropped 150 more specks (150 px in all)" in m.warnings
+    assert len(m.walls) == len(load_map(_write(tmp_path / "clean.png", _room())).walls)
 
 
 def test_rgba_transparent_pixels_are_free(tmp_path: Path) -> None:

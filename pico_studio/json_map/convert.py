@@ -173,7 +173,10 @@ def convert(
         raise MapError(f"unknown map format {src.suffix!r}: use .json, .png, .pgm or .yaml", file=src)
 
     if dst_suffix == ".json":
-        save_json_map(m, dst)
+        try:
+            save_json_map(m, dst)
+        except OSError as e:
+            raise MapError(f"cannot write: {e.strerror or e}", file=dst) from None
         back = load_json_map(dst)
         if ref_frame is None:  # JSON -> JSON: compare both rasterised
             ref_frame = frame_for(m, resolution, params.raster)

@@ -19,8 +19,9 @@ Where the image lies in the world (see `grid.GridFrame`):
   `origin` = world pose of the bottom-left corner. Checked on the real files:
   `restaurant_2024.png` + `.yaml` (origin 0, 0) overlays `restaurant_2024.json` (its walls
   lie on the image's wall edges, its door on the grey region; tests/test_heightmap.py).
-  The current emc simulator (master, `pixel2world` in src/heightmap.cpp) also puts the
-  bottom-left corner at (0, 0) with x right, y up — but ignores a non-zero YAML origin;
+  The current emc simulator (master since 2023, map via map_server, `pixel2world` in
+  src/heightmap.cpp) also puts the image's bottom-left corner at (0, 0) (within a pixel)
+  with x right, y up — but ignores a non-zero YAML origin;
   `convert` therefore writes origin (0, 0) whenever the map lies in x, y >= 0.
 - **without a YAML**: the emc simulator that loaded bare images (2015 .. 2021, e.g. branch
   `finalchallenge2021`, `createHeightMapShape`): `origin_x = -(cols * res / 2)`,
@@ -28,7 +29,7 @@ Where the image lies in the world (see `grid.GridFrame`):
   `wx = (rows - py - 1) * res + origin_y`, `wy = -(px * res + origin_x)`: the **image
   centre is the world origin, world x points up the image and y to the left**. Checked:
   the moving objects of `hospital_2021_sim.json` sweep (box footprint, 50 steps) through
-  free space of `hospital_2021.png` in this frame (5 of 2250 samples touch a wall edge),
+  free space of `hospital_2021.png` in this frame (5 of 4500 samples touch a wall edge),
   and through walls or off the image in the alternatives (centre with x right: 827 of
   4500 in walls; a corner origin: entirely off the image). The simulator's own pixel
   offsets moved by a pixel between versions (2023: "fix origin relative to rviz map");
@@ -43,7 +44,9 @@ Vectorising (all in pixels, then through the frame to metres):
    `cv2.approxPolyDP(tolerance = simplify_tolerance px)` into closed polygons; every
    polygon edge is a wall. The map records `"heightmap": {..., "walls": "outlines"}` so a
    rasteriser fills these loops (even-odd) instead of drawing thin lines;
-4. each door region becomes the minimum-area rectangle around its pixels (a door polygon).
+4. each door region becomes the minimum-area rectangle around its pixels (a door polygon);
+   its grey value is kept in `"heightmap": {"door_grey": [...]}` (the emc simulator slides a
+   door with grey < 128 the opposite way).
 """
 
 from __future__ import annotations
@@ -64,6 +67,7 @@ from pico_studio.json_map.model import GlobalMap
 
 IMAGE_SUFFIXES = (".png", ".pgm")
 YAML_SUFFIXES = (".yaml", ".yml")
+MAX_LISTED_SPECKS = 20  # a noisy scan can have thousands: list these, count the rest
 UPSAMPLE = 2  # outline tracing on a x2 mask: a one-pixel-wide wall keeps a non-zero width
 
 
@@ -270,11 +274,14 @@ def outline_loops(mask: np.ndarray, tolerance_px: float) -> list[np.ndarray]:
     return loops
 
 
-def door_rectangles(door_mask: np.ndarray, min_area: int) -> tuple[list[np.ndarray], list[tuple[int, float, float]]]:
-    """One rectangle (4, 2) in continuous pixel coordinates per 4-connected door region, and
-    the grey specks dropped as too small."""
+def door_rectangles(
+    door_mask: np.ndarray, min_area: int, grey: np.ndarray | None = None
+) -> tuple[list[np.ndarray], list[tuple[int, float, float]], list[int]]:
+    """One rectangle (4, 2) in continuous pixel coordinates per 4-connected door region, the
+    grey specks dropped as too small, and each kept region's median grey value."""
     n, labels, stats, centroids = cv2.connectedComponentsWithStats(door_mask.astype(np.uint8), connectivity=4)
     rects: list[np.ndarray] = []
+    greys: list[int] = []
     dropped: list[tuple[int, float, float]] = []
     for k in range(1, n):
         area = int(stats[k, cv2.CC_STAT_AREA])
@@ -284,11 +291,13 @@ def door_rectangles(door_mask: np.ndarray, min_area: int) -> tuple[list[np.ndarr
         x, y, w, h = (int(v) for v in stats[k, :4])
         rows, cols = np.nonzero(labels[y : y + h, x : x + w] == k)
         rows, cols = rows + y, cols + x
+        if grey is not None:
+            greys.append(int(np.median(grey[rows, cols])))
         corners = np.concatenate(
             [np.stack([cols + du, rows + dv], axis=1) for du in (0, 1) for dv in (0, 1)]
         ).astype(np.float32)
         rects.append(cv2.boxPoints(cv2.minAreaRect(corners)).astype(float))
-    return rects, dropped
+    return rects, dropped, greys
 
 
 def vectorise(img: HeightmapImage, params: HeightmapParams | None = None) -> GlobalMap:
@@ -300,7 +309,7 @@ def vectorise(img: HeightmapImage, params: HeightmapParams | None = None) -> Glo
     if not loops:
         what = "only specks smaller than min_speck_area" if specks else "no dark (occupied) pixels"
         raise MapError(f"no walls: the image has {what}", file=img.yaml_path or img.path)
-    doors_px, grey_specks = door_rectangles(door, params.min_speck_area)
+    doors_px, grey_specks, door_greys = door_rectangles(door, params.min_speck_area, img.grey)
 
     points: list[np.ndarray] = []
     walls: list[np.ndarray] = []
@@ -319,10 +328,15 @@ def vectorise(img: HeightmapImage, params: HeightmapParams | None = None) -> Glo
 
     warnings = list(img.notes)
     for kind, found in (("speck", specks), ("grey (door) speck", grey_specks)):
-        for area, cx, cy in found:
+        for area, cx, cy in found[:MAX_LISTED_SPECKS]:
             x, y = img.frame.to_world(np.array([[cx + 0.5, cy + 0.5]]))[0]
             warnings.append(
                 f"dropped a {kind} of {area} px at pixel (col {cx:.0f}, row {cy:.0f}) = ({x:.3f}, {y:.3f}) m"
+            )
+        if len(found) > MAX_LISTED_SPECKS:
+            rest = found[MAX_LISTED_SPECKS:]
+            warnings.append(
+                f"dropped {len(rest)} more {kind}s ({sum(a for a, _, _ in rest)} px in all)"
             )
     info: dict[str, Any] = {
         "image": img.path.name,
@@ -330,6 +344,9 @@ def vectorise(img: HeightmapImage, params: HeightmapParams | None = None) -> Glo
         **img.frame.to_dict(),
         "walls": "outlines",
     }
+    if door_greys:
+        # the emc simulator slides a door whose grey is below 128 the other way
+        info["door_grey"] = door_greys
     return GlobalMap(
         points=np.vstack(points),
         walls=np.vstack(walls).astype(np.int64),
