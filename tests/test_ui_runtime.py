@@ -157,6 +157,14 @@ def test_config_panel_has_an_input_for_every_parameter_and_reverts_bad_values(tm
     )
     app = build_app(args, verbose=False)
     try:
+        handles = dict(app.layers.handles)
+        app.studio.playing = True
+        for _ in range(3):
+            app.studio.tick(0.05)
+            app.redraw()
+        assert app.layers.handles == handles and app.layers.sizes["laser"] > 0  # assigned, not re-created
+        assert app.layers.handles["laser"].points.dtype == np.float32
+        app.studio.playing = False
         inputs = app.config_panel.inputs
         assert set(inputs) == {p.path for p in params(app.studio.cfg)}
         assert type(inputs["perception.scan.segmenter"]).__name__.startswith("GuiDropdown")
