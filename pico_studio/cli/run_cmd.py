@@ -14,6 +14,7 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
+from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
 from pico_studio.cli.run_sources import (
     check_source_args,
     make_perceptor,
@@ -21,8 +22,6 @@ from pico_studio.cli.run_sources import (
     recorded,
     run_source,
 )
-from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
-from pico_studio.cli.run_sources import check_source_args, open_recorder, recorded, run_source
 from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
 from pico_studio.core.behaviours.registry import is_behaviour
 from pico_studio.core.behaviours.registry import make_behaviour as make_core_behaviour
