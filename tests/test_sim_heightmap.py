@@ -12,9 +12,6 @@ import pytest
 from pico_studio import json_map
 from pico_studio.sim import Simulator, load_any_map, load_sim_config
 
-pytestmark = pytest.mark.skipif(
-    not hasattr(json_map, "load_map"), reason="heightmap loading (json_map.load_map) not merged yet"
-)
 MAPS = "pico_studio/data/maps/"
 
 
