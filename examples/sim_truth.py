@@ -64,6 +64,7 @@ def main() -> None:
     ap.add_argument("--pose", type=float, nargs=3, help="x y a (default: the simulator's start)")
     ap.add_argument("--sim-config", help="the official simulator's config JSON (moving objects, ...)")
     ap.add_argument("--out", default=str(ROOT / "docs" / "sim_truth.png"))
+    ap.add_argument("--scale", type=float, default=100.0, help="pixels per metre")
     args = ap.parse_args()
     sim = Simulator(
         load_any_map(args.map),
@@ -72,7 +73,7 @@ def main() -> None:
         seed=1,
     )
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    cv2.imwrite(args.out, draw(sim))
+    cv2.imwrite(args.out, draw(sim, scale=args.scale))
     print(f"wrote {args.out}")
 
 
