@@ -140,6 +140,18 @@ def test_slider_changes_drawing_and_metric(app, page) -> None:
         page.locator("label", has_text=covering).click()
 
 
+def test_timeline_scrubs_back_and_returns_to_live(app, page) -> None:
+    page.get_by_role("tab", name="Run").click()
+    set_number(page, "Timeline", 5)
+    assert wait_until(lambda: app.studio.cursor == 5 and not app.studio.playing)
+    page.get_by_text(re.compile(r"timeline frame \d+")).first.wait_for(timeout=20000)
+    assert app.studio.shown().wm is not None  # re-processed with the current config
+    page.get_by_role("button", name="Back to live").click()
+    assert wait_until(lambda: app.studio.cursor is None and app.studio.playing)
+    page.get_by_role("button", name="Pause").click()
+    assert wait_until(lambda: not app.studio.playing)
+
+
 def test_export_downloads_the_live_config(app, page, tmp_path: Path) -> None:
     page.get_by_role("tab", name="Config").click()
     with page.expect_download(timeout=20000) as info:
