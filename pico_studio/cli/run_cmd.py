@@ -14,6 +14,7 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
+from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
 from pico_studio.cli.run_sources import (
     check_source_args,
     make_perceptor,
@@ -21,8 +22,6 @@ from pico_studio.cli.run_sources import (
     recorded,
     run_source,
 )
-from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
-from pico_studio.cli.run_sources import check_source_args, open_recorder, recorded, run_source
 from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
 from pico_studio.core.behaviours.registry import is_behaviour
 from pico_studio.core.behaviours.registry import make_behaviour as make_core_behaviour
@@ -112,10 +111,8 @@ def _run(args: argparse.Namespace) -> int:
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
     perceptor = make_perceptor(cfg)
-    session = Session(sim, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
-    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
-    localising = _localising(cfg, sim) if args.localise else None
-    session = Session(sim, perceptor=localising, behaviour=behaviour, recorder=recorder, history=1)
+    localising = _localising(cfg, sim, perceptor) if args.localise else None
+    session = Session(sim, perceptor=localising or perceptor, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
     scores = None
     try:
@@ -166,13 +163,12 @@ def _run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _localising(cfg: Any, sim: Simulator) -> Any:
+def _localising(cfg: Any, sim: Simulator, perceptor: Any) -> Any:
     """The perceptor with localisation on the simulator's map, scored against its truth; the
     prior is the sim config's start pose when it has one, else the map's start area."""
     from pico_studio.core.localisation import Localiser
     from pico_studio.core.localisation.stage import LocalisingPerceptor
-    from pico_studio.core.perception import Perceptor
 
     localiser = Localiser(cfg.localisation, sim.world.map, sim.sim_config.initial_pose)
-    return LocalisingPerceptor(Perceptor(cfg.perception), localiser, truth=lambda: sim.truth.pose)
+    return LocalisingPerceptor(perceptor, localiser, truth=lambda: sim.truth.pose)
 

@@ -103,7 +103,7 @@ def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: Matcher
     x = np.array(pose, dtype=float)
     converged = False
     used = 0
-    constraint = 0.0
+    info = np.zeros((2, 2))  # the last step's per-point x-y information
     for it in range(params.iterations):
         # 1. outlier distance shrinks linearly over the first half of the iterations
         f = min(1.0, it / max(1, params.iterations // 2))
@@ -119,7 +119,7 @@ def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: Matcher
         r = ((q[ok] - a) * n).sum(axis=1)
         keep = np.abs(r) <= outlier
         # a point beyond the segment's ends is not on that line: use the true distance
-        keep &= field.distance(q[ok]) <= outlier
+        keep[keep] &= field.distance(q[ok][keep]) <= outlier
         used = int(keep.sum())
         if used < 3:
             break
@@ -131,18 +131,19 @@ def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: Matcher
         j = np.column_stack([n[:, 0], n[:, 1], n[:, 0] * -rel[:, 1] + n[:, 1] * rel[:, 0]])
         h = (j * w[:, None]).T @ j
         g = (j * w[:, None]).T @ r
-        # how well the points pin down x and y: ~0 in a featureless corridor
-        constraint = float(np.linalg.eigvalsh(h[:2, :2] / w.sum())[0])
+        info = h[:2, :2] / w.sum()
         try:
             dx = -np.linalg.solve(h + 1e-9 * np.eye(3), g)
         except np.linalg.LinAlgError:
             break
         x += dx
-        x[2] = wrap_angle(x[2])
+        x[2] = math.remainder(x[2], 2 * math.pi)
         if it >= params.iterations // 2 and abs(dx[0]) + abs(dx[1]) < 1e-4 and abs(dx[2]) < 1e-4:
             converged = True
             break
     result: Pose = (float(x[0]), float(x[1]), float(x[2]))
+    # how well the points pin down x and y: ~0 in a featureless corridor
+    constraint = float(np.linalg.eigvalsh(info)[0])
     return Match(result, quality(field, points, result, params.inlier_distance), used, converged,
                  constraint)
 
