@@ -181,6 +181,8 @@ class StudioApp:
         if frame is None:
             return f"**{s.map_name}** · {state} · no frame yet"
         live = "live" if s.cursor is None else f"timeline frame {frame.index}"
+        if getattr(frame.wm, "too_close", False):
+            live += " · **too close!**"
         return f"**{s.map_name}** · {state} · {live} · t = {frame.time:.2f} s · behaviour: {frame.behaviour_state or s.behaviour_name}"
 
     def _metrics_text(self, m: dict[str, Any]) -> str:
