@@ -130,3 +130,20 @@ def test_run_command_reports_a_behaviour_as_json(capsys, maps_dir):
 def test_run_command_rejects_a_bad_behaviour(capsys, maps_dir):
     assert main(["run", "--map", str(maps_dir / "hospital_2019.json"), "--behaviour", "hospital:0,9"]) == 2
     assert "no cabinet 9" in capsys.readouterr().err
+
+
+def test_hospital_replans_round_a_box_that_is_not_on_the_map():
+    from pico_studio.sim.sim_config import MovingObjectSpec
+
+    # a 6 x 3 m room, the cabinet at the far end, a box (never triggered: it stays) in the way
+    pts = np.array([[0, 0], [6, 0], [6, 3], [0, 3], [5.6, 1.2], [5.9, 1.2], [5.9, 1.8], [5.6, 1.8]], dtype=float)
+    m = GlobalMap(points=pts, walls=np.array([[0, 1], [1, 2], [2, 3], [3, 0]]),
+                  objects=[np.array([[4, 7], [7, 6], [6, 5], [5, 4]])])
+    box = MovingObjectSpec(length=0.5, width=1.2, init_pose=(3.0, 1.5, 0.0), final_pose=(3.0, 1.5, 0.0),
+                           velocity=0.0, trigger_radius=0.0, repeat=False)
+    sim = Simulator(m, CFG.sim, SimConfigFile(uncertain_odom=True, objects=(box,)), seed=0,
+                    initial_pose=(0.8, 1.5, 0.0))
+    b = HospitalTour(CFG.behaviour, m, [0], initial_pose=(0.8, 1.5, 0.0))
+    r = run_behaviour(sim, b, seconds=120)
+    assert r["cabinets_visited"] == [0] and r["collisions"] == 0
+    assert r["replans"] >= 1

@@ -46,8 +46,9 @@ def test_no_master_is_reported_not_raised() -> None:
     params = SourcesParams(ros=LiveRosParams(master_uri=f"http://127.0.0.1:{port}", master_check_interval=0.1))
     source = LiveRosSource(params)
     try:
-        assert not source.ok()
+        assert source.ok()  # like ros::ok(): the loop runs on while there is no master
         status = source.status()
+        assert not status.connected
         assert not status.master_up and status.stale
         assert f"no ROS master at http://127.0.0.1:{port}" in status.message
         source.send_base_reference(0.3, 0.0, 0.0)  # nothing to send to: no crash
@@ -57,6 +58,7 @@ def test_no_master_is_reported_not_raised() -> None:
             source.wait_connected(0.3)
     finally:
         source.close()
+    assert not source.ok()
 
 
 def test_master_uri_is_checked() -> None:

@@ -15,7 +15,13 @@ from dataclasses import replace
 from typing import Any
 
 from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
-from pico_studio.cli.run_sources import check_source_args, open_recorder, recorded, run_source
+from pico_studio.cli.run_sources import (
+    check_source_args,
+    make_perceptor,
+    open_recorder,
+    recorded,
+    run_source,
+)
 from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
 from pico_studio.core.behaviours.registry import is_behaviour
 from pico_studio.core.behaviours.registry import make_behaviour as make_core_behaviour
@@ -23,6 +29,7 @@ from pico_studio.core.config import load_config
 from pico_studio.errors import UserError
 from pico_studio.session import Action, Session
 from pico_studio.sim import Simulator
+from pico_studio.sim.scoring import run_scored
 from pico_studio.sources import SOURCE_HELP, parse_source
 
 # name -> factory(argument text after "name:", or "") -> behaviour callable; others add theirs
@@ -64,6 +71,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--source", default="sim", help=SOURCE_HELP + " (default sim)")
     p.add_argument("--map", help="a JSON map or heightmap image (for --source sim)")
     p.add_argument("--record", metavar="FILE.bag", help="record the run as a ROS 1 bag (laser, odometry, base references, true pose)")
+    p.add_argument("--no-perceptor", action="store_true", help="recordings and robot: only read (and record), no perception")
     p.add_argument("--sim-config", help="the official simulator's config JSON (start pose, moving objects, ...)")
     p.add_argument("--config", help="a pico_studio config YAML (partial files merge over the defaults)")
     p.add_argument("--seed", type=int, help="random seed (default: sim.seed of the config)")
@@ -72,6 +80,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--behaviour", default="idle", help="idle | drive:VX,VY,VA | escape-room | room-finder | hospital[:I,J,K] (default idle)")
     p.add_argument("--realtime", action="store_true", help="pace to wall-clock time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--localise", action="store_true",
+                   help="run the perceptor and localisation on the map; report the pose error against the truth")
     p.set_defaults(func=_run)
 
 
@@ -94,14 +104,25 @@ def _run(args: argparse.Namespace) -> int:
         return 0
     behaviour = make_behaviour(args.behaviour)
     if spec.kind != "sim":
+        if args.localise:
+            raise UserError("needs the simulator (--source sim): a map and the true pose", field="--localise")
         return run_source(args, spec, cfg, behaviour)
     params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
-    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
+    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
-    session = Session(sim, behaviour=behaviour, recorder=recorder, history=1)
+    perceptor = make_perceptor(cfg)
+    session = Session(sim, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
+    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
+    localising = _localising(cfg, sim) if args.localise else None
+    session = Session(sim, perceptor=localising, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
+    scores = None
     try:
-        steps = session.run(10.0 if args.seconds is None else args.seconds, args.dt or 0.05)
+        seconds, dt = 10.0 if args.seconds is None else args.seconds, args.dt or 0.05
+        if perceptor is None:
+            steps = session.run(seconds, dt)
+        else:  # the perceptor's figures against the simulator's truth, every scan
+            steps, scores = run_scored(session, sim, seconds, dt)
     finally:
         record = recorded(recorder)
     wall = time.perf_counter() - t0
@@ -118,7 +139,10 @@ def _run(args: argparse.Namespace) -> int:
         "true_pose": list(sim.truth.pose),
         "odom_pose": list(odom),
         "recorded": record,
+        "perceptor": scores.summary() if scores is not None else None,
     }
+    if localising is not None:
+        result["localisation"] = localising.score.summary()
     if args.json:
         print(json.dumps(result))
         return 0
@@ -128,4 +152,26 @@ def _run(args: argparse.Namespace) -> int:
     print(f"  distance {sim.truth.distance:.3f} m, collisions {sim.truth.collisions}")
     if record:
         print(f"  recorded {record['file']}: {record['messages']}")
+    if scores is not None:
+        r = result["perceptor"]
+        print(f"  perceptor over {r['frames']} scans: walls P {r['wall_precision']:.3f} R {r['wall_recall']:.3f}, "
+              f"doors P {r['door_precision']:.3f} R {r['door_recall']:.3f}, corners P {r['corner_precision']:.3f} "
+              f"R {r['corner_recall']:.3f}, convexity {r['convexity_accuracy']:.3f}, "
+              f"pose error {r['pose_error_m']:.3f} m, {r['ms_per_scan']:.2f} ms/scan")
+    if localising is not None:
+        from pico_studio.core.localisation.score import summary_line
+
+        print("  localisation " + summary_line(result["localisation"]))
     return 0
+
+
+def _localising(cfg: Any, sim: Simulator) -> Any:
+    """The perceptor with localisation on the simulator's map, scored against its truth; the
+    prior is the sim config's start pose when it has one, else the map's start area."""
+    from pico_studio.core.localisation import Localiser
+    from pico_studio.core.localisation.stage import LocalisingPerceptor
+    from pico_studio.core.perception import Perceptor
+
+    localiser = Localiser(cfg.localisation, sim.world.map, sim.sim_config.initial_pose)
+    return LocalisingPerceptor(Perceptor(cfg.perception), localiser, truth=lambda: sim.truth.pose)
+

@@ -15,6 +15,7 @@ import time
 from typing import Any
 
 from pico_studio.core.config import Config
+from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
 from pico_studio.session import Session
 from pico_studio.sources import SourceSpec, open_source
@@ -37,19 +38,15 @@ def recorded(recorder: BagRecorder | None) -> dict[str, Any] | None:
     return {"file": str(recorder.path), "messages": dict(sorted(recorder.counts.items()))}
 
 
-def make_perceptor(cfg: Config) -> Any:
-    try:
-        from pico_studio.core.perception import Perceptor
-    except ImportError:  # the perceptor is not part of this build yet
-        return None
-    return Perceptor(cfg.perception)  # type: ignore[attr-defined]
+def make_perceptor(cfg: Config) -> Perceptor:
+    return Perceptor(cfg.perception)
 
 
 def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviour: Any) -> int:
     """Run a replay or the live robot; print the report (one JSON object with --json)."""
     source = open_source(spec, cfg.sources)
     recorder = open_recorder(args, cfg)
-    perceptor = make_perceptor(cfg)
+    perceptor = None if args.no_perceptor else make_perceptor(cfg)
     t0 = time.perf_counter()
     try:
         if spec.kind == "ros":

@@ -65,6 +65,8 @@ class World:
     # ----- dynamics -------------------------------------------------------------------------
     def update(self, dt: float, robot_xy: tuple[float, float]) -> None:
         """Move doors and objects on by `dt` seconds."""
+        if not self.doors and not self.moving:
+            return
         changed = False
         for d in self.doors:
             if d.moving:

@@ -34,6 +34,7 @@ from pico_studio.ui.colour import line_uniform
 from pico_studio.ui.config_panel import ConfigPanel
 from pico_studio.ui.inspect import measure_text, nearest_feature, ray_to_ground
 from pico_studio.ui.layers import SceneLayers
+from pico_studio.ui.recording_panel import RecordingControls, source_status
 from pico_studio.ui.runtime import BEHAVIOURS, Studio
 from pico_studio.ui.scene_data import LAYERS, frame_prims, map_prims
 from pico_studio.ui.sources import example_maps, load_any_map
@@ -97,6 +98,7 @@ class StudioApp:
         self._stop.set()
         if self._thread is not None:
             self._thread.join(timeout=2.0)
+        self.recording.recorder.stop()
         self.server.stop()
 
     # ----- errors -------------------------------------------------------------------------------
@@ -172,6 +174,7 @@ class StudioApp:
             self.timeline.value = min(pos, max(1, n - 1))
         self.metrics_md.content = self._metrics_text(metrics)
         self.status_md.content = status
+        self.recording.refresh()
         if robot is not None and self.follow.value:
             self._follow(robot[:2])
 
@@ -183,7 +186,8 @@ class StudioApp:
         live = "live" if s.cursor is None else f"timeline frame {frame.index}"
         if getattr(frame.wm, "too_close", False):
             live += " · **too close!**"
-        return f"**{s.map_name}** · {state} · {live} · t = {frame.time:.2f} s · behaviour: {frame.behaviour_state or s.behaviour_name}"
+        source = source_status(s)
+        return f"**{s.map_name}** · {state} · {live} · t = {frame.time:.2f} s · behaviour: {frame.behaviour_state or s.behaviour_name}" + (f" · {source}" if source else "")
 
     def _metrics_text(self, m: dict[str, Any]) -> str:
         lines = []
@@ -312,6 +316,7 @@ class StudioApp:
         self.timeline = gui.add_slider("Timeline", 0, 1, 1, 0, hint="Scrub the recorded frames (pauses); each is re-processed with the current config")
         live = gui.add_button("Back to live", icon=viser.Icon.PLAYER_SKIP_FORWARD)
         self.metrics_md = gui.add_markdown("")
+        self.recording = RecordingControls(s, gui, self.export_dir, lambda: (self._sync_play_button(), self.redraw()), self._guard)
 
         self.play.on_click(self._guard("play/pause", self._on_play))
         step.on_click(self._guard("step", self._on_step))

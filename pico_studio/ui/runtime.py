@@ -101,6 +101,9 @@ class Studio:
         """A fresh source (new simulator from the current config), perceptor and timeline."""
         with self.lock:
             bundle = self._make_source(self.cfg, self.global_map)
+            old_close = getattr(getattr(self, "source", None), "close", None)
+            if callable(old_close):  # the live robot's topics, a simulator's threads
+                old_close()
             self.bundle = bundle
             self.source = bundle.source
             ui = self.cfg.ui

@@ -15,7 +15,8 @@ bubbleRobot overrides any state when something comes closer than the bubble.
 
 The entrance is the robot-frame opening found by `find_openings` from the raw scan (a range
 jump whose near corner has a far-side point 0.5-1.3 m away: the mouth's two corners), or the
-world model's `entrance` (angle, distance) when `source="world_model"` finds one.
+world model's `entrance` (angle, distance) with `entrance_source: world_model` (its mouth
+direction is then taken as the bearing).
 """
 
 from __future__ import annotations
@@ -86,11 +87,11 @@ def find_openings(points: np.ndarray, gap_min: float, gap_max: float,
 class EscapeRoom(BehaviourBase):
     name = "escape-room"
 
-    def __init__(self, params: BehaviourParams, source: str = "laser"):
+    def __init__(self, params: BehaviourParams):
         super().__init__(params.common)
         self.p = params.escape_room
         self.bubble = Bubble(params.bubble, params.common)
-        self.source = source
+        self.source = self.p.entrance_source
         self._state = "scan"
         self._detections: list[Opening] = []  # odometry frame
         self._scan_steps = 0

@@ -5,7 +5,7 @@ States:
               cabinet; no path: try once more without the remembered obstacles, then give up
     drive     follow the plan (pure pursuit, `lookahead` ahead); ask doors on the plan to open
               when one is within `door_request_distance`; something not on the map within
-              `blocked_distance` along the plan: blocked
+              `blocked_distance` along the plan and within `path_clearance` of it: blocked
     blocked   stand still for `blocked_wait` s (people and carts move on; a door slides
               away), then replan round what is still there (at most `max_replans` times)
     face      turn to face the cabinet's front
@@ -107,9 +107,9 @@ class HospitalTour(BehaviourBase):
         self._path = np.zeros((0, 2))
         self._obstacles = np.zeros((0, 2))
         self._blocked_since: float | None = None
-        self._replans = 0
+        self._replans = 0  # for the current target
+        self.replans_total = 0
         self._arrived_at: float | None = None
-        self._goal_objects: list[np.ndarray] = []
 
     @property
     def frame(self) -> str:
@@ -237,7 +237,7 @@ class HospitalTour(BehaviourBase):
         if len(pts) == 0:
             return False
         gaps = np.hypot(*(pts[:, None, :] - close[None, :, :]).transpose(2, 0, 1))
-        return bool(gaps.min() < self.p.inflation)
+        return bool(gaps.min() < self.p.path_clearance)
 
     def _blocked(self, pose: Pose, now: float) -> Command:
         assert self._blocked_since is not None
@@ -245,13 +245,20 @@ class HospitalTour(BehaviourBase):
         if not self._path_blocked(pose):
             self._state = "drive"
             return Command(open_door=door)
-        if now - self._blocked_since < self.p.blocked_wait or (door and now - self._blocked_since < 3 * self.p.blocked_wait):
+        seen = self._unmapped_points(pose)
+        # an obstacle already waited for (a new side of it came into view): replan at once
+        known = len(self._obstacles) > 0 and len(seen) > 0 and bool(
+            np.hypot(*(seen[:, None, :] - self._obstacles[None, ::4, :]).transpose(2, 0, 1)).min() < 0.3)
+        waited = now - self._blocked_since
+        if not known and (waited < self.p.blocked_wait or (door and waited < 3 * self.p.blocked_wait)):
             return Command(open_door=door)
         self._replans += 1
+        self.replans_total += 1
         if self._replans > self.p.max_replans:
             self.give_up(f"blocked {self._replans} times on the way to {self.map.object_key[:-1]} {self.order[self._k]}")
             return Command()
-        self._obstacles = self._unmapped_points(pose)
+        # remember what blocked us (what moved away is forgotten at the next cabinet)
+        self._obstacles = np.vstack([self._obstacles, seen])[-2000:]
         self._state = "plan"
         return Command()
 
@@ -282,5 +289,5 @@ class HospitalTour(BehaviourBase):
     def result(self) -> dict[str, Any]:
         out = super().result()
         out["order"] = list(self.order)
-        out["replans"] = self._replans
+        out["replans"] = self.replans_total
         return out

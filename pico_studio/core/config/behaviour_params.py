@@ -35,6 +35,8 @@ class BubbleParams:
 
 @dataclass(frozen=True)
 class EscapeRoomParams:
+    entrance_source: str = param("laser", choices=("laser", "world_model"),
+                                 help="Where the entrance comes from: the behaviour's own gap finder on the raw scan, or the perceptor's WorldModel.entrance")
     scan_step: float = param(0.5236, lo=0.1, hi=1.6, step=0.01, unit="rad",
                              help="Rotate this much (30 deg) between scans when no entrance is seen")
     scans_to_confirm: int = param(3, lo=1, hi=20, step=1, unit="scans",
@@ -149,10 +151,12 @@ class HospitalParams:
                                   help="Facing the cabinet within this angle")
     blocked_distance: float = param(0.45, lo=0.1, hi=2.0, step=0.01, unit="m",
                                     help="An unmapped obstacle this close along the plan blocks it")
+    path_clearance: float = param(0.22, lo=0.05, hi=1.0, step=0.01, unit="m",
+                                  help="An unmapped point closer than this to the plan blocks it")
     blocked_wait: float = param(2.0, lo=0.0, hi=30.0, step=0.5, unit="s",
                                 help="Wait this long for a blocker to move before replanning round it")
-    obstacle_radius: float = param(0.35, lo=0.05, hi=2.0, step=0.05, unit="m",
-                                   help="Mark laser points this much around as blocked when replanning")
+    obstacle_radius: float = param(0.1, lo=0.0, hi=2.0, step=0.01, unit="m",
+                                   help="When replanning, block unmapped laser points by the inflation plus this")
     map_match: float = param(0.15, lo=0.02, hi=1.0, step=0.01, unit="m",
                              help="Laser points within this of a mapped wall/object/door are on the map")
     door_request_distance: float = param(0.9, lo=0.2, hi=2.0, step=0.05, unit="m",

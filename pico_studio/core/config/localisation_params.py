@@ -29,7 +29,7 @@ class PriorParams:
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
         help="Half-width of the square searched around a given pose (a start area uses its own extent)",
     )
-    heading_known: bool = param(False, help="Whether the initial heading is known")
+    heading_known: bool = param(False, help="Whether the configured heading (a) is known; a sim config's pose always gives it")
     heading_uncertainty: float = param(
         0.35, lo=0.0, hi=math.pi, step=0.01, unit="rad",
         help="Half-range searched around a known initial heading",

@@ -161,7 +161,7 @@ class MergeParams:
         help="...and whose extents along the line overlap or leave a gap below this",
     )
     connect_radius: float = param(
-        0.2, lo=0.0, hi=2.0, step=0.01, unit="m",
+        0.12, lo=0.0, hi=2.0, step=0.01, unit="m",
         help="End points of two walls closer than this (to the lines' crossing) are connected into a corner",
     )
     connect_min_angle: float = param(
@@ -177,10 +177,10 @@ class MergeParams:
         help="Weight of the previous estimate of a wall or corner against one new scan, at most",
     )
     confirm_hits: int = param(
-        2, lo=1, hi=100, step=1, help="A wall is shown once it was seen in this many scans",
+        1, lo=1, hi=100, step=1, help="A wall is shown once it was seen in this many scans",
     )
     unconnected_hits: int = param(
-        3, lo=1, hi=1000, step=1,
+        2, lo=1, hi=1000, step=1,
         help="A wall connected to nothing is only kept once seen in this many scans",
     )
     tentative_life: int = param(
@@ -213,12 +213,16 @@ class IdentifyParams:
         1.3, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at most this wide",
     )
     door_angle: float = param(
-        0.2, lo=0.0, hi=1.0, step=0.01, unit="rad",
-        help="The two walls of a door are parallel within this",
+        0.3, lo=0.0, hi=1.0, step=0.01, unit="rad",
+        help="A door continues its wall's direction within this",
     )
     door_offset: float = param(
-        0.1, lo=0.0, hi=1.0, step=0.01, unit="m",
-        help="...and each door point lies within this of the other wall's line",
+        0.25, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="...and its far point lies within this of that wall's line (about a wall's thickness)",
+    )
+    door_wall_min_length: float = param(
+        0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
+        help="The wall a door continues is at least this long (a cabinet's side is no door frame)",
     )
     facing_distance: float = param(
         1.3, lo=0.1, hi=5.0, step=0.01, unit="m",

@@ -7,10 +7,11 @@ looks into it — and *convex* when the corner points at the robot. A wall end o
 of another wall (a T) is concave. A free end the laser looked past (a jamb, a wall's end)
 is convex.
 
-Doors: two convex points of different walls, the walls parallel within `door_angle`, each
-point within `door_offset` of the other wall's line, the gap within [door_min_width,
-door_max_width], each point the end of its wall facing the other, and no wall across the
-gap. Possible doors (seed 001), with the same width range: a convex point and a loose
+Doors: two convex points P, Q of different walls, the gap within [door_min_width,
+door_max_width] and no wall across it; the gap continues P's wall (Q ahead of P's end, within
+`door_angle` of its direction and `door_offset` of its line), and Q's wall comes back along
+that line towards P (the two walls in one line, seed 001) or stands across it (the end cap
+of a thick wall seen from the side while the face beyond the gap is out of view). Possible doors (seed 001), with the same width range: a convex point and a loose
 (floating) end, two loose ends, or a loose end whose wall, continued, hits another wall
 within `facing_distance`.
 """
@@ -114,17 +115,40 @@ def _doors(
     collinear = parallel & (off < params.door_offset) & (off.T < params.door_offset)
     different = wi[:, None] != wi[None, :]
     linked = connected[wi[:, None], we[:, None]] == wi[None, :]
-    pair = np.triu(width_ok & collinear & facing & different & ~linked, 1)
+    base = width_ok & different & ~linked
+    # door: the gap continues wall i's line (Q ahead of P on it), and Q's wall either comes
+    # back along that line towards P or stands across it (the end cap of a thick wall seen
+    # from the side, when the face beyond the gap is out of view)
+    u = pq / np.maximum(dist, 1e-12)[..., None]
+    along_i = np.abs((u * out_dir[:, None, :]).sum(-1)) > np.cos(params.door_angle)
+    ahead_i = (pq * out_dir[:, None, :]).sum(-1) > 0
+    wall_len = np.hypot(walls[wi, 2] - walls[wi, 0], walls[wi, 3] - walls[wi, 1])
+    line_i = along_i & ahead_i & (off < params.door_offset)
+    line_i &= (wall_len >= params.door_wall_min_length)[:, None]
+    back_j = (-u * out_dir[None, :, :]).sum(-1) > np.cos(params.door_angle)
+    across_j = np.abs((u * out_dir[None, :, :]).sum(-1)) < np.sin(params.door_angle)
+    door_ij = line_i & (back_j | across_j)
+    both_convex = is_convex[:, None] & is_convex[None, :]
+    door_pair = np.triu(base & both_convex & (door_ij | door_ij.T), 1)
+    pair = np.triu(base & collinear & facing & ~both_convex, 1)
     doors: list[np.ndarray] = []
     possible: list[np.ndarray] = []
     kinds: list[str] = []
+    # best aligned first; a later door from the same point in about the same direction is
+    # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
+    di, dj = np.nonzero(door_pair)
+    order = np.argsort(np.minimum(off[di, dj], off[dj, di]))
+    for i, j in zip(di[order].tolist(), dj[order].tolist(), strict=True):
+        seg = np.concatenate([pts[i], pts[j]])
+        if any(_same_opening(seg, d) for d in doors):
+            continue
+        if not _blocked(seg, walls, {int(wi[i]), int(wi[j])}):
+            doors.append(seg)
     for i, j in zip(*np.nonzero(pair), strict=True):
         seg = np.concatenate([pts[i], pts[j]])
         if _blocked(seg, walls, {int(wi[i]), int(wi[j])}):
             continue
-        if is_convex[i] and is_convex[j]:
-            doors.append(seg)
-        elif is_convex[i] or is_convex[j]:
+        if is_convex[i] or is_convex[j]:
             possible.append(seg)
             kinds.append("convex_loose")
         else:
@@ -151,6 +175,18 @@ def _doors(
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
     return d, p, kinds
+
+
+def _same_opening(a: np.ndarray, b: np.ndarray, max_angle: float = 0.5, tol: float = 1e-6) -> bool:
+    """Two gaps from one point (either end) leaving in about the same direction."""
+    for pa, qa in ((a[0:2], a[2:4]), (a[2:4], a[0:2])):
+        for pb, qb in ((b[0:2], b[2:4]), (b[2:4], b[0:2])):
+            if np.abs(pa - pb).max() < tol:
+                u, v = qa - pa, qb - pb
+                cos = float(u @ v) / max(float(np.hypot(*u) * np.hypot(*v)), 1e-12)
+                if cos > np.cos(max_angle):
+                    return True
+    return False
 
 
 def _blocked(seg: np.ndarray, walls: np.ndarray, own: set[int]) -> bool:

@@ -98,16 +98,16 @@ def merge(
     new = transform_segments(segs.segments, pose)
     new_real = segs.end_kind != END_FLOATING  # a corner of the scan or a seen free end
     new_seen = segs.end_kind == END_SEEN
-    matched = np.zeros(len(w.walls), dtype=bool)
     if len(new):
         target = _associate(w.walls, new, params) if len(w.walls) else np.full(len(new), -1)
-        for j in np.flatnonzero(target >= 0):
-            i = int(target[j])
-            _fuse(w, i, new[j], new_real[j], new_seen[j], params)
-            matched[i] = True
+        todo = np.flatnonzero(target >= 0)
+        while len(todo):  # a wall seen in two pieces fuses them one after the other
+            _, first = np.unique(target[todo], return_index=True)
+            now = todo[first]
+            _fuse(w, target[now], new[now], new_real[now], new_seen[now], params)
+            todo = np.setdiff1d(todo, now)
         fresh = target < 0
         w.add(new[fresh], new_seen[fresh])
-        matched = np.concatenate([matched, np.ones(int(fresh.sum()), dtype=bool)])
     _merge_local(w, params)
     _see_through(w, pose, scan, params)
     connected = _connect(w, params)
@@ -170,41 +170,37 @@ def _associate(walls: np.ndarray, new: np.ndarray, params: MergeParams) -> np.nd
 # ----- 2. fusion -----------------------------------------------------------------------------
 
 
-def _fuse(w: _Work, i: int, seg: np.ndarray, real: np.ndarray, seen: np.ndarray, params: MergeParams) -> None:
+def _fuse(w: _Work, i: np.ndarray, seg: np.ndarray, real: np.ndarray, seen: np.ndarray, params: MergeParams) -> None:
+    """Fuse new walls seg (K, 4) into local walls i (K,) (distinct), all at once."""
     old = w.walls[i]
     d_old, _ = _dir(old)
     d_new, _ = _dir(seg)
-    if d_new @ d_old < 0:  # orient the new wall like the old one
-        seg = np.concatenate([seg[2:4], seg[0:2]])
-        d_new = -d_new
-        real = real[::-1]
-        seen = seen[::-1]
-    wo = min(w.hits[i], params.max_weight)
-    a_old = math.atan2(d_old[1], d_old[0])
-    da = math.atan2(d_old[0] * d_new[1] - d_old[1] * d_new[0], d_old @ d_new)
-    ang = a_old + da / (wo + 1.0)
-    d = np.array([math.cos(ang), math.sin(ang)])
-    nrm = np.array([-d[1], d[0]])
-    rho = (wo * (nrm @ (old[0:2] + old[2:4]) / 2) + nrm @ (seg[0:2] + seg[2:4]) / 2) / (wo + 1.0)
-    origin = rho * nrm
-    a0, a1 = (old[0:2] - origin) @ d, (old[2:4] - origin) @ d
-    b0, b1 = (seg[0:2] - origin) @ d, (seg[2:4] - origin) @ d
-    ends = [a0, a1]
-    for e, (a, b, sign) in enumerate(((a0, b0, -1.0), (a1, b1, 1.0))):
-        beyond = sign * (b - a)  # > 0: the new wall reaches past the old end
-        if real[e] and beyond > -params.gap:
-            # a real end (seen past, or a corner of the scan) near the old end: it wins over
-            # a floating old end that is shorter, else pulls the old end by the weights
-            if beyond > params.gap or (beyond >= 0 and not w.seen_end[i, e]):
-                ends[e] = b
-            else:
-                ends[e] = (wo * a + b) / (wo + 1.0)
-            w.seen_end[i, e] = bool(seen[e])
-        elif beyond > 0:  # a floating end only extends the wall
-            ends[e] = b
-            if beyond > params.gap:
-                w.seen_end[i, e] = False
-    w.walls[i] = np.concatenate([origin + ends[0] * d, origin + ends[1] * d])
+    flip = (d_new * d_old).sum(axis=1) < 0  # orient each new wall like its old one
+    seg = np.where(flip[:, None], seg[:, [2, 3, 0, 1]], seg)
+    d_new = np.where(flip[:, None], -d_new, d_new)
+    real = np.where(flip[:, None], real[:, ::-1], real)
+    seen = np.where(flip[:, None], seen[:, ::-1], seen)
+    wo = np.minimum(w.hits[i], params.max_weight)
+    da = np.arctan2(d_old[:, 0] * d_new[:, 1] - d_old[:, 1] * d_new[:, 0], (d_old * d_new).sum(axis=1))
+    ang = np.arctan2(d_old[:, 1], d_old[:, 0]) + da / (wo + 1.0)
+    d = np.column_stack([np.cos(ang), np.sin(ang)])
+    nrm = np.column_stack([-d[:, 1], d[:, 0]])
+    mid_old = (old[:, 0:2] + old[:, 2:4]) / 2
+    mid_new = (seg[:, 0:2] + seg[:, 2:4]) / 2
+    rho = (wo * (nrm * mid_old).sum(1) + (nrm * mid_new).sum(1)) / (wo + 1.0)
+    origin = rho[:, None] * nrm
+    a = np.column_stack([((old[:, 0:2] - origin) * d).sum(1), ((old[:, 2:4] - origin) * d).sum(1)])
+    b = np.column_stack([((seg[:, 0:2] - origin) * d).sum(1), ((seg[:, 2:4] - origin) * d).sum(1)])
+    beyond = (b - a) * np.array([-1.0, 1.0])  # > 0: the new wall reaches past the old end
+    old_seen = w.seen_end[i]
+    blend = (wo[:, None] * a + b) / (wo[:, None] + 1.0)
+    # a real end (seen past, or a corner of the scan) near the old end wins over a shorter
+    # floating old end, else pulls the old end by the weights; a floating end only extends
+    near_real = real & (beyond > -params.gap)
+    take_new = (beyond > params.gap) | ((beyond >= 0) & ~old_seen)
+    ends = np.where(near_real, np.where(take_new, b, blend), np.where(beyond > 0, b, a))
+    w.seen_end[i] = np.where(near_real, seen, np.where(beyond > params.gap, False, old_seen))
+    w.walls[i] = np.column_stack([origin + ends[:, 0:1] * d, origin + ends[:, 1:2] * d])
     w.hits[i] += 1
     w.last_seen[i] = w.step
     w.missed[i] = 0

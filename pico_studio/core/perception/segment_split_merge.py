@@ -9,12 +9,17 @@ all pieces of all clusters at once:
     split piece k at argmax_i d_i  when  max_i d_i > split_distance
 
 so the cost is a few numpy passes per level (about log2 of the points per wall), not a
-Python call per piece. The *merge* half (joining neighbours that turn out collinear after
-the least-squares refit) is shared by every segmenter, in segment.py.
+Python call per piece (`split_numpy`). That recursion is Douglas-Peucker polyline
+simplification, which OpenCV runs in C++ (`cv2.approxPolyDP`, open curves): `split` uses it
+per cluster, three times faster, and recovers the vertices' indices by matching their exact
+float32 coordinates; the two agree (tests/test_perception_scan.py). The *merge* half
+(joining neighbours that turn out collinear after the least-squares refit) is shared by
+every segmenter, in segment.py.
 """
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 
 from pico_studio.core.config.perception_params import SplitMergeParams
@@ -24,6 +29,25 @@ MAX_LEVELS = 64  # a safety bound: each level at least halves... or splits off o
 
 def split(points: np.ndarray, clusters: np.ndarray, params: SplitMergeParams) -> np.ndarray:
     """(S, 2) int: inclusive [first, last] point index of every piece, in scan order."""
+    pts32 = np.ascontiguousarray(points, dtype=np.float32)
+    out: list[np.ndarray] = []
+    for a, b in clusters.tolist():
+        if b - a < 2:
+            continue
+        chunk = pts32[a:b]
+        v = cv2.approxPolyDP(chunk.reshape(-1, 1, 2), params.split_distance, False).reshape(-1, 2)
+        # the vertices are copies of input points: find them by their exact coordinates
+        idx = np.flatnonzero(np.isin(chunk.view(np.complex64).ravel(), v.view(np.complex64).ravel()))
+        if len(idx) != len(v):  # duplicate points: do this cluster the numpy way
+            out.append(split_numpy(points, np.array([[a, b]]), params))
+            continue
+        idx += a
+        out.append(np.column_stack([idx[:-1], idx[1:]]))
+    return np.vstack(out).astype(np.int64) if out else np.zeros((0, 2), dtype=np.int64)
+
+
+def split_numpy(points: np.ndarray, clusters: np.ndarray, params: SplitMergeParams) -> np.ndarray:
+    """The same split, every level of the recursion vectorised over all pieces."""
     if len(clusters) == 0:
         return np.zeros((0, 2), dtype=np.int64)
     m = len(points)

@@ -1,0 +1,132 @@
+"""Perceptor speed on simulated 1000-beam scans of hospital_2019: per stage and the whole step.
+
+Scans: the simulator at random free poses (seeded), the robot turning slowly at each, so the
+local map is realistic. Each recorded sequence is then perceived `--repeats` times; the
+figure per stage is the median over all steps of all repeats. Segmentation alone (scan
+stage + segmenter + refit) is timed per segmenter and reported as scans per second. The
+peer for split-and-merge is OpenCV's `cv2.approxPolyDP` (Douglas-Peucker in C++) per
+cluster, the same split, timed in the same process.
+
+    python benchmarks/bench_perception.py [--poses 10] [--frames 20] [--repeats 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from pico_studio.cli.eval_cmd import random_free_poses
+from pico_studio.core.config import Config, with_value
+from pico_studio.core.perception import STAGES, Perceptor
+from pico_studio.core.perception.scan import process_scan
+from pico_studio.core.perception.segment import finish_pieces, segment_scan
+from pico_studio.session import Action, Session
+from pico_studio.sim import Simulator
+from pico_studio.sim.simulator import load_any_map
+
+ROOT = Path(__file__).resolve().parents[1]
+MAP = ROOT / "pico_studio" / "data" / "maps" / "hospital_2019.json"
+
+
+def record(poses: int, frames: int, seed: int) -> list[list[tuple]]:
+    cfg = Config()
+    gmap = load_any_map(MAP)
+    world = Simulator(gmap, cfg.sim, seed=seed).world
+    starts = random_free_poses(world.static, world.objects, poses, 0.4, np.random.default_rng(seed), gmap.bounds)
+    runs = []
+    for k, pose in enumerate(starts):
+        sim = Simulator(gmap, cfg.sim, seed=seed + k, initial_pose=pose)
+        session = Session(sim, behaviour=lambda f, wm: Action(0.05, 0.0, 0.4), history=1)
+        seq = []
+        for _ in range(frames):
+            session.tick(0.05)
+            seq.append((session.last_laser, session.last_odometry))
+        runs.append(seq)
+    return runs
+
+
+def time_steps(runs: list[list[tuple]], params, repeats: int) -> dict[str, list[float]]:
+    out: dict[str, list[float]] = {s: [] for s in (*STAGES, "step")}
+    for _ in range(repeats):
+        for seq in runs:
+            p = Perceptor(params)
+            for laser, odom in seq:
+                t0 = time.perf_counter()
+                wm = p.step(laser, odom)
+                out["step"].append((time.perf_counter() - t0) * 1000)
+                for s in STAGES:
+                    out[s].append(wm.timings_ms.get(s, 0.0))
+    return out
+
+
+def time_segmentation(scans: list, params, repeats: int) -> float:
+    """Median ms per scan of scan processing + segmentation + refit."""
+    times = []
+    for _ in range(repeats):
+        for laser in scans:
+            t0 = time.perf_counter()
+            scan, _ = process_scan(laser, params.scan, params.proximity)
+            segment_scan(scan, params)
+            times.append((time.perf_counter() - t0) * 1000)
+    return statistics.median(times)
+
+
+def time_opencv_peer(scans: list, params, repeats: int) -> float:
+    """The same split done by cv2.approxPolyDP per cluster (vertex indices recovered)."""
+    eps = params.split_merge.split_distance
+    times = []
+    for _ in range(repeats):
+        for laser in scans:
+            t0 = time.perf_counter()
+            scan, _ = process_scan(laser, params.scan, params.proximity)
+            pts32 = scan.points.astype(np.float32)
+            pieces = []
+            for a, b in scan.clusters.tolist():
+                if b - a < 2:
+                    continue
+                chunk = pts32[a:b]
+                v = cv2.approxPolyDP(chunk.reshape(-1, 1, 2), eps, False).reshape(-1, 2)
+                idx = a + np.flatnonzero(np.isin(chunk.view(np.complex64).ravel(), v.view(np.complex64).ravel()))
+                pieces += list(zip(idx[:-1].tolist(), idx[1:].tolist(), strict=True))
+            finish_pieces(scan, np.array(pieces, dtype=np.int64).reshape(-1, 2), params)
+            times.append((time.perf_counter() - t0) * 1000)
+    return statistics.median(times)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--poses", type=int, default=10)
+    ap.add_argument("--frames", type=int, default=20)
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args()
+    runs = record(args.poses, args.frames, args.seed)
+    n = sum(len(r) for r in runs)
+    beams = len(runs[0][0][0].ranges)
+    print(f"hospital_2019: {n} simulated scans of {beams} beams, {args.repeats} repeats")
+    cfg = Config()
+    timings = time_steps(runs, cfg.perception, args.repeats)
+    print("\nsplit_merge (default), median ms per scan per stage:")
+    for s in (*STAGES, "step"):
+        print(f"  {s:13s} {statistics.median(timings[s]):8.3f} ms")
+    step = statistics.median(timings["step"])
+    print(f"  whole step: {1000 / step:.0f} scans/s ({1000 / step / 20:.0f}x the 20 Hz loop)")
+    scans = [laser for seq in runs for laser, _ in seq]
+    print("\nsegmentation alone (filter, resample, cluster, segment, refit):")
+    for name in ("split_merge", "angle", "ransac"):
+        params = with_value(cfg, "perception.scan.segmenter", name).perception
+        ms = time_segmentation(scans, params, args.repeats)
+        print(f"  {name:12s} {ms:7.3f} ms  {1000 / ms:7.0f} scans/s")
+    ours = time_segmentation(scans, cfg.perception, args.repeats)
+    peer = time_opencv_peer(scans, cfg.perception, args.repeats)
+    print(f"  split_merge vs cv2.approxPolyDP per cluster: {ours:.3f} ms vs {peer:.3f} ms "
+          f"(ratio {peer / ours:.2f})")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,88 @@
+"""Scoring against known answers, and the done-when bar of `pico-studio eval` on hospital_2019."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from pico_studio.cli import main
+from pico_studio.cli.eval_cmd import evaluate
+from pico_studio.sim.scoring import FrameScore, RunScore, Tolerances, score_arrays
+
+SQ = np.array([[0, 0, 4, 0], [4, 0, 4, 4], [4, 4, 0, 4], [0, 4, 0, 0]], dtype=float)
+
+
+def _score(walls, doors=None, corners=None, convex=None):
+    doors = np.zeros((0, 4)) if doors is None else doors
+    corners = np.zeros((0, 2)) if corners is None else corners
+    convex = np.zeros(0, bool) if convex is None else convex
+    return score_arrays(
+        walls=walls, endpoint_property=np.full((len(walls), 2), 3), corners=corners,
+        corner_convex=convex, doors=doors, solid=SQ, visible_walls=SQ[:3],
+        true_vertices=SQ[:, :2], visible_corners=SQ[1:3, :2], visible_convex=np.array([False, False]),
+        openings=np.array([[1.0, 4.0, 2.0, 4.0]]), visible_doors=np.array([[1.0, 4.0, 2.0, 4.0]]),
+    )
+
+
+def test_wall_scores_are_length_weighted():
+    perfect = _score(SQ[:3])
+    assert perfect.wall_len_ok == pytest.approx(perfect.wall_len)
+    assert perfect.truth_len_ok == pytest.approx(12.0, abs=0.05)
+    # half of the walls found, plus a phantom wall of 2 m in the middle of the room
+    half = _score(np.array([[0, 0, 4, 0], [2, 1, 2, 3]], dtype=float))
+    s = RunScore([half]).summary()
+    assert s["wall_precision"] == pytest.approx(4 / 6, abs=0.02)
+    assert s["wall_recall"] == pytest.approx(4 / 12, abs=0.02)
+    # a wall at the right place but 45 degrees off is not that wall
+    skew = _score(np.array([[3.8, 0.2, 4.2, -0.2]]))
+    assert skew.wall_len_ok == 0
+
+
+def test_corner_and_door_matching():
+    s = _score(SQ[:3], doors=np.array([[1.05, 4.0, 1.95, 4.02], [3.0, 1.0, 3.0, 2.0]]),
+               corners=np.array([[4.02, 0.01], [3.98, 4.0], [2.0, 2.0]]), convex=np.array([False, True, False]))
+    r = RunScore([s]).summary()
+    assert r["door_precision"] == 0.5 and r["door_recall"] == 1.0
+    assert r["corner_precision"] == pytest.approx(2 / 3)
+    assert r["corner_recall"] == 1.0
+    assert r["convexity_accuracy"] == 0.5
+
+
+def test_empty_run_is_not_a_division_by_zero():
+    s = RunScore([FrameScore()]).summary()
+    assert s["wall_precision"] == 1.0 and s["door_recall"] == 1.0
+
+
+def test_hospital_bar_with_the_default_config(maps_dir):
+    r = evaluate(str(maps_dir / "hospital_2019.json"), poses=20, seed=0)
+    assert r["poses"] == 20 and r["doors_visible"] >= 15
+    assert r["wall_precision"] >= 0.95 and r["wall_recall"] >= 0.95
+    assert r["door_precision"] >= 0.9 and r["door_recall"] >= 0.9
+    assert r["convexity_accuracy"] >= 0.95
+    assert r["endpoint_error_m"] < 0.05
+
+
+def test_a_broken_perceptor_fails_the_bar(maps_dir, tmp_path):
+    cfg = tmp_path / "bad.yaml"
+    cfg.write_text("perception:\n  identify:\n    door_min_width: 2.0\n    door_max_width: 3.0\n"
+                   "  scan:\n    min_length: 2.0\n")
+    r = evaluate(str(maps_dir / "hospital_2019.json"), poses=5, seed=0, config=str(cfg))
+    assert r["door_recall"] < 0.5 and r["wall_recall"] < 0.9
+
+
+def test_eval_cli_json(maps_dir, capsys):
+    assert main(["eval", "--map", str(maps_dir / "hospital_2019.json"), "--poses", "2", "--frames", "5", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("wall_precision", "wall_recall", "endpoint_error_m", "corner_precision", "corner_recall",
+                "convexity_accuracy", "door_precision", "door_recall", "ms_per_scan"):
+        assert isinstance(out[key], float)
+
+
+def test_eval_cli_bad_input(maps_dir, capsys, tmp_path):
+    assert main(["eval", "--map", str(maps_dir / "hospital_2019.json"), "--poses", "0"]) == 2
+    assert "--poses" in capsys.readouterr().err
+    assert main(["eval", "--map", str(tmp_path / "missing.json")]) == 2
+    assert "missing.json" in capsys.readouterr().err
+    assert Tolerances().wall_distance > 0
