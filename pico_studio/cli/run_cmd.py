@@ -110,11 +110,9 @@ def _run(args: argparse.Namespace) -> int:
     params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
-    perceptor = make_perceptor(cfg)
-    session = Session(sim, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
-    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
     localising = _localising(cfg, sim) if args.localise else None
-    session = Session(sim, perceptor=localising, behaviour=behaviour, recorder=recorder, history=1)
+    perceptor = localising if localising is not None else make_perceptor(cfg)
+    session = Session(sim, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
     scores = None
     try:
