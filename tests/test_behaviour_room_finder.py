@@ -33,3 +33,18 @@ def test_empty_room_and_noise_below_the_jump_count_nothing():
     rng = np.random.default_rng(0)
     r = 1.4 + rng.uniform(-0.01, 0.01, 200)
     assert count_objects(r, 0.1, 5) == (0, 0)
+
+
+def test_nearest_wall_foot_skips_a_jamb_corner_for_the_wall_hit_square_on():
+    from pico_studio.core.behaviours.room_finder import nearest_wall_beam
+
+    n = 1000
+    angles = -2.0 + np.arange(n) * 4.0 / (n - 1)
+    # a wall 1.0 m ahead (x = 1), and a jamb corner at 0.8 m towards +0.6 rad: its two faces
+    with np.errstate(divide="ignore"):
+        r = np.where(np.cos(angles) > 0.05, 1.0 / np.cos(angles), np.inf)
+    corner = (angles > 0.5) & (angles < 0.7)
+    r[corner] = 0.8 + 0.5 * np.abs(angles[corner] - 0.6)
+    assert abs(angles[np.argmin(r)] - 0.6) < 0.01  # the plain minimum is the corner
+    i = nearest_wall_beam(angles, r, 1.5708)
+    assert i is not None and abs(angles[i]) < 0.05
