@@ -37,14 +37,15 @@ def test_empty_room_and_noise_below_the_jump_count_nothing():
 
 def test_nearest_wall_foot_skips_a_jamb_corner_for_the_wall_hit_square_on():
     from pico_studio.core.behaviours.room_finder import nearest_wall_beam
+    from pico_studio.sim.raycast import Fan
 
-    n = 1000
-    angles = -2.0 + np.arange(n) * 4.0 / (n - 1)
-    # a wall 1.0 m ahead (x = 1), and a jamb corner at 0.8 m towards +0.6 rad: its two faces
-    with np.errstate(divide="ignore"):
-        r = np.where(np.cos(angles) > 0.05, 1.0 / np.cos(angles), np.inf)
-    corner = (angles > 0.5) & (angles < 0.7)
-    r[corner] = 0.8 + 0.5 * np.abs(angles[corner] - 0.6)
-    assert abs(angles[np.argmin(r)] - 0.6) < 0.01  # the plain minimum is the corner
-    i = nearest_wall_beam(angles, r, 1.5708)
-    assert i is not None and abs(angles[i]) < 0.05
+    # facing a side room's opening (y -0.5..0.5 in the wall x = 1): its jamb corners are the
+    # nearest points; the nearest wall hit square on is the side wall y = -1.5
+    segs = np.array([[1, -3, 1, -0.5], [1, 0.5, 1, 3], [1, -0.5, 2, -0.5], [2, -0.5, 2, 0.5],
+                     [2, 0.5, 1, 0.5], [-3, -1.5, 1, -1.5]], dtype=float)
+    fan = Fan(-2.0, 4.0 / 999, 1000)
+    r = fan.cast(segs)
+    angles = -2.0 + np.arange(1000) * 4.0 / 999
+    assert abs(abs(angles[np.argmin(r)]) - np.arctan2(0.5, 1)) < 0.01  # plain minimum: a jamb
+    i = nearest_wall_beam(angles, r, 2.0)
+    assert i is not None and abs(angles[i] + np.pi / 2) < 0.05
