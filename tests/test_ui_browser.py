@@ -231,3 +231,19 @@ def test_click_on_a_wall_shows_its_numbers(app, page) -> None:
             break
     page.mouse.click(*px)
     page.get_by_text(re.compile(r"wall.*length .* m.*from the click")).first.wait_for(timeout=20000)
+
+
+def test_two_clicks_measure_a_distance(app, page) -> None:
+    page.get_by_role("tab", name="Tools").click()
+    input_of(page, "Click does").click()
+    page.get_by_role("option", name="measure").click()
+    assert wait_until(lambda: app.click_mode.value == "measure")
+    client = _client(app)
+    a, b = world_to_pixel(client, 1.0, 1.0), world_to_pixel(client, 3.0, 1.0)
+    page.mouse.click(*a)
+    page.get_by_text(re.compile("click the second")).first.wait_for(timeout=20000)
+    page.mouse.click(*b)
+    text = page.get_by_text(re.compile(r"distance \d+\.\d+ m")).first
+    text.wait_for(timeout=20000)
+    metres = float(re.search(r"distance (\d+\.\d+) m", text.inner_text()).group(1))
+    assert metres == pytest.approx(2.0, abs=0.05)  # one pixel is about 1 cm here

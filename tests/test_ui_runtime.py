@@ -213,7 +213,7 @@ def test_behaviour_target_and_plan_are_drawn_in_their_frame() -> None:
 
 
 def test_core_behaviours_run_on_the_page_and_their_plan_is_drawn() -> None:
-    s = Studio(Config(), load_json_map(DEFAULT_MAP), make_source_factory("sim", None, 2), behaviour="hospital")
+    s = Studio(Config(), load_json_map(DEFAULT_MAP), make_source_factory("sim", None, 2), behaviour="hospital:1,0")
     for _ in range(30):
         s.tick(0.05)
     frame = s.shown()

@@ -71,7 +71,8 @@ class StudioApp:
         self.tabs: dict[int, TabState] = {}
         self.layers = SceneLayers(self.server)
         self.layers.update(map_prims(studio.global_map))
-        self.update_ms: list[float] = []  # slider change -> layers sent, server side
+        self.update_ms: list[float] = []  # slider change -> layers sent, server side (wall)
+        self.update_cpu_ms: list[float] = []  # the same, CPU time of the callback's thread
         self.last_export: Path | None = None
         self._last_follow: tuple[float, float] | None = None
         self._stop = threading.Event()
@@ -184,6 +185,8 @@ class StudioApp:
         if frame is None:
             return f"**{s.map_name}** · {state} · no frame yet"
         live = "live" if s.cursor is None else f"timeline frame {frame.index}"
+        if getattr(frame.wm, "too_close", False):
+            live += " · **too close!**"
         source = source_status(s)
         return f"**{s.map_name}** · {state} · {live} · t = {frame.time:.2f} s · behaviour: {frame.behaviour_state or s.behaviour_name}" + (f" · {source}" if source else "")
 
@@ -460,7 +463,7 @@ class StudioApp:
 
     # ----- actions ----------------------------------------------------------------------------
     def _on_param(self, event: viser.GuiEvent, path: str) -> None:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.thread_time()
         try:
             self.studio.set_param(path, event.target.value)
         except UserError:
@@ -469,6 +472,7 @@ class StudioApp:
         self.redraw()
         self.server.flush()
         self.update_ms.append((time.perf_counter() - t0) * 1000.0)
+        self.update_cpu_ms.append((time.thread_time() - c0) * 1000.0)
         self._rescore()
 
     def _rescore(self) -> None:

@@ -2,8 +2,9 @@
 
 `Studio` is what the page drives. One `tick(dt)` is one `Session.tick` (advance the source,
 read, perceive, behave, send the base reference).
-Every frame goes on the timeline with the perceptor state before it, so `reprocess()` can re-run
-the (pure) perceptor on the frame under the cursor with the current parameters.
+Every frame goes on the timeline with the state before it (perceptor, and localisation tracker
+when there is a map), so `reprocess()` can re-run the pure perceptor and localisation on the
+frame under the cursor with the current parameters.
 
 Thread safety: the page's callbacks and the 20 Hz loop run on different threads; every public
 method takes `self.lock`.
@@ -54,19 +55,26 @@ class SourceBundle:
 
 SourceFactory = Callable[[Config, GlobalMap | None], SourceBundle]
 
-BehaviourFactory = Callable[[Config, GlobalMap | None, Pose | None], Any]
+BehaviourFactory = Callable[[str, Config, GlobalMap | None, Pose | None], Any]
 
 
 def behaviour_factories() -> dict[str, BehaviourFactory]:
     """Behaviours the page can run: the built-in wander and the core registry's, all objects
     with `step(world_model, laser, odometry, now, *, ok)` returning a command (vx, vy, va,
     optional open_door) and `state`, `target`, `plan`, `frame` for drawing (see
-    docs/ARCHITECTURE.md, the web UI). Factories get the config, the map and the robot's
-    map pose now (when known)."""
-    out: dict[str, BehaviourFactory] = {"wander": lambda cfg, _map, _pose: Wander(cfg.ui.wander)}
+    docs/ARCHITECTURE.md, the web UI). Factories get the spec (`name[:args]`, e.g.
+    `hospital:0,2`), the config, the map and the robot's map pose now (when known)."""
+    out: dict[str, BehaviourFactory] = {"wander": lambda _spec, cfg, _map, _pose: Wander(cfg.ui.wander)}
     for name in CORE_BEHAVIOURS:
-        out[name] = lambda cfg, m, pose, name=name: make_behaviour(name, cfg.behaviour, m, initial_pose=pose)
+        out[name] = lambda spec, cfg, m, pose: make_behaviour(spec, cfg.behaviour, m, initial_pose=pose)
     return out
+
+
+def _check_behaviour(spec: str, field: str) -> str:
+    name = spec.partition(":")[0].strip()
+    if name not in BEHAVIOURS:
+        raise UserError(f"unknown behaviour {name!r}; choose one of {', '.join(BEHAVIOURS)}", field=field)
+    return name
 
 
 BEHAVIOURS = (*behaviour_factories(), "teleop", "stop")  # what the behaviour dropdown offers
@@ -86,9 +94,8 @@ class Studio:
         self.global_map = global_map
         self.map_name = map_name
         self._make_source = make_source
-        if behaviour not in BEHAVIOURS:
-            raise UserError(f"unknown behaviour {behaviour!r}; choose one of {', '.join(BEHAVIOURS)}", field="--behaviour")
-        self.behaviour_name = behaviour
+        self.behaviour_name = _check_behaviour(behaviour, "--behaviour")
+        self.behaviour_spec = behaviour
         self.playing = True
         self.speed = 1.0
         self.cursor: int | None = None  # timeline position shown; None = follow the live frame
@@ -113,7 +120,7 @@ class Studio:
             self.state: tuple[Any, Any] = (PerceptorState.initial(), tracker)
             self.true_zero: Pose | None = None  # true pose when the perceptor took its zero
             self.run_score = scoring.RunScore() if scoring is not None else None
-            self.behaviour = self._make_behaviour(self.behaviour_name)
+            self.behaviour = self._make_behaviour(self.behaviour_spec)
             self.teleop_command: BaseReference | None = None
             self.teleop_until = 0.0
             self.cursor = None
@@ -228,13 +235,13 @@ class Studio:
             self.perceive_walltimes.append(time.monotonic())
         return state_after
 
-    def _make_behaviour(self, name: str) -> Any:
-        factory = behaviour_factories().get(name)
+    def _make_behaviour(self, spec: str) -> Any:
+        factory = behaviour_factories().get(spec.partition(":")[0].strip())
         if factory is None:
             return None
         latest = self.timeline.latest if hasattr(self, "timeline") else None
         pose = self.robot_pose_in_map(latest) if latest is not None else self.bundle.truth_pose()
-        return factory(self.cfg, self.global_map, pose)
+        return factory(spec, self.cfg, self.global_map, pose)
 
     def _behave(self, frame: FrameRecord) -> BaseReference:
         now = frame.time
@@ -269,16 +276,15 @@ class Studio:
     def teleop(self, vx: float, vy: float, va: float) -> None:
         """Drive by hand for `ui.teleop_hold` seconds (switches the behaviour to teleop)."""
         with self.lock:
-            self.behaviour_name = "teleop"
+            self.behaviour_name = self.behaviour_spec = "teleop"
             self.teleop_command = BaseReference(vx, vy, va)
             self.teleop_until = time.monotonic() + self.cfg.ui.teleop_hold
 
     def set_behaviour(self, name: str) -> None:
-        if name not in BEHAVIOURS:
-            raise UserError(f"unknown behaviour {name!r}; choose one of {', '.join(BEHAVIOURS)}", field="behaviour")
+        base = _check_behaviour(name, "behaviour")
         with self.lock:
-            self.behaviour_name = name
-            self.behaviour = self._make_behaviour(name)
+            behaviour = self._make_behaviour(name)  # may refuse (e.g. hospital without a map)
+            self.behaviour_name, self.behaviour_spec, self.behaviour = base, name, behaviour
 
     def open_door(self) -> None:
         with self.lock:
