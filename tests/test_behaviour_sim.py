@@ -147,3 +147,15 @@ def test_hospital_replans_round_a_box_that_is_not_on_the_map():
     r = run_behaviour(sim, b, seconds=120)
     assert r["cabinets_visited"] == [0] and r["collisions"] == 0
     assert r["replans"] >= 1
+
+
+def test_escape_room_with_a_dead_end_hallway_gives_up_without_touching_a_wall():
+    w = escape_world(5)
+    m = w.map
+    f = m.finish  # close the hallway's far end with a wall
+    closed = GlobalMap(points=m.points, walls=np.vstack([m.walls, f]))
+    sim = Simulator(closed, CFG.sim, UNCERTAIN, seed=5, initial_pose=w.start)
+    b = EscapeRoom(CFG.behaviour)
+    r = run_behaviour(sim, b, seconds=600)
+    assert not r["escaped"] and r["collisions"] == 0
+    assert r["state"] == "gave up" and len(b._dead_ends) >= 1

@@ -12,9 +12,6 @@ import pytest
 from pico_studio import json_map
 from pico_studio.sim import Simulator, load_any_map, load_sim_config
 
-pytestmark = pytest.mark.skipif(
-    not hasattr(json_map, "load_map"), reason="heightmap loading (json_map.load_map) not merged yet"
-)
 MAPS = "pico_studio/data/maps/"
 
 
@@ -75,3 +72,13 @@ def test_run_on_a_heightmap_with_its_sim_config() -> None:
 
     assert main(["run", "--map", MAPS + "restaurant_2024.yaml", "--sim-config", MAPS + "restaurant_2024_sim.json",
                  "--seconds", "3", "--behaviour", "drive:0.2,0,0"]) == 0
+
+
+def test_heightmap_door_grey_sets_the_sliding_direction() -> None:
+    m = load_any_map(MAPS + "doors_heightmap_example.png")
+    assert m.extra["heightmap"]["door_grey"][:2] == [180, 90]
+    sim = Simulator(m, seed=1)
+    light, dark = sim.world.doors[0], sim.world.doors[1]
+    assert abs(light.axis[1]) == pytest.approx(1.0) and abs(dark.axis[1]) == pytest.approx(1.0)  # both along y
+    assert light.slide[1] == pytest.approx(-1.0)  # grey >= 128: towards decreasing y, as the emc simulator
+    assert dark.slide[1] == pytest.approx(1.0)  # grey < 128: the other way

@@ -110,9 +110,9 @@ def _run(args: argparse.Namespace) -> int:
     params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
-    localising = _localising(cfg, sim) if args.localise else None
-    perceptor = localising if localising is not None else make_perceptor(cfg)
-    session = Session(sim, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
+    perceptor = make_perceptor(cfg)
+    localising = _localising(cfg, sim, perceptor) if args.localise else None
+    session = Session(sim, perceptor=localising or perceptor, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
     scores = None
     try:
@@ -163,13 +163,12 @@ def _run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _localising(cfg: Any, sim: Simulator) -> Any:
+def _localising(cfg: Any, sim: Simulator, perceptor: Any) -> Any:
     """The perceptor with localisation on the simulator's map, scored against its truth; the
     prior is the sim config's start pose when it has one, else the map's start area."""
     from pico_studio.core.localisation import Localiser
     from pico_studio.core.localisation.stage import LocalisingPerceptor
-    from pico_studio.core.perception import Perceptor
 
     localiser = Localiser(cfg.localisation, sim.world.map, sim.sim_config.initial_pose)
-    return LocalisingPerceptor(Perceptor(cfg.perception), localiser, truth=lambda: sim.truth.pose)
+    return LocalisingPerceptor(perceptor, localiser, truth=lambda: sim.truth.pose)
 

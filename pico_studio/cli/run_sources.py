@@ -22,8 +22,6 @@ from pico_studio.sources import SourceSpec, open_source
 from pico_studio.sources.recorder import BagRecorder
 from pico_studio.sources.replay_run import run_replay
 
-LIVE_CONNECT_TIMEOUT = 10.0  # seconds to wait for the robot's master before giving up
-
 
 def open_recorder(args: argparse.Namespace, cfg: Config) -> BagRecorder | None:
     if not args.record:
@@ -45,10 +43,11 @@ def make_perceptor(cfg: Config) -> Perceptor:
 def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviour: Any) -> int:
     """Run a replay or the live robot; print the report (one JSON object with --json)."""
     source = open_source(spec, cfg.sources)
-    recorder = open_recorder(args, cfg)
+    recorder = None
     perceptor = None if args.no_perceptor else make_perceptor(cfg)
     t0 = time.perf_counter()
     try:
+        recorder = open_recorder(args, cfg)
         if spec.kind == "ros":
             result = _run_live(args, source, perceptor, behaviour, recorder)
         else:
@@ -56,8 +55,9 @@ def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviou
             result = run_replay(session, source, dt=args.dt, seconds=args.seconds)
     finally:
         result_recorded = recorded(recorder)
-        if spec.kind == "ros":
-            source.close()
+        close = getattr(source, "close", None)
+        if callable(close):  # the live robot: stop the base, leave the master
+            close()
     result.update(source=str(spec), wall_seconds=time.perf_counter() - t0, recorded=result_recorded)
     if args.json:
         print(json.dumps(result))
@@ -67,7 +67,7 @@ def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviou
 
 
 def _run_live(args: argparse.Namespace, source: Any, perceptor: Any, behaviour: Any, recorder: Any) -> dict[str, Any]:
-    source.wait_connected(LIVE_CONNECT_TIMEOUT)
+    source.wait_connected(source.params.ros.connect_timeout)
     session = Session(source, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
     dt = args.dt or 0.05
     seconds = 10.0 if args.seconds is None else args.seconds

@@ -65,7 +65,7 @@ class Fan:
         # 3. the beam index range [i0, i1) of every piece, and all (piece, beam) pairs
         i0 = np.maximum(np.ceil(start - _EPS), 0.0)
         counts = np.maximum(np.minimum(np.floor(stop + _EPS) + 1.0, self.n) - i0, 0.0).astype(np.int64)
-        ends = np.cumsum(counts)
+        ends = counts.cumsum()
         beam = np.arange(int(ends[-1])) - np.repeat(ends - counts - i0.astype(np.int64), counts)
         # 4. the distance along each beam to its segment's line: 1 / Im(e^{-ib} d / cross)
         with np.errstate(divide="ignore", invalid="ignore"):

@@ -26,7 +26,7 @@ from pico_studio.core.config.map_params import HeightmapParams
 from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.errors import MapError, SourceError
-from pico_studio.json_map import GlobalMap
+from pico_studio.json_map import GlobalMap, load_map
 from pico_studio.sim.base import Base
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.odometry import Odometry
@@ -39,14 +39,8 @@ _EPS_T = 1e-9  # events this close to the end of a step belong to it
 
 
 def load_any_map(path: str | Path, map_params: HeightmapParams | None = None) -> GlobalMap:
-    """A JSON map or a heightmap image / map_server YAML (`json_map.load_map`, vectorised with
-    `map_params`, i.e. cfg.map.heightmap); before heightmap support is there, JSON only."""
-    try:
-        from pico_studio.json_map import load_map  # type: ignore[attr-defined]
-    except ImportError:
-        from pico_studio.json_map import load_json_map
-
-        return load_json_map(path)
+    """A JSON map, or a heightmap image / map_server YAML vectorised with `map_params`
+    (cfg.map.heightmap): `json_map.load_map`."""
     return load_map(path, map_params)
 
 

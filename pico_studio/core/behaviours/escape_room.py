@@ -10,6 +10,9 @@ States:
     align       face straight out through the mouth
     hallway     drive on, centred between the hallway walls, until no wall is near ahead or
                 beside (nothing within `free_range` over the front half)
+    back out    the hallway ended in a wall: remember that mouth as a dead end, reverse to
+                the point in front of it and scan again (a room whose only exits are dead
+                ends ends in "gave up" after `max_full_turns` scans)
     out         drive `out_distance` more, then stop: done
 bubbleRobot overrides any state when something comes closer than the bubble.
 
@@ -104,6 +107,7 @@ class EscapeRoom(BehaviourBase):
         self._misses = 0
         self._drive_from: tuple[float, float] | None = None
         self._free_heading: float | None = None
+        self._dead_ends: list[np.ndarray] = []  # mouths (odometry frame) that led nowhere
 
     # ---- perception of the entrance, in the odometry frame ----
     def _detect(self, near: np.ndarray | None = None) -> Opening | None:
@@ -120,7 +124,8 @@ class EscapeRoom(BehaviourBase):
         else:
             pts = self.scan.points
             far = np.hypot(pts[:, 0], pts[:, 1]) <= self.p.max_range
-            found = find_openings(pts[far], self.p.gap_min, self.p.gap_max)
+            found = [o for o in find_openings(pts[far], self.p.gap_min, self.p.gap_max)
+                     if not self._is_dead_end(o.centre)]
             if not found:
                 return None
             local = found[0]
@@ -133,6 +138,14 @@ class EscapeRoom(BehaviourBase):
         c, s = math.cos(self.pose[2]), math.sin(self.pose[2])
         normal = np.array([c * local.normal[0] - s * local.normal[1], s * local.normal[0] + c * local.normal[1]])
         return Opening(centre, normal, local.width)
+
+    def _is_dead_end(self, local_centre: np.ndarray) -> bool:
+        """Is this robot-frame opening one already tried and found closed?"""
+        assert self.pose is not None
+        if not self._dead_ends:
+            return False
+        c = transform_points(local_centre[None, :], self.pose)[0]
+        return any(float(np.hypot(*(c - d))) < self.p.gap_max for d in self._dead_ends)
 
     def _approach_point(self) -> np.ndarray:
         assert self._entrance is not None
@@ -160,6 +173,7 @@ class EscapeRoom(BehaviourBase):
             "approach": self._approach,
             "align": self._align,
             "hallway": self._hallway,
+            "back out": self._back_out,
             "out": self._out,
         }[self._state]
         return handler()
@@ -279,8 +293,9 @@ class EscapeRoom(BehaviourBase):
             self._state = "out"
             return Command(vx=self.p.drive_speed)
         if self.scan.min_in(-0.15, 0.15) < self.p.hallway_side / 2:
-            self._state = "scan"  # a wall straight ahead: that was no exit
-            self._entrance = None
+            # a wall straight ahead: a dead end, not the exit; remember it and back out
+            self._dead_ends.append(self._entrance.centre.copy())
+            self._state = "back out"
             return Command()
         heading = math.atan2(self._entrance.normal[1], self._entrance.normal[0])
         err = float(wrap_angle(heading - self.pose[2]))
@@ -299,6 +314,21 @@ class EscapeRoom(BehaviourBase):
                                          np.array([math.cos(self.pose[2] + err), math.sin(self.pose[2] + err)]),
                                          self._entrance.width)
         return Command(vx=self.p.drive_speed, vy=vy, va=clamp(self.p.heading_gain * err, self.p.turn_speed))
+
+    def _back_out(self) -> Command:
+        """Reverse out of a dead end to the point in front of its mouth, then scan again."""
+        assert self.pose is not None and self._entrance is not None
+        goal = self._approach_point()
+        dx, dy = goal[0] - self.pose[0], goal[1] - self.pose[1]
+        if math.hypot(dx, dy) < 0.1:
+            self._entrance = None
+            self._state = "scan"
+            return Command()
+        c, s = math.cos(self.pose[2]), math.sin(self.pose[2])
+        # holonomic: move straight towards the goal in the robot frame, no turning in the hallway
+        vx, vy = c * dx + s * dy, -s * dx + c * dy
+        scale = min(1.0, self.p.drive_speed / 2 / max(math.hypot(vx, vy), 1e-9))
+        return Command(vx=vx * scale, vy=vy * scale)
 
     def _out(self) -> Command:
         assert self.pose is not None and self._drive_from is not None

@@ -13,8 +13,8 @@ States:
 bubbleRobot overrides any state.
 
 The spot for a cabinet is `front_distance` in front of the middle of its front (its first
-segment), facing it. Tables have no front that matters: their sides are tried in order, the
-first whose spot is reachable wins. A spot inside the inflated map is a bad target: the
+segment), facing it. Tables have no front that matters: spots along each side (front first,
+middles first) are tried in order, the first reachable wins. A spot inside the inflated map is a bad target: the
 constructor raises `UserError` for a cabinet, as for an index that does not exist.
 
 Pose: the world model's `global_pose` (localisation) when present and not lost; otherwise
@@ -46,9 +46,11 @@ from pico_studio.json_map import GlobalMap
 _PATH_STEP = 0.05  # m between the points the plan is followed along
 
 
-def object_spots(m: GlobalMap, index: int, front_distance: float) -> list[Pose]:
-    """Candidate stand-points (x, y, heading facing the object) in front of each side of
-    object `index`, its front (first segment) first."""
+def object_spots(m: GlobalMap, index: int, front_distance: float,
+                 fractions: tuple[float, ...] = (0.5,)) -> list[Pose]:
+    """Candidate stand-points (x, y, heading facing the object) `front_distance` out from
+    each side of object `index`, its front (first segment) first; on each side at the given
+    `fractions` along it (the middle first)."""
     poly = m.objects[index]
     centroid = m.polygon_vertices(poly).mean(axis=0)
     spots: list[Pose] = []
@@ -59,9 +61,14 @@ def object_spots(m: GlobalMap, index: int, front_distance: float) -> list[Pose]:
         n = np.array([-t[1], t[0]])
         if n @ (mid - centroid) < 0:
             n = -n
-        p = mid + n * front_distance
-        spots.append((float(p[0]), float(p[1]), math.atan2(-n[1], -n[0])))
+        for f in fractions:
+            p = a + (b - a) * f + n * front_distance
+            spots.append((float(p[0]), float(p[1]), math.atan2(-n[1], -n[0])))
     return spots
+
+
+# where along a table's side the robot may stand (a cabinet is faced at its middle only)
+TABLE_FRACTIONS = (0.5, 0.3, 0.7, 0.15, 0.85)
 
 
 class HospitalTour(BehaviourBase):
@@ -86,9 +93,10 @@ class HospitalTour(BehaviourBase):
         self.grid = PlanGrid.from_map(global_map, self.p)
         self.spots: list[list[Pose]] = []
         for i in self.order:
-            candidates = object_spots(global_map, i, self.p.front_distance)
-            if kind == "cabinets":
-                candidates = candidates[:1]  # a cabinet is opened from its front only
+            if kind == "cabinets":  # a cabinet is opened from the middle of its front only
+                candidates = object_spots(global_map, i, self.p.front_distance)[:1]
+            else:
+                candidates = object_spots(global_map, i, self.p.front_distance, TABLE_FRACTIONS)
             spots = [s for s in candidates if self.grid.free(s[:2])]
             if not spots:
                 raise UserError(f"{kind[:-1]} {i}: the spot in front of it is inside a wall "

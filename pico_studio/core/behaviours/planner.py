@@ -1,8 +1,8 @@
 """A* on the rasterised, inflated global map.
 
-The map's solid segments (walls and cabinets/tables; doors stay passable, the robot asks for
-them to open) are rasterised into a distance field (`core.localisation.distance_field`, one
-OpenCV distance transform). A cell is blocked when it lies closer than `inflation` to a
+The map is rasterised (`json_map.rasterise`: walls and cabinets/tables occupied; doors stay
+passable, the robot asks for them to open) and one OpenCV distance transform gives every
+cell's clearance. A cell is blocked when it lies closer than `inflation` to a
 segment (the robot's half-size plus a margin: the robot is then planned as a point), and a
 free cell within `cost_margin` more carries a penalty so plans keep to the middle of
 corridors:
@@ -20,11 +20,12 @@ import heapq
 import math
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
 from pico_studio.core.config.behaviour_params import HospitalParams
-from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.json_map import GlobalMap
+from pico_studio.json_map.raster import OCCUPIED, rasterise
 
 _MOVES = [(dr, dc, math.hypot(dr, dc)) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if dr or dc]
 
@@ -41,17 +42,26 @@ class PlanGrid:
     penalty: np.ndarray  # (H, W) float >= 0
 
     @classmethod
-    def from_segments(cls, segments: np.ndarray, p: HospitalParams, margin: float = 1.0) -> PlanGrid:
-        f = DistanceField.from_segments(segments, resolution=p.cell, margin=margin)
-        d = f.field.astype(float)
+    def from_map(cls, global_map: GlobalMap, p: HospitalParams) -> PlanGrid:
+        """Rasterise the map (`json_map.rasterise`: walls and cabinets/tables occupied,
+        doors passable) at `p.cell`, then inflate it by a distance transform."""
+        r = rasterise(global_map, resolution=p.cell)
+        # the image's rows run down from the top; the grid's rows run up with y
+        occupied = np.flipud(r.image == OCCUPIED)
+        free = np.where(occupied, 0, 255).astype(np.uint8)
+        d = cv2.distanceTransform(free, cv2.DIST_L2, cv2.DIST_MASK_PRECISE).astype(float) * p.cell
         blocked = d < p.inflation
         penalty = p.cost_weight * np.clip(1.0 - (d - p.inflation) / max(p.cost_margin, 1e-9), 0.0, 1.0)
-        return cls(f.x0, f.y0, f.resolution, d, blocked, penalty)
+        ox, oy = r.frame.origin
+        return cls(ox + p.cell / 2, oy + p.cell / 2, p.cell, d, blocked, penalty)
 
     @classmethod
-    def from_map(cls, global_map: GlobalMap, p: HospitalParams) -> PlanGrid:
-        solid = [global_map.wall_segments] + [global_map.segments_of(o) for o in global_map.objects]
-        return cls.from_segments(np.vstack(solid), p)
+    def from_segments(cls, segments: np.ndarray, p: HospitalParams) -> PlanGrid:
+        """The grid of a map that is just these wall segments (N, 4)."""
+        segs = np.asarray(segments, dtype=float).reshape(-1, 4)
+        points = segs.reshape(-1, 2)
+        walls = np.arange(len(points)).reshape(-1, 2)
+        return cls.from_map(GlobalMap(points=points, walls=walls), p)
 
     def cell(self, xy: tuple[float, float] | np.ndarray) -> tuple[int, int]:
         return (int(round((xy[1] - self.y0) / self.resolution)), int(round((xy[0] - self.x0) / self.resolution)))
