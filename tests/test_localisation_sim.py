@@ -12,7 +12,7 @@ from localisation_sim import Driver, follow, kick
 
 from pico_studio.core.config import Config, with_value
 from pico_studio.core.localisation import Localiser
-from pico_studio.json_map import load_json_map
+from pico_studio.json_map import load_json_map, load_map
 from pico_studio.sim import Simulator, load_sim_config
 
 HOSPITAL_ROUTE = [(3.5, 5.4), (5.5, 5.4), (5.5, 3.0), (5.5, 5.4), (3.5, 5.4), (3.5, 0.6)]
@@ -96,3 +96,16 @@ def test_wrong_map_is_lost_and_stays_lost(maps_dir):
     # found there, it is not confirmed while driving on
     d.drive(20.0, follow(RESTAURANT_ROUTE))
     assert all(d.lost)
+
+
+def test_heightmap_map_localises(maps_dir):
+    # the restaurant as the official simulator's image (+ map_server YAML), vectorised
+    cfg = _config()
+    gmap = load_map(maps_dir / "restaurant_2024.yaml", cfg.map)
+    sim = Simulator(gmap, cfg.sim, load_sim_config(maps_dir / "restaurant_2024_sim.json"), seed=0)
+    loc = Localiser(cfg.localisation, gmap, initial_pose=(6.0, 3.5, 3.14))
+    d = Driver(sim, loc)
+    d.drive(3.0, follow(RESTAURANT_ROUTE))
+    assert not d.lost[-1]
+    e = np.array(d.errors[5:])
+    assert e[:, 0].max() < 0.03 and e[:, 1].max() < math.radians(1.0)

@@ -66,8 +66,8 @@ class MatcherParams:
                            help="Beams checked for passing through map walls (evenly subsampled)")
     ray_step: float = param(0.05, lo=0.01, hi=0.5, step=0.01, unit="m",
                             help="Sample spacing along a beam when checking it for passing through walls")
-    ray_clearance: float = param(0.15, lo=0.0, hi=1.0, step=0.01, unit="m",
-                                 help="A beam's last stretch before its end point is not checked (its own wall)")
+    ray_clearance: float = param(0.03, lo=0.0, hi=1.0, step=0.005, unit="m",
+                                 help="A beam's last stretch before its end point is not checked (its own wall, within the range noise)")
 
 
 @dataclass(frozen=True)
@@ -82,6 +82,8 @@ class SearchParams:
                               help="Distance above which a point scores as a plain miss")
     candidates: int = param(6, lo=1, hi=50, step=1, unit="",
                             help="Best distinct candidates refined by the matcher")
+    separation: float = param(3.0, lo=0.0, hi=10.0, step=0.5, unit="grid steps",
+                              help="Candidates closer than this (in position and heading) to a better one are skipped")
     lost_radius: float = param(1.0, lo=0.1, hi=20.0, step=0.1, unit="m",
                                help="Half-width searched around the estimate when first lost")
     lost_growth: float = param(0.5, lo=0.0, hi=10.0, step=0.1, unit="m",

@@ -68,7 +68,8 @@ def beams_through_walls(field: DistanceField, points: np.ndarray, pose: Pose,
     end point at `pose`: negative evidence a plain fit cannot see (an unmapped box only makes
     beams *short*; a wrong pose sends them *through* walls).
 
-    Samples every `ray_step` along each beam up to `ray_clearance` before its end point; a
+    Samples every `ray_step` along each beam up to `ray_clearance` before its end point (so a
+    wall's far face, a few cm behind its near face, is seen as through the wall); a
     crossing is a sign change of the signed distance to the same nearest segment between two
     samples, at a point within that segment (so grazing a corner is no crossing).
     """
@@ -77,11 +78,14 @@ def beams_through_walls(field: DistanceField, points: np.ndarray, pose: Pose,
     step, clearance = params.ray_step, params.ray_clearance
     pts = points[:: max(1, len(points) // params.ray_beams)]
     ranges = np.hypot(pts[:, 0], pts[:, 1])
-    t = np.arange(1, int(np.ceil(ranges.max() / step)) + 1) * step  # (n,)
-    ahead = t[None, :] < (ranges[:, None] - clearance)  # (B, n) samples before the end
+    # samples every step, the last one exactly `clearance` before the end point (repeats of
+    # it after that are harmless: a pair of equal samples has no sign change)
+    last = np.maximum(ranges - clearance, 0.0)[:, None]
+    t = np.minimum(np.arange(1, int(np.ceil(ranges.max() / step)) + 1)[None, :] * step, last)  # (B, n)
+    ahead = t > 0.0
     dirs = pts / np.maximum(ranges, 1e-9)[:, None]
-    q = transform_points((dirs[:, None, :] * t[None, :, None]).reshape(-1, 2), pose)
-    q = q.reshape(len(pts), len(t), 2)
+    q = transform_points((dirs[:, None, :] * t[:, :, None]).reshape(-1, 2), pose)
+    q = q.reshape(t.shape[0], t.shape[1], 2)
     k = field.nearest_segment(q)  # (B, n)
     seg = field.segments[np.maximum(k, 0)]  # (B, n, 4)
     side = ((q - seg[..., 0:2]) * field.normals[np.maximum(k, 0)]).sum(axis=-1)
@@ -251,8 +255,9 @@ def coarse_candidates(
         h, i, j = np.unravel_index(flat, scores.shape)
         pose = (field.x0 + (j0 + j) * step, field.y0 + (i0 + i) * step,
                 float(wrap_angle(heading + hs[h])))
-        if any(math.hypot(pose[0] - t[0], pose[1] - t[1]) < 3 * step
-               and abs(float(wrap_angle(pose[2] - t[2]))) < 3 * params.heading_step for t in taken):
+        sep = params.separation
+        if any(math.hypot(pose[0] - t[0], pose[1] - t[1]) < sep * step
+               and abs(float(wrap_angle(pose[2] - t[2]))) < sep * params.heading_step for t in taken):
             continue
         taken.append(pose)
         if len(taken) >= params.candidates:
