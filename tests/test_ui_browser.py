@@ -184,6 +184,17 @@ def test_broken_map_upload_shows_the_error_and_the_page_keeps_working(app, page,
     assert wait_until(lambda: len(app.studio.timeline) == frames + 1)
 
 
+def test_an_invalid_value_is_reported_and_reverted(app, page) -> None:
+    page.get_by_role("tab", name="Config").click()
+    page.get_by_text("ui", exact=True).locator("visible=true").first.click()
+    page.get_by_text("wander", exact=True).locator("visible=true").first.click()
+    before = app.studio.cfg.ui.wander.clear_distance
+    set_number(page, "clear_distance", 0.2)  # below stop_distance: the section's own check refuses it
+    page.get_by_text(re.compile("must be at least stop_distance")).first.wait_for(timeout=20000)
+    assert app.studio.cfg.ui.wander.clear_distance == before
+    assert wait_until(lambda: float(input_of(page, "clear_distance").input_value()) == before)
+
+
 def test_a_second_tab_sees_the_scene(app, browser) -> None:
     second = browser.new_page()
     second.goto(app.url + "/?fixedDpr=1")

@@ -292,7 +292,7 @@ class LaserMotionParams:
         help="Corners of two scans closer than this (after the predicted motion) are the same corner",
     )
     iterations: int = param(
-        3, lo=1, hi=20, step=1, help="Re-match and re-estimate this many times",
+        2, lo=1, hi=20, step=1, help="Re-match and re-estimate this many times",
     )
 
 

@@ -39,18 +39,21 @@ def entrance_in_scan(segments: np.ndarray, params: EntranceParams) -> Estimate |
                 far1 = ends[2:4][np.argmax(r[2:4])]
                 p = (far0 + far1) / 2
                 return math.atan2(p[1], p[0]), math.hypot(p[0], p[1]), True
-    best: tuple[float, np.ndarray] | None = None
+    best: tuple[float, float, float] | None = None
+    th = theta.tolist()
+    seg = segments.tolist()
+    tol = params.parallel_tolerance
     for i in range(s - 1):
         for j in range(i + 1, min(i + 3, s)):
-            diff = abs((theta[j] - theta[i] + math.pi / 2) % math.pi - math.pi / 2)
-            square = diff < params.parallel_tolerance or abs(diff - math.pi / 2) < params.parallel_tolerance
-            gap = float(np.hypot(*(segments[j, 0:2] - segments[i, 2:4])))
-            if square and params.min_gap <= gap <= params.max_gap and (best is None or gap > best[0]):
-                best = (gap, (segments[i, 2:4] + segments[j, 0:2]) / 2)
+            gap = math.hypot(seg[j][0] - seg[i][2], seg[j][1] - seg[i][3])
+            if not params.min_gap <= gap <= params.max_gap or (best is not None and gap <= best[0]):
+                continue
+            diff = abs((th[j] - th[i] + math.pi / 2) % math.pi - math.pi / 2)
+            if diff < tol or abs(diff - math.pi / 2) < tol:
+                best = (gap, (seg[i][2] + seg[j][0]) / 2, (seg[i][3] + seg[j][1]) / 2)
     if best is None:
         return None
-    p = best[1]
-    return math.atan2(p[1], p[0]), math.hypot(p[0], p[1]), False
+    return math.atan2(best[2], best[1]), math.hypot(best[1], best[2]), False
 
 
 def median_entrance(history: tuple[Estimate, ...]) -> tuple[tuple[float, float] | None, bool]:

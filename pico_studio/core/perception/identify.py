@@ -105,55 +105,53 @@ def _doors(
     out_dir = pts - other
     out_dir /= np.maximum(np.hypot(out_dir[:, 0], out_dir[:, 1]), 1e-12)[:, None]
     is_convex = prop[wi, we] == CONVEX
-    pq = pts[None, :, :] - pts[:, None, :]  # P_i -> P_j
-    dist = np.hypot(pq[..., 0], pq[..., 1])
-    width_ok = (dist >= params.door_min_width) & (dist <= params.door_max_width)
-    parallel = np.abs(out_dir @ out_dir.T) > np.cos(params.door_angle)
-    facing = ((pq * out_dir[:, None, :]).sum(-1) > 0) & ((-pq * out_dir[None, :, :]).sum(-1) > 0)
-    # offset of P_j from wall i's line
-    off = np.abs(pq[..., 0] * out_dir[:, None, 1] - pq[..., 1] * out_dir[:, None, 0])
-    collinear = parallel & (off < params.door_offset) & (off.T < params.door_offset)
-    different = wi[:, None] != wi[None, :]
-    linked = connected[wi[:, None], we[:, None]] == wi[None, :]
-    base = width_ok & different & ~linked
-    # door: the gap continues wall i's line (Q ahead of P on it), and Q's wall either comes
-    # back along that line towards P or stands across it (the end cap of a thick wall seen
-    # from the side, when the face beyond the gap is out of view)
-    u = pq / np.maximum(dist, 1e-12)[..., None]
-    along_i = np.abs((u * out_dir[:, None, :]).sum(-1)) > np.cos(params.door_angle)
-    ahead_i = (pq * out_dir[:, None, :]).sum(-1) > 0
-    wall_len = np.hypot(walls[wi, 2] - walls[wi, 0], walls[wi, 3] - walls[wi, 1])
-    line_i = along_i & ahead_i & (off < params.door_offset)
-    line_i &= (wall_len >= params.door_wall_min_length)[:, None]
-    back_j = (-u * out_dir[None, :, :]).sum(-1) > np.cos(params.door_angle)
-    across_j = np.abs((u * out_dir[None, :, :]).sum(-1)) < np.sin(params.door_angle)
-    door_ij = line_i & (back_j | across_j)
-    both_convex = is_convex[:, None] & is_convex[None, :]
-    door_pair = np.triu(base & both_convex & (door_ij | door_ij.T), 1)
-    pair = np.triu(base & collinear & facing & ~both_convex, 1)
+    # only pairs of a door's width apart can be anything: find those first, then test
+    # everything else on that short list of pairs (ia, ja), ia < ja
+    diff = pts[None, :, :] - pts[:, None, :]
+    dist_all = np.hypot(diff[..., 0], diff[..., 1])
+    width_ok = (dist_all >= params.door_min_width) & (dist_all <= params.door_max_width)
+    ia, ja = np.nonzero(np.triu(width_ok, 1))
     doors: list[np.ndarray] = []
     possible: list[np.ndarray] = []
     kinds: list[str] = []
-    # best aligned first; a later door from the same point in about the same direction is
-    # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
-    di, dj = np.nonzero(door_pair)
-    order = np.argsort(np.minimum(off[di, dj], off[dj, di]))
-    for i, j in zip(di[order].tolist(), dj[order].tolist(), strict=True):
-        seg = np.concatenate([pts[i], pts[j]])
-        if any(_same_opening(seg, d) for d in doors):
-            continue
-        if not _blocked(seg, walls, {int(wi[i]), int(wi[j])}):
-            doors.append(seg)
-    for i, j in zip(*np.nonzero(pair), strict=True):
-        seg = np.concatenate([pts[i], pts[j]])
-        if _blocked(seg, walls, {int(wi[i]), int(wi[j])}):
-            continue
-        if is_convex[i] or is_convex[j]:
-            possible.append(seg)
-            kinds.append("convex_loose")
-        else:
-            possible.append(seg)
-            kinds.append("loose_loose")
+    if len(ia):
+        pq = pts[ja] - pts[ia]  # P_i -> P_j
+        dist = dist_all[ia, ja]
+        u = pq / dist[:, None]
+        oi, oj = out_dir[ia], out_dir[ja]
+        # offsets of P_j from wall i's line and of P_i from wall j's line
+        off_ij = np.abs(pq[:, 0] * oi[:, 1] - pq[:, 1] * oi[:, 0])
+        off_ji = np.abs(pq[:, 0] * oj[:, 1] - pq[:, 1] * oj[:, 0])
+        ui, uj = (u * oi).sum(1), (u * oj).sum(1)  # cosines of the gap with each wall's outward
+        base = (wi[ia] != wi[ja]) & (connected[wi[ia], we[ia]] != wi[ja])
+        cos_a, sin_a = np.cos(params.door_angle), np.sin(params.door_angle)
+        long = wall_len_of(walls, wi) >= params.door_wall_min_length
+        # door: the gap continues one wall's line (the other point ahead of its end, within
+        # door_angle and door_offset), and the other point's wall either comes back along that
+        # line or stands across it (the end cap of a thick wall seen from the side, when the
+        # face beyond the gap is out of view)
+        line_i = (ui > cos_a) & (off_ij < params.door_offset) & long[ia]
+        line_j = (-uj > cos_a) & (off_ji < params.door_offset) & long[ja]
+        door_ij = line_i & ((-uj > cos_a) | (np.abs(uj) < sin_a))
+        door_ji = line_j & ((ui > cos_a) | (np.abs(ui) < sin_a))
+        both_convex = is_convex[ia] & is_convex[ja]
+        is_door = base & both_convex & (door_ij | door_ji)
+        collinear = (np.abs((oi * oj).sum(1)) > cos_a) & (off_ij < params.door_offset) & (off_ji < params.door_offset)
+        facing = (ui > 0) & (uj < 0)
+        is_possible = base & collinear & facing & ~both_convex
+        segs = np.hstack([pts[ia], pts[ja]])
+        blocked = np.zeros(len(ia), dtype=bool)
+        some = np.flatnonzero(is_door | is_possible)
+        blocked[some] = _blocked_many(segs[some], walls, wi[ia[some]], wi[ja[some]])
+        # best aligned first; a later door from the same point in about the same direction is
+        # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
+        cand = np.flatnonzero(is_door & ~blocked)
+        for m in cand[np.argsort(np.minimum(off_ij[cand], off_ji[cand]))].tolist():
+            if not any(_same_opening(segs[m], d) for d in doors):
+                doors.append(segs[m])
+        for m in np.flatnonzero(is_possible & ~blocked).tolist():
+            possible.append(segs[m])
+            kinds.append("convex_loose" if is_convex[ia[m]] or is_convex[ja[m]] else "loose_loose")
     # a loose end facing a wall: the wall's continuation hits another wall
     loose = np.flatnonzero(~is_convex)
     if len(loose):
@@ -189,16 +187,20 @@ def _same_opening(a: np.ndarray, b: np.ndarray, max_angle: float = 0.5, tol: flo
     return False
 
 
-def _blocked(seg: np.ndarray, walls: np.ndarray, own: set[int]) -> bool:
-    """Does a wall other than the door's own cross the middle 80% of the gap?"""
-    a = seg[0:2] + 0.1 * (seg[2:4] - seg[0:2])
-    b = seg[0:2] + 0.9 * (seg[2:4] - seg[0:2])
-    mask = np.ones(len(walls), dtype=bool)
-    mask[list(own)] = False
-    w = walls[mask]
-    if len(w) == 0:
-        return False
-    return bool(_intersects(a, b, w[:, 0:2], w[:, 2:4]).any())
+def wall_len_of(walls: np.ndarray, idx: np.ndarray) -> np.ndarray:
+    return np.hypot(walls[idx, 2] - walls[idx, 0], walls[idx, 3] - walls[idx, 1])
+
+
+def _blocked_many(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray) -> np.ndarray:
+    """(G,) bool: does a wall other than the gap's own two cross the middle 80% of the gap?"""
+    if len(segs) == 0:
+        return np.zeros(0, dtype=bool)
+    a = segs[:, 0:2] + 0.1 * (segs[:, 2:4] - segs[:, 0:2])
+    b = segs[:, 0:2] + 0.9 * (segs[:, 2:4] - segs[:, 0:2])
+    hit = _intersects(a[:, None, :], b[:, None, :], walls[None, :, 0:2], walls[None, :, 2:4])
+    k = np.arange(len(walls))[None, :]
+    hit &= (k != own_a[:, None]) & (k != own_b[:, None])
+    return hit.any(axis=1)
 
 
 def _intersects(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.ndarray:

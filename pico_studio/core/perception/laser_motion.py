@@ -48,14 +48,17 @@ def laser_motion(
 
 def fit_rigid(p: np.ndarray, q: np.ndarray, angle_guess: float = 0.0) -> Pose:
     """(x, y, a) with p ≈ R(a) q + (x, y), least squares; one pair keeps `angle_guess`."""
-    if len(p) >= 2:
-        pc, qc = p - p.mean(axis=0), q - q.mean(axis=0)
+    n = len(p)
+    pm = p.sum(axis=0) / n
+    qm = q.sum(axis=0) / n
+    if n >= 2:
+        pc, qc = p - pm, q - qm
         a = math.atan2(float((qc[:, 0] * pc[:, 1] - qc[:, 1] * pc[:, 0]).sum()), float((qc * pc).sum()))
     else:
         a = angle_guess
     c, s = math.cos(a), math.sin(a)
-    t = p.mean(axis=0) - q.mean(axis=0) @ np.array([[c, s], [-s, c]])
-    return float(t[0]), float(t[1]), a
+    qx, qy = float(qm[0]), float(qm[1])
+    return float(pm[0]) - (c * qx - s * qy), float(pm[1]) - (s * qx + c * qy), a
 
 
 def _apply(points: np.ndarray, motion: Pose) -> np.ndarray:

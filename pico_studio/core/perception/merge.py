@@ -171,7 +171,7 @@ def _associate(walls: np.ndarray, new: np.ndarray, params: MergeParams) -> np.nd
 
 
 def _fuse(w: _Work, i: np.ndarray, seg: np.ndarray, real: np.ndarray, seen: np.ndarray, params: MergeParams) -> None:
-    """Fuse new walls seg (K, 4) into local walls i (K,) (distinct), all at once."""
+    """Fuse new walls seg (ka, 4) into local walls i (ka,) (distinct), all at once."""
     old = w.walls[i]
     d_old, _ = _dir(old)
     d_new, _ = _dir(seg)
@@ -214,19 +214,35 @@ def _merge_local(w: _Work, params: MergeParams) -> None:
         n = len(w.walls)
         if n < 2:
             return
-        ok, cost = _similar(w.walls, w.walls, params)
-        ok = np.triu(ok & ok.T, 1)
+        ia, ka = _near_pairs(w.walls, max(params.gap, params.distance))
+        half = ia < ka
+        ia, ka = ia[half], ka[half]
+        ok = _similar_rows(w.walls[ia], w.walls[ka], params) & _similar_rows(w.walls[ka], w.walls[ia], params)
         if not ok.any():
             return
-        ii, kk = np.nonzero(ok)
         gone = np.zeros(n, dtype=bool)
-        for i, k in zip(ii.tolist(), kk.tolist(), strict=True):
+        for i, k in zip(ia[ok].tolist(), ka[ok].tolist(), strict=True):
             if gone[i] or gone[k]:
                 continue
             keep, drop = (i, k) if w.hits[i] >= w.hits[k] else (k, i)
             _absorb(w, keep, drop, params)
             gone[drop] = True
         w.keep(~gone)
+
+
+def _similar_rows(a: np.ndarray, b: np.ndarray, params: MergeParams) -> np.ndarray:
+    """(P,) bool: wall b[p] is similar to wall a[p] (the test of `_similar`, row by row)."""
+    da, la = _dir(a)
+    db, _ = _dir(b)
+    ang_ok = np.abs((da * db).sum(1)) > math.cos(params.angle)
+    rel0 = b[:, 0:2] - a[:, 0:2]
+    rel1 = b[:, 2:4] - a[:, 0:2]
+    t0 = (rel0 * da).sum(1)
+    t1 = (rel1 * da).sum(1)
+    n0 = np.abs(rel0[:, 0] * da[:, 1] - rel0[:, 1] * da[:, 0])
+    n1 = np.abs(rel1[:, 0] * da[:, 1] - rel1[:, 1] * da[:, 0])
+    gap = np.maximum(np.minimum(t0, t1) - la, -np.maximum(t0, t1))
+    return ang_ok & (np.maximum(n0, n1) < params.distance) & (gap < params.gap)
 
 
 def _absorb(w: _Work, i: int, k: int, params: MergeParams) -> None:
@@ -259,69 +275,76 @@ def _absorb(w: _Work, i: int, k: int, params: MergeParams) -> None:
 # ----- 5. connecting ends into corners ---------------------------------------------------------
 
 
+def _near_pairs(walls: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
+    """Ordered pairs (i, k), i != k, whose bounding boxes grown by r overlap: the only pairs
+    that can connect or merge, found without an all-pairs geometry pass."""
+    lo = np.minimum(walls[:, 0:2], walls[:, 2:4]) - r
+    hi = np.maximum(walls[:, 0:2], walls[:, 2:4]) + r
+    ov = (lo[:, None, 0] <= hi[None, :, 0]) & (lo[None, :, 0] <= hi[:, None, 0])
+    ov &= (lo[:, None, 1] <= hi[None, :, 1]) & (lo[None, :, 1] <= hi[:, None, 1])
+    np.fill_diagonal(ov, False)
+    return np.nonzero(ov)
+
+
 def _connect(w: _Work, params: MergeParams) -> np.ndarray:
     n = len(w.walls)
     connected = np.full((n, 2), -1, dtype=np.int64)
+    old_weight = w.end_weight.copy()
+    w.end_weight = np.zeros_like(w.end_weight)
     if n < 2:
-        w.end_weight[:] = 0
+        return connected
+    r = params.connect_radius
+    ia, ka = _near_pairs(w.walls, r)
+    if len(ia) == 0:
         return connected
     d, length = _dir(w.walls)
     p0 = w.walls[:, 0:2]
-    # crossing of every pair of lines: p0_i + s d_i = p0_k + u d_k
-    cross = d[:, None, 0] * d[None, :, 1] - d[:, None, 1] * d[None, :, 0]
-    sin_ok = np.abs(cross) > math.sin(params.connect_min_angle)
-    diff = p0[None, :, :] - p0[:, None, :]
+    # crossing of the lines of each pair: p0_i + s d_i = p0_k + u d_k
+    di, dk = d[ia], d[ka]
+    cross = di[:, 0] * dk[:, 1] - di[:, 1] * dk[:, 0]
+    diff = p0[ka] - p0[ia]
     safe = np.where(np.abs(cross) > 1e-9, cross, 1.0)
-    s = (diff[..., 0] * d[None, :, 1] - diff[..., 1] * d[None, :, 0]) / safe
-    u = (diff[..., 0] * d[:, None, 1] - diff[..., 1] * d[:, None, 0]) / safe
-    r = params.connect_radius
+    s = (diff[:, 0] * dk[:, 1] - diff[:, 1] * dk[:, 0]) / safe
+    u = (diff[:, 0] * di[:, 1] - diff[:, 1] * di[:, 0]) / safe
+    li, lk = length[ia], length[ka]
     # distance of the crossing from each wall's nearer end, and which end that is
-    ei = np.where(s > length[:, None] / 2, 1, 0)
-    ek = np.where(u > length[None, :] / 2, 1, 0)
-    dist_i = np.where(ei == 1, np.abs(s - length[:, None]), np.abs(s))
-    dist_k = np.where(ek == 1, np.abs(u - length[None, :]), np.abs(u))
-    inside_k = (u > -r) & (u < length[None, :] + r)
+    ei = (s > li / 2).astype(np.int64)
+    ek = (u > lk / 2).astype(np.int64)
+    dist_i = np.where(ei == 1, np.abs(s - li), np.abs(s))
+    dist_k = np.where(ek == 1, np.abs(u - lk), np.abs(u))
+    sin_ok = np.abs(cross) > math.sin(params.connect_min_angle)
     end_end = sin_ok & (dist_i < r) & (dist_k < r)
-    t_join = sin_ok & (dist_i < r) & inside_k & ~end_end  # i's end on k's inside (a T)
-    np.fill_diagonal(end_end, False)
-    np.fill_diagonal(t_join, False)
-    old_weight = w.end_weight.copy()
-    new_weight = np.zeros_like(w.end_weight)
+    t_join = sin_ok & (dist_i < r) & (u > -r) & (u < lk + r) & ~end_end  # i's end on k's inside
     # tentative walls connect last: a sliver seen once must not steal a corner from walls
     # seen many times
-    weak = (w.hits < params.confirm_hits) * params.connect_radius
-    cost = np.where(end_end, dist_i + dist_k + weak[:, None] + weak[None, :], np.inf)
-    cost = np.minimum(cost, cost.T)
-    order = np.argsort(cost, axis=None)
-    for flat in order[: int(np.isfinite(cost).sum())].tolist():
-        i, k = divmod(flat, n)
-        if i >= k:
-            continue
-        a, b = int(ei[i, k]), int(ek[i, k])
+    weak = (w.hits < params.confirm_hits) * r
+    cost = dist_i + dist_k + weak[ia] + weak[ka]
+    pairs = np.flatnonzero(end_end & (ia < ka))
+    for m in pairs[np.argsort(cost[pairs])].tolist():
+        i, k, a, b = int(ia[m]), int(ka[m]), int(ei[m]), int(ek[m])
         if connected[i, a] >= 0 or connected[k, b] >= 0:
             continue
-        x = p0[i] + s[i, k] * d[i]
+        x = p0[i] + s[m] * d[i]
         prev = (w.walls[i, 2 * a : 2 * a + 2] + w.walls[k, 2 * b : 2 * b + 2]) / 2
         wt = min(max(old_weight[i, a], old_weight[k, b]), params.max_weight)
         corner = (wt * prev + x) / (wt + 1.0)
         w.walls[i, 2 * a : 2 * a + 2] = corner
         w.walls[k, 2 * b : 2 * b + 2] = corner
         connected[i, a], connected[k, b] = k, i
-        new_weight[i, a] = new_weight[k, b] = wt + 1.0
+        w.end_weight[i, a] = w.end_weight[k, b] = wt + 1.0
         w.seen_end[i, a] = w.seen_end[k, b] = False
-    ti, tk = np.nonzero(t_join)
-    for i, k in sorted(zip(ti.tolist(), tk.tolist(), strict=True), key=lambda p: dist_i[p[0], p[1]]):
-        a = int(ei[i, k])
+    tees = np.flatnonzero(t_join)
+    for m in tees[np.argsort(dist_i[tees])].tolist():
+        i, k, a = int(ia[m]), int(ka[m]), int(ei[m])
         if connected[i, a] >= 0:
             continue
-        x = p0[i] + s[i, k] * d[i]
+        x = p0[i] + s[m] * d[i]
         prev = w.walls[i, 2 * a : 2 * a + 2]
         wt = min(old_weight[i, a], params.max_weight)
         w.walls[i, 2 * a : 2 * a + 2] = (wt * prev + x) / (wt + 1.0)
         connected[i, a] = k
-        new_weight[i, a] = wt + 1.0
+        w.end_weight[i, a] = wt + 1.0
         w.seen_end[i, a] = False
-    w.end_weight = new_weight
     return connected
 
 
