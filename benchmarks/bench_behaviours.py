@@ -1,7 +1,8 @@
 """The behaviours' quality matrix (issue 7), measured in the simulator against its truth.
 
 - escape room: the 20 generated escape rooms (tests/worlds.py, seeds 0-19) and
-  `escape_room.png` (when this build loads heightmaps), uncertain odometry, 120 simulated s:
+  `escape_room.png` (the simulator's start and 4 random starts inside the room, 0.5 m from
+  the walls), uncertain odometry, 120 simulated s:
   escaped with 0 collisions in >= 19 of 20 is the bar;
 - room finder: generated room-finder worlds: every room found, object counts right (the same
   sequence, rotated to the starting corner), 0 collisions;
@@ -27,6 +28,7 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
+import numpy as np  # noqa: E402
 from worlds import escape_world, room_finder_world  # noqa: E402
 
 from pico_studio.cli.behaviour_run import make_perception, run_behaviour  # noqa: E402
@@ -34,6 +36,7 @@ from pico_studio.core.behaviours.escape_room import EscapeRoom  # noqa: E402
 from pico_studio.core.behaviours.hospital import HospitalTour  # noqa: E402
 from pico_studio.core.behaviours.room_finder import RoomFinder  # noqa: E402
 from pico_studio.core.config.tree import Config  # noqa: E402
+from pico_studio.core.geometry import point_segment_distance  # noqa: E402
 from pico_studio.json_map import load_json_map  # noqa: E402
 from pico_studio.sim import Simulator  # noqa: E402
 from pico_studio.sim.sim_config import SimConfigFile, load_sim_config  # noqa: E402
@@ -61,11 +64,38 @@ def escape_matrix(cfg: Config, n: int) -> list[dict[str, Any]]:
         rows.append({"world": "escape_room.png", "skipped": "this build has no heightmap loader (json_map.load_map)"})
         return rows
     m = load_map(MAPS / "escape_room.png")
-    for seed in range(3):
-        sim = Simulator(m, cfg.sim, UNCERTAIN, seed=seed)
+    for seed in range(5):
+        start = inside_start(m, seed) if seed else None  # seed 0: the simulator's own start
+        sim = Simulator(m, cfg.sim, UNCERTAIN, seed=seed, initial_pose=start)
         r = run_behaviour(sim, EscapeRoom(cfg.behaviour), seconds=120.0)
         rows.append({"world": f"escape_room.png seed {seed}", **_pick(r, "escaped", "escape_seconds", "collisions", "state")})
     return rows
+
+
+def inside_start(m: Any, seed: int, clearance: float = 0.5) -> tuple[float, float, float]:
+    """A random pose inside the room of an escape-room map, `clearance` from every wall:
+    rays in the four axis directions must all meet a wall (the hallway's open end lets one
+    direction out at most when standing in its line, so the room is where all four close)."""
+    rng = np.random.default_rng(seed)
+    walls = m.wall_segments
+    x0, y0, x1, y1 = m.bounds
+    for _ in range(10000):
+        p = np.array([rng.uniform(x0, x1), rng.uniform(y0, y1)])
+        if point_segment_distance(p[None, :], walls).min() < clearance:
+            continue
+        if all(_ray_hits(p, d, walls) for d in ((1, 0), (-1, 0), (0, 1), (0, -1))):
+            return (float(p[0]), float(p[1]), float(rng.uniform(-np.pi, np.pi)))
+    raise RuntimeError("no free place inside the room")
+
+
+def _ray_hits(p: np.ndarray, d: tuple[int, int], walls: np.ndarray) -> bool:
+    a, b = walls[:, :2], walls[:, 2:]
+    e = b - a
+    den = d[0] * e[:, 1] - d[1] * e[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = ((a[:, 0] - p[0]) * e[:, 1] - (a[:, 1] - p[1]) * e[:, 0]) / den
+        u = ((a[:, 0] - p[0]) * d[1] - (a[:, 1] - p[1]) * d[0]) / den
+    return bool(np.any((t > 0) & (u >= 0) & (u <= 1)))
 
 
 def rooms_matrix(cfg: Config, n: int) -> list[dict[str, Any]]:

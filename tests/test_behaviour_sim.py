@@ -159,3 +159,17 @@ def test_escape_room_with_a_dead_end_hallway_gives_up_without_touching_a_wall():
     r = run_behaviour(sim, b, seconds=600)
     assert not r["escaped"] and r["collisions"] == 0
     assert r["state"] == "gave up" and len(b._dead_ends) >= 1
+
+
+def test_hospital_asks_the_door_on_its_plan_to_open_and_goes_through():
+    # two rooms joined only by a closed sliding door; the cabinet is behind it
+    pts = np.array([[0, 0], [6, 0], [6, 3], [0, 3], [3, 0], [3, 1.0], [3, 2.0], [3, 3],
+                    [2.95, 1.0], [3.05, 1.0], [3.05, 2.0], [2.95, 2.0],
+                    [5.6, 1.2], [5.9, 1.2], [5.9, 1.8], [5.6, 1.8]], dtype=float)
+    m = GlobalMap(points=pts, walls=np.array([[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [6, 7]]),
+                  objects=[np.array([[12, 15], [15, 14], [14, 13], [13, 12]])],
+                  doors=[np.array([[8, 9], [9, 10], [10, 11], [11, 8]])])
+    sim = Simulator(m, CFG.sim, UNCERTAIN, seed=0, initial_pose=(1.0, 1.5, 0.0))
+    r = run_behaviour(sim, HospitalTour(CFG.behaviour, m, [0], initial_pose=(1.0, 1.5, 0.0)), seconds=120)
+    assert r["cabinets_visited"] == [0] and r["collisions"] == 0 and r["state"] == "done"
+    assert sim.truth.pose[0] > 4.5

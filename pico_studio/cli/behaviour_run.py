@@ -139,7 +139,10 @@ def run_sim_behaviour(args: Any, cfg: Any) -> dict[str, Any]:
     start = tuple(float(v) for v in sim.truth.pose)
     name = behaviour_name(args.behaviour)
     behaviour = make_behaviour(args.behaviour, cfg.behaviour, sim.world.map, start)
-    perceptor = make_perception(cfg, sim.world.map, start, localise=name == "hospital")
+    # the perceptor runs only for what reads its world model: the hospital's global pose, the
+    # escape room when told to take the perceptor's entrance (the rest work on the raw scan)
+    needs_wm = name == "hospital" or (name == "escape-room" and cfg.behaviour.escape_room.entrance_source == "world_model")
+    perceptor = make_perception(cfg, sim.world.map, start, localise=name == "hospital") if needs_wm else None
     seconds = DEFAULT_SECONDS[name] if args.seconds is None else args.seconds
     t0 = time.perf_counter()
     result = run_behaviour(sim, behaviour, seconds=seconds, dt=args.dt or 0.05, perceptor=perceptor)

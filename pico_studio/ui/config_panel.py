@@ -22,6 +22,7 @@ APPLIES = {
     "map": "takes effect when a map is loaded",
     "sim": "takes effect on Reset (a new simulator)",
     "sources": "takes effect on Reset (the source is reopened)",
+    "behaviour": "takes effect when a behaviour is chosen, or on Reset",
 }
 
 

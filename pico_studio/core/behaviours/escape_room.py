@@ -260,8 +260,25 @@ class EscapeRoom(BehaviourBase):
         self._misses += 1
         return self._misses < self.p.lost_after
 
+    def _in_hallway(self) -> bool:
+        """Walls close on both sides and open ahead: already inside a hallway."""
+        assert self.scan is not None
+        left, right = self.scan.range_at(math.pi / 2, 4), self.scan.range_at(-math.pi / 2, 4)
+        return (left < self.p.hallway_side and right < self.p.hallway_side
+                and self.scan.min_in(-0.15, 0.15) > self.p.hallway_side)
+
+    def _enter_hallway(self) -> Command:
+        """Go on along the hallway as we face it now (no turning on the spot between its walls)."""
+        assert self.pose is not None and self._entrance is not None
+        self._entrance = Opening(self._entrance.centre,
+                                 np.array([math.cos(self.pose[2]), math.sin(self.pose[2])]), self._entrance.width)
+        self._state = "hallway"
+        return Command()
+
     def _approach(self) -> Command:
         assert self.pose is not None
+        if self._in_hallway():
+            return self._enter_hallway()
         if not self._recheck():
             self._state = "scan"
             return Command()
@@ -281,7 +298,7 @@ class EscapeRoom(BehaviourBase):
         assert self.pose is not None and self._entrance is not None
         heading = math.atan2(self._entrance.normal[1], self._entrance.normal[0])
         err = float(wrap_angle(heading - self.pose[2]))
-        if abs(err) > 0.03:
+        if abs(err) > 0.03 and not self._in_hallway():
             return Command(va=turn_rate(err, self.p.turn_speed, 0.3, 0.1))
         self._state = "hallway"
         return Command()
