@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from pico_studio.core.config import Config, with_value
-from pico_studio.core.geometry import relative, wrap_angle
+from pico_studio.core.geometry import compose, relative, wrap_angle
 from pico_studio.core.localisation import Localiser
 from pico_studio.core.localisation.inputs import laser_points, odometry_pose
 from pico_studio.json_map import load_json_map
@@ -93,13 +93,15 @@ def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, 
     cfg = Config()
     cfg = with_value(cfg, "sim.odometry.gain_error", gain_error)
     cfg = with_value(cfg, "sim.odometry.random_offset", True)  # the odometry frame starts anywhere
+    cfg = with_value(cfg, "sim.odometry.uncertain", True)
     world_map = load_json_map(MAPS / f"{name}.json")
     sim_config = load_sim_config(MAPS / route["sim_config"]) if route["sim_config"] else None
     if sim_config is not None:
         sim_config = dataclasses.replace(sim_config, uncertain_odom=True)
     sim = Simulator(world_map, cfg.sim, sim_config, seed=seed, initial_pose=route["start"])
-    sim.odometry.uncertain = True
     start = sim.truth.pose
+    odom_start = sim.truth.odometry_pose
+    dead_reckoning = 0.0  # worst error of odometry alone (from the true start), before the kick
     global_map = load_json_map(MAPS / f"{localise_on or name}.json")
     loc = Localiser(cfg.localisation, global_map, initial_pose=start)
     follower = RouteFollower(route["waypoints"])
@@ -114,6 +116,9 @@ def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, 
         sim.send_base_reference(*follower.command(sim.truth.pose))
         sim.advance(DT)
         t = sim.now()
+        if kicked_t is None:
+            dr = compose(start, relative(odom_start, sim.truth.odometry_pose))
+            dead_reckoning = max(dead_reckoning, math.hypot(dr[0] - sim.truth.pose[0], dr[1] - sim.truth.pose[1]))
         if kick_at is not None and kicked_t is None and t >= kick_at:
             sim.base.pose = kicked_pose(sim, rng)
             kicked_t = t
@@ -130,6 +135,7 @@ def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, 
             rows.append((t, math.hypot(r.pose[0] - true[0], r.pose[1] - true[1]),
                          abs(float(wrap_angle(r.pose[2] - true[2]))), r.lost, loc.last_ms, r.searched))
     out = summarise(name, rows, kicked_t, sim, gain_error, localise_on)
+    out["odometry_alone_max_error_m"] = round(dead_reckoning, 3)
     out["_track"] = track
     out["_map"] = global_map
     return out
@@ -191,18 +197,129 @@ def draw(global_map, track, path: Path, scale: float = 100.0) -> None:
     for poly in global_map.objects:
         for s in global_map.segments_of(poly):
             cv2.line(img, px(*s[:2]), px(*s[2:]), (170, 170, 170), 2, cv2.LINE_AA)
+    for poly in global_map.doors:
+        for s in global_map.segments_of(poly):
+            cv2.line(img, px(*s[:2]), px(*s[2:]), (0, 160, 230), 2, cv2.LINE_AA)
     for s in global_map.wall_segments:
         cv2.line(img, px(*s[:2]), px(*s[2:]), (0, 0, 0), 2, cv2.LINE_AA)
     for (t0, _, _), (t1, _, _) in zip(track, track[1:], strict=False):
         if math.hypot(t1[0] - t0[0], t1[1] - t0[1]) < 0.2:  # not across the kick
             cv2.line(img, px(*t0[:2]), px(*t1[:2]), (60, 180, 60), 3, cv2.LINE_AA)
-    for _, est, lost in track[::4]:
-        if est is not None:
+    for (t0, _, _), (t1, _, _) in zip(track, track[1:], strict=False):
+        if math.hypot(t1[0] - t0[0], t1[1] - t0[1]) >= 0.2:  # the kick: from, to
+            cv2.arrowedLine(img, px(*t0[:2]), px(*t1[:2]), (0, 0, 230), 2, cv2.LINE_AA, tipLength=0.25)
+    for k, (_, est, lost) in enumerate(track):
+        if est is not None and (lost or k % 4 == 0):
             cv2.circle(img, px(*est[:2]), 2, (0, 0, 230) if lost else (200, 80, 0), -1, cv2.LINE_AA)
-    cv2.putText(img, "true path (green), estimate (blue), estimate while lost (red)", (8, 20),
+    cv2.putText(img, "true path (green), estimate (blue; red while lost), kick (red arrow)", (8, 20),
                 cv2.FONT_HERSHEY_SIMPLEX, 0.5, (0, 0, 0), 1, cv2.LINE_AA)
     path.parent.mkdir(parents=True, exist_ok=True)
     cv2.imwrite(str(path), img)
+
+
+def kick_trials(name: str, *, kicks: int, seed: int = 0) -> dict:
+    """Kick after kick: drive 3-8 s, kick 0.5 m and +-20 deg, watch 10 s. Counts how many
+    were flagged, how many recovered (not lost, error < 10 cm) within 10 s and how fast, and
+    steps that claimed a fix more than 10 cm off (the step right after a kick, before the
+    flag can rise, excepted)."""
+    route = ROUTES[name]
+    cfg = with_value(with_value(Config(), "sim.odometry.uncertain", True), "sim.odometry.random_offset", True)
+    world_map = load_json_map(MAPS / f"{name}.json")
+    sim_config = load_sim_config(MAPS / route["sim_config"]) if route["sim_config"] else None
+    sim = Simulator(world_map, cfg.sim, sim_config, seed=seed, initial_pose=route["start"])
+    loc = Localiser(cfg.localisation, world_map, initial_pose=sim.truth.pose)
+    follower = RouteFollower(route["waypoints"])
+    rng = np.random.default_rng(seed)
+    odom = None
+
+    def drive(seconds: float) -> list[tuple[bool, float]]:
+        nonlocal odom
+        out = []
+        for _ in range(int(round(seconds / DT))):
+            sim.send_base_reference(*follower.command(sim.truth.pose))
+            sim.advance(DT)
+            laser = sim.read_laser()
+            odom = odometry_pose(odom, sim.read_odometry())
+            if laser is None or odom is None:
+                continue
+            r = loc.step(laser_points(laser), odom)
+            t = sim.truth.pose
+            err = math.inf if r.pose is None else math.hypot(r.pose[0] - t[0], r.pose[1] - t[1])
+            out.append((r.lost, err))
+        return out
+
+    drive(5.0)
+    flagged = recovered = false_fix = 0
+    times = []
+    for _ in range(kicks):
+        drive(float(rng.uniform(3.0, 8.0)))
+        pose = sim.truth.pose
+        turn = math.radians(20) * float(rng.choice([-1.0, 1.0]))
+        for a in rng.permutation(16) * (2 * math.pi / 16):
+            cand = (pose[0] + 0.5 * math.cos(a), pose[1] + 0.5 * math.sin(a), float(wrap_angle(pose[2] + turn)))
+            if _clear(sim, pose, cand):
+                sim.base.pose = cand
+                break
+        after = drive(10.0)
+        lost = [x[0] for x in after]
+        if True in lost:
+            flagged += 1
+            first = lost.index(True)
+            ok = [j for j in range(first, len(after)) if not after[j][0] and after[j][1] < 0.1]
+            if ok:
+                recovered += 1
+                times.append(ok[0] * DT)
+        false_fix += sum(1 for lo, e in after[1:] if not lo and e > 0.1)
+    return {"map": name, "kicks": kicks, "flagged": flagged, "recovered_within_10s": recovered,
+            "recovery_s_median": round(float(np.median(times)), 2) if times else None,
+            "recovery_s_max": round(float(np.max(times)), 2) if times else None,
+            "steps_with_a_wrong_fix": false_fix}
+
+
+def cost(name: str, *, seconds: float = 20.0, repeats: int = 5, seed: int = 0) -> dict:
+    """Cost per step on recorded frames: the same scans replayed `repeats` times through a
+    fresh localiser; per step the median over the repeats, then the median and 95th
+    percentile over the steps. A lost-recovery search (1 m box, any heading) likewise."""
+    from pico_studio.core.localisation.tracker import _search_around
+
+    route = ROUTES[name]
+    cfg = with_value(with_value(Config(), "sim.odometry.uncertain", True), "sim.odometry.random_offset", True)
+    world_map = load_json_map(MAPS / f"{name}.json")
+    sim_config = load_sim_config(MAPS / route["sim_config"]) if route["sim_config"] else None
+    sim = Simulator(world_map, cfg.sim, sim_config, seed=seed, initial_pose=route["start"])
+    follower = RouteFollower(route["waypoints"])
+    frames, odom = [], None
+    for _ in range(int(round(seconds / DT))):
+        sim.send_base_reference(*follower.command(sim.truth.pose))
+        sim.advance(DT)
+        laser = sim.read_laser()
+        odom = odometry_pose(odom, sim.read_odometry())
+        if laser is not None and odom is not None:
+            frames.append((laser_points(laser), odom))
+    start = sim.truth.pose
+    times = np.zeros((repeats, len(frames)))
+    cpu = np.zeros((repeats, len(frames)))  # CPU time: less disturbed by other jobs on the machine
+    for r in range(repeats):
+        loc = Localiser(cfg.localisation, world_map, initial_pose=route["start"] or (6.0, 3.5, 3.14))
+        for k, (pts, o) in enumerate(frames):
+            t0, c0 = time.perf_counter(), time.process_time()
+            loc.step(pts, o)
+            times[r, k] = (time.perf_counter() - t0) * 1000
+            cpu[r, k] = (time.process_time() - c0) * 1000
+    per_step = np.median(times, axis=0)[5:]  # the first steps search from the prior
+    per_step_cpu = np.median(cpu, axis=0)[5:]
+    search_ms = []
+    pts = frames[-1][0]
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        _search_around(loc.lmap, pts, start, cfg.localisation.search.lost_radius, cfg.localisation)
+        search_ms.append((time.perf_counter() - t0) * 1000)
+    return {"map": name, "steps": len(frames), "repeats": repeats,
+            "ms_per_step_median": round(float(np.median(per_step)), 2),
+            "ms_per_step_p95": round(float(np.percentile(per_step, 95)), 2),
+            "cpu_ms_per_step_median": round(float(np.median(per_step_cpu)), 2),
+            "cpu_ms_per_step_p95": round(float(np.percentile(per_step_cpu, 95)), 2),
+            "ms_per_recovery_search_median": round(float(np.median(search_ms)), 1)}
 
 
 def main() -> None:
@@ -212,14 +329,23 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--png-dir", default="", help="draw each run's map and paths here (e.g. docs)")
+    ap.add_argument("--cost-only", action="store_true", help="only the cost per step")
+    ap.add_argument("--kicks", type=int, default=10, help="kicks per map in the repeated-kick trial (0: none)")
     args = ap.parse_args()
-    results = []
     t0 = time.perf_counter()
+    costs = [cost(name, seed=args.seed) for name in ROUTES]
+    for c in costs:
+        print(json.dumps(c))
+    if args.cost_only:
+        return
+    results = []
     for name in ROUTES:
         results.append(run(name, seconds=args.seconds, gain_error=args.gain_error,
                            kick_at=args.seconds / 2, seed=args.seed))
-    results.append(run("restaurant_2024", seconds=min(args.seconds, 30.0), gain_error=args.gain_error,
+    results.append(run("restaurant_2024", seconds=min(args.seconds, 60.0), gain_error=args.gain_error,
                        kick_at=None, seed=args.seed, localise_on="hospital_2019"))
+    if args.kicks:
+        results += [kick_trials(name, kicks=args.kicks, seed=args.seed + 1) for name in ROUTES]
     for r in results[:2]:
         if args.png_dir:
             path = Path(args.png_dir) / f"localisation_{r['map']}.png"

@@ -1,8 +1,9 @@
 """Draw what the simulator knows: the map, one scan, and the ground truth visible from the pose.
 
-    python examples/sim_truth.py [--map M] [--pose X Y A] [--out docs/sim_truth.png]
+    python examples/sim_truth.py [--map M] [--sim-config C] [--pose X Y A] [--out docs/sim_truth.png]
 
-Grey: the map's walls and cabinets; orange dots: the (noisy) scan; green: visible wall pieces;
+Grey: the map's walls and cabinets; dark green: doors (light when opened); blue boxes: moving
+objects; orange dots: the (noisy) scan; green: visible wall pieces;
 red/blue discs: convex/concave corners in view; thin purple: all door openings; thick purple:
 the visible ones; the robot's collision box in black.
 """
@@ -16,7 +17,7 @@ import cv2
 import numpy as np
 
 from pico_studio.core.geometry import transform_points
-from pico_studio.sim import Simulator, load_any_map
+from pico_studio.sim import Simulator, load_any_map, load_sim_config
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -35,6 +36,10 @@ def draw(sim: Simulator, scale: float = 100.0, margin: int = 20) -> np.ndarray:
 
     truth = sim.truth
     lines(truth.segments(), (170, 170, 170), 2)
+    for outline, opened in truth.doors():
+        cv2.polylines(img, [px(outline)], True, (0, 200, 0) if opened else (0, 120, 0), 2)
+    for box in truth.moving_objects():
+        cv2.fillPoly(img, [px(box)], (230, 160, 60))
     lines(truth.door_openings(), (200, 80, 200), 1)
     lines(truth.visible_walls(), (0, 170, 0), 3)
     lines(truth.visible_doors(), (200, 80, 200), 4)
@@ -56,12 +61,19 @@ def draw(sim: Simulator, scale: float = 100.0, margin: int = 20) -> np.ndarray:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--map", default=str(ROOT / "pico_studio" / "data" / "maps" / "hospital_2019.json"))
-    ap.add_argument("--pose", type=float, nargs=3, default=[1.2, 3.0, 0.3])
+    ap.add_argument("--pose", type=float, nargs=3, help="x y a (default: the simulator's start)")
+    ap.add_argument("--sim-config", help="the official simulator's config JSON (moving objects, ...)")
     ap.add_argument("--out", default=str(ROOT / "docs" / "sim_truth.png"))
+    ap.add_argument("--scale", type=float, default=100.0, help="pixels per metre")
     args = ap.parse_args()
-    sim = Simulator(load_any_map(args.map), initial_pose=tuple(args.pose), seed=1)
+    sim = Simulator(
+        load_any_map(args.map),
+        sim_config=load_sim_config(args.sim_config) if args.sim_config else None,
+        initial_pose=tuple(args.pose) if args.pose else None,
+        seed=1,
+    )
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    cv2.imwrite(args.out, draw(sim))
+    cv2.imwrite(args.out, draw(sim, scale=args.scale))
     print(f"wrote {args.out}")
 
 

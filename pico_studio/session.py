@@ -64,6 +64,8 @@ def as_action(command: Any) -> Action | None:
         return command
     if isinstance(command, BaseReference):
         return Action(command.vx, command.vy, command.va)
+    if all(hasattr(command, k) for k in ("vx", "vy", "va")):  # e.g. core.behaviours' Command
+        return Action(float(command.vx), float(command.vy), float(command.va), bool(getattr(command, "open_door", False)))
     if isinstance(command, (tuple, list)) and len(command) == 3:
         return Action(float(command[0]), float(command[1]), float(command[2]))
     raise TypeError(f"a behaviour must return an Action, BaseReference, (vx, vy, va) or None, got {command!r}")

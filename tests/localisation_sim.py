@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pico_studio.core.geometry import point_segment_distance, relative, wrap_angle
+from pico_studio.core.geometry import compose, point_segment_distance, relative, wrap_angle
 from pico_studio.core.localisation import Localiser
 from pico_studio.core.localisation.inputs import laser_points, odometry_pose
 from pico_studio.sim import Simulator
@@ -59,9 +59,13 @@ class Driver:
     times: list[float] = field(default_factory=list)
     errors: list[tuple[float, float]] = field(default_factory=list)  # (m, rad); nan before a fix
     lost: list[bool] = field(default_factory=list)
+    dead_reckoning: list[float] = field(default_factory=list)  # odometry alone from the true start, m
+    _start: tuple | None = None
 
     def drive(self, seconds: float, command=None) -> None:
         sim = self.sim
+        if self._start is None:
+            self._start = (sim.truth.pose, sim.truth.odometry_pose)
         for _ in range(int(round(seconds / DT))):
             if command is not None:
                 sim.send_base_reference(*command(sim.truth.pose))
@@ -72,6 +76,8 @@ class Driver:
                 continue
             r = self.loc.step(laser_points(laser), self.odom)
             t = sim.truth.pose
+            dr = compose(self._start[0], relative(self._start[1], sim.truth.odometry_pose))
+            self.dead_reckoning.append(math.hypot(dr[0] - t[0], dr[1] - t[1]))
             self.times.append(sim.now())
             self.lost.append(r.lost)
             if r.pose is None:

@@ -5,13 +5,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from localisation_scans import scan_from_segments
 
 from pico_studio.core.config import Config
 from pico_studio.core.geometry import compose, invert, transform_segments
 from pico_studio.core.localisation import Localiser, combine
 from pico_studio.core.localisation.combined import zero_to_global
+from pico_studio.core.localisation.inputs import laser_points
 from pico_studio.json_map import load_json_map
+from pico_studio.sim import Simulator
 
 
 def test_local_walls_are_carried_into_the_global_frame_and_tagged(maps_dir):
@@ -46,11 +47,13 @@ def test_zero_to_global_maps_the_robot_onto_itself():
 
 def test_walls_in_view_become_seen_while_tracking(maps_dir):
     m = load_json_map(maps_dir / "restaurant_2024.json")
-    loc = Localiser(Config().localisation, m)
-    rng = np.random.default_rng(0)
-    true = (1.5, 0.7, math.pi / 2)
+    cfg = Config()
+    loc = Localiser(cfg.localisation, m)
+    sim = Simulator(m, cfg.sim, seed=0, initial_pose=(1.5, 0.7, math.pi / 2))
+    assert loc.combined((0.0, 0.0, 0.0), np.zeros((0, 4))) is None  # nothing before a fix
     for _ in range(6):
-        loc.step(scan_from_segments(loc.lmap.field.segments, true, rng, max_range=2.0), (0.0, 0.0, 0.0))
+        sim.advance(0.05)
+        loc.step(laser_points(sim.read_laser()), (0.0, 0.0, 0.0))
     cm = loc.combined((0.0, 0.0, 0.0), np.zeros((0, 4)))
     assert cm is not None
-    assert 0 < cm.map_wall_seen.sum() < len(m.walls)  # nearby walls seen, far ones not
+    assert 0 < cm.map_wall_seen.sum() < len(m.walls)  # walls in view seen, hidden ones not

@@ -57,9 +57,11 @@ def test_prior_from_start_area_given_pose_and_whole_map(restaurant, maps_dir):
 
     given = initial_prior(restaurant, params, pose=(6.0, 3.5, 3.14))
     assert given.origin == "pose" and given.half_x == params.position_uncertainty
+    assert given.heading_known and given.a == 3.14  # a sim config's pose gives the heading
 
-    cfg = with_value(with_value(Config(), "localisation.prior.heading_known", True),
-                     "localisation.prior.source", "pose")
+    cfg = with_value(Config(), "localisation.prior.source", "pose")
+    assert not initial_prior(restaurant, cfg.localisation.prior).heading_known
+    cfg = with_value(cfg, "localisation.prior.heading_known", True)
     known = initial_prior(restaurant, cfg.localisation.prior)
     assert known.origin == "pose" and known.heading_known
     assert known.heading_range == pytest.approx(cfg.localisation.prior.heading_uncertainty)

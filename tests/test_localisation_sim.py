@@ -12,7 +12,7 @@ from localisation_sim import Driver, follow, kick
 
 from pico_studio.core.config import Config, with_value
 from pico_studio.core.localisation import Localiser
-from pico_studio.json_map import load_json_map
+from pico_studio.json_map import load_json_map, load_map
 from pico_studio.sim import Simulator, load_sim_config
 
 HOSPITAL_ROUTE = [(3.5, 5.4), (5.5, 5.4), (5.5, 3.0), (5.5, 5.4), (3.5, 5.4), (3.5, 0.6)]
@@ -23,13 +23,12 @@ def _sim(maps_dir, name, cfg, *, sim_config=None, pose=None, seed=0) -> Simulato
     sc = load_sim_config(maps_dir / sim_config) if sim_config else None
     if sc is not None:
         sc = dataclasses.replace(sc, uncertain_odom=True)
-    sim = Simulator(load_json_map(maps_dir / f"{name}.json"), cfg.sim, sc, seed=seed, initial_pose=pose)
-    sim.odometry.uncertain = True
-    return sim
+    return Simulator(load_json_map(maps_dir / f"{name}.json"), cfg.sim, sc, seed=seed, initial_pose=pose)
 
 
 def _config(gain_error: float = 0.002) -> Config:
-    cfg = with_value(Config(), "sim.odometry.random_offset", True)
+    cfg = with_value(Config(), "sim.odometry.random_offset", True)  # odometry frame starts anywhere
+    cfg = with_value(cfg, "sim.odometry.uncertain", True)
     return with_value(cfg, "sim.odometry.gain_error", gain_error)
 
 
@@ -61,6 +60,8 @@ def test_tracks_under_drifting_odometry_with_moving_object(maps_dir):
     assert not any(d.lost[10:])
     assert np.median(e[:, 0]) < 0.02 and e[:, 0].max() < 0.1
     assert np.median(e[:, 1]) < math.radians(1.0) and e[:, 1].max() < math.radians(3.0)
+    # odometry alone went astray by more than the localiser's worst error, many times over
+    assert max(d.dead_reckoning) > 5 * e[:, 0].max()
 
 
 def test_kick_is_flagged_and_recovered_within_ten_seconds(maps_dir):
@@ -95,3 +96,16 @@ def test_wrong_map_is_lost_and_stays_lost(maps_dir):
     # found there, it is not confirmed while driving on
     d.drive(20.0, follow(RESTAURANT_ROUTE))
     assert all(d.lost)
+
+
+def test_heightmap_map_localises(maps_dir):
+    # the restaurant as the official simulator's image (+ map_server YAML), vectorised
+    cfg = _config()
+    gmap = load_map(maps_dir / "restaurant_2024.yaml", cfg.map)
+    sim = Simulator(gmap, cfg.sim, load_sim_config(maps_dir / "restaurant_2024_sim.json"), seed=0)
+    loc = Localiser(cfg.localisation, gmap, initial_pose=(6.0, 3.5, 3.14))
+    d = Driver(sim, loc)
+    d.drive(3.0, follow(RESTAURANT_ROUTE))
+    assert not d.lost[-1]
+    e = np.array(d.errors[5:])
+    assert e[:, 0].max() < 0.03 and e[:, 1].max() < math.radians(1.0)

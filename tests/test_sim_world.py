@@ -143,3 +143,11 @@ def test_truth_lists_doors_and_moving_objects_where_they_are() -> None:
     assert opened and np.hypot(*(outline.mean(axis=0) - (5.0, 4.5))) == pytest.approx(0.3)
     (box,) = sim.truth.moving_objects()
     assert box.shape == (4, 2) and box.mean(axis=0)[1] == pytest.approx(8.0 - 0.5)
+
+
+def test_json_door_slides_towards_decreasing_coordinate() -> None:
+    sim = Simulator(door_map(), initial_pose=(4.1, 4.5, 0.0))
+    sim.open_door()
+    sim.advance(5.0)
+    (outline, _), = sim.truth.doors()
+    assert outline[:, 1].max() == pytest.approx(4.0)  # slid down (-y) by its 1 m size

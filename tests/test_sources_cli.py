@@ -23,6 +23,10 @@ def test_run_the_real_bag(recordings_dir: Path, capsys: pytest.CaptureFixture[st
     r = _run_json(capsys, "--source", f"bag:{recordings_dir / 'pico_real_2019-05-07.bag'}")
     assert r["frames"] == 243 and r["frames_read"] == 243 and r["frames_dropped"] == 0
     assert r["beams"] == [1081] and r["odometry_readings"] == 0
+    figures = r["perceptor"]
+    assert figures["frames_perceived"] == 243
+    assert figures["valid_beams"]["median"] > 1000  # a small room: nearly every beam returns
+    assert figures["current_map_segments"]["median"] >= 3  # the walls of the room
 
 
 def test_run_the_real_bag_at_a_fixed_rate_drops_scans(recordings_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -39,7 +43,8 @@ def test_run_the_carmen_log_for_a_while(recordings_dir: Path, capsys: pytest.Cap
 def test_carmen_log_converts_to_a_bag(recordings_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "intel.bag"
     log = recordings_dir / "intel-corrected.log.gz"
-    r = _run_json(capsys, "--source", f"carmen:{log}", "--record", str(out))
+    r = _run_json(capsys, "--source", f"carmen:{log}", "--record", str(out), "--no-perceptor")
+    assert r["perceptor"] is None
     assert r["recorded"]["messages"]["/pico/laser"] == 910
     bag, carmen = open_bag(out), open_carmen(log)
     assert bag.frame_count == 910 and bag.has_truth

@@ -46,8 +46,9 @@ def test_no_master_is_reported_not_raised() -> None:
     params = SourcesParams(ros=LiveRosParams(master_uri=f"http://127.0.0.1:{port}", master_check_interval=0.1))
     source = LiveRosSource(params)
     try:
-        assert not source.ok()
+        assert source.ok()  # like ros::ok(): the loop runs on while there is no master
         status = source.status()
+        assert not status.connected
         assert not status.master_up and status.stale
         assert f"no ROS master at http://127.0.0.1:{port}" in status.message
         source.send_base_reference(0.3, 0.0, 0.0)  # nothing to send to: no crash
@@ -57,6 +58,7 @@ def test_no_master_is_reported_not_raised() -> None:
             source.wait_connected(0.3)
     finally:
         source.close()
+    assert not source.ok()
 
 
 def test_master_uri_is_checked() -> None:
@@ -67,3 +69,23 @@ def test_master_uri_is_checked() -> None:
         from_dict(SourcesParams, {"ros": {"master_uri": "robot:11311"}}, prefix="sources.")
     with pytest.raises(ConfigError, match="sources.topics.odometry.*same topic"):
         from_dict(SourcesParams, {"topics": {"odometry": "/pico/laser"}}, prefix="sources.")
+
+
+def test_run_without_a_master_is_one_line_and_exit_2(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+    from pico_studio.cli import main
+    from pico_studio.sources.ros_live import import_rospy
+
+    try:
+        import_rospy()
+    except SourceError as e:
+        pytest.skip(str(e))
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    config = tmp_path / "robot.yaml"
+    config.write_text(f"sources:\n  ros:\n    master_uri: http://127.0.0.1:{port}\n    connect_timeout: 0.5\n")
+    assert main(["run", "--source", "ros", "--config", str(config), "--seconds", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"no ROS master at http://127.0.0.1:{port}" in err

@@ -140,6 +140,18 @@ def test_slider_changes_drawing_and_metric(app, page) -> None:
         page.locator("label", has_text=covering).click()
 
 
+def test_timeline_scrubs_back_and_returns_to_live(app, page) -> None:
+    page.get_by_role("tab", name="Run").click()
+    set_number(page, "Timeline", 5)
+    assert wait_until(lambda: app.studio.cursor == 5 and not app.studio.playing)
+    page.get_by_text(re.compile(r"timeline frame \d+")).first.wait_for(timeout=20000)
+    assert app.studio.shown().wm is not None  # re-processed with the current config
+    page.get_by_role("button", name="Back to live").click()
+    assert wait_until(lambda: app.studio.cursor is None and app.studio.playing)
+    page.get_by_role("button", name="Pause").click()
+    assert wait_until(lambda: not app.studio.playing)
+
+
 def test_export_downloads_the_live_config(app, page, tmp_path: Path) -> None:
     page.get_by_role("tab", name="Config").click()
     with page.expect_download(timeout=20000) as info:
@@ -170,6 +182,17 @@ def test_broken_map_upload_shows_the_error_and_the_page_keeps_working(app, page,
     frames = len(app.studio.timeline)
     page.get_by_role("button", name="Step one frame").click()
     assert wait_until(lambda: len(app.studio.timeline) == frames + 1)
+
+
+def test_an_invalid_value_is_reported_and_reverted(app, page) -> None:
+    page.get_by_role("tab", name="Config").click()
+    page.get_by_text("ui", exact=True).locator("visible=true").first.click()
+    page.get_by_text("wander", exact=True).locator("visible=true").first.click()
+    before = app.studio.cfg.ui.wander.clear_distance
+    set_number(page, "clear_distance", 0.2)  # below stop_distance: the section's own check refuses it
+    page.get_by_text(re.compile("must be at least stop_distance")).first.wait_for(timeout=20000)
+    assert app.studio.cfg.ui.wander.clear_distance == before
+    assert wait_until(lambda: float(input_of(page, "clear_distance").input_value()) == before)
 
 
 def test_a_second_tab_sees_the_scene(app, browser) -> None:
@@ -219,3 +242,19 @@ def test_click_on_a_wall_shows_its_numbers(app, page) -> None:
             break
     page.mouse.click(*px)
     page.get_by_text(re.compile(r"wall.*length .* m.*from the click")).first.wait_for(timeout=20000)
+
+
+def test_two_clicks_measure_a_distance(app, page) -> None:
+    page.get_by_role("tab", name="Tools").click()
+    input_of(page, "Click does").click()
+    page.get_by_role("option", name="measure").click()
+    assert wait_until(lambda: app.click_mode.value == "measure")
+    client = _client(app)
+    a, b = world_to_pixel(client, 1.0, 1.0), world_to_pixel(client, 3.0, 1.0)
+    page.mouse.click(*a)
+    page.get_by_text(re.compile("click the second")).first.wait_for(timeout=20000)
+    page.mouse.click(*b)
+    text = page.get_by_text(re.compile(r"distance \d+\.\d+ m")).first
+    text.wait_for(timeout=20000)
+    metres = float(re.search(r"distance (\d+\.\d+) m", text.inner_text()).group(1))
+    assert metres == pytest.approx(2.0, abs=0.05)  # one pixel is about 1 cm here

@@ -36,7 +36,7 @@ def test_wander_drives_around_the_hospital_without_hitting_anything() -> None:
     states = set()
     for _ in range(1200):  # 60 s at 20 Hz
         sim.advance(0.05)
-        cmd = wander.step(sim.read_laser())
+        cmd = wander.step(None, sim.read_laser())
         states.add(wander.state)
         sim.send_base_reference(cmd.vx, cmd.vy, cmd.va)
     assert sim.truth.collisions == 0
@@ -157,6 +157,14 @@ def test_config_panel_has_an_input_for_every_parameter_and_reverts_bad_values(tm
     )
     app = build_app(args, verbose=False)
     try:
+        handles = dict(app.layers.handles)
+        app.studio.playing = True
+        for _ in range(3):
+            app.studio.tick(0.05)
+            app.redraw()
+        assert app.layers.handles == handles and app.layers.sizes["laser"] > 0  # assigned, not re-created
+        assert app.layers.handles["laser"].points.dtype == np.float32
+        app.studio.playing = False
         inputs = app.config_panel.inputs
         assert set(inputs) == {p.path for p in params(app.studio.cfg)}
         assert type(inputs["perception.scan.segmenter"]).__name__.startswith("GuiDropdown")
@@ -172,6 +180,9 @@ def test_config_panel_has_an_input_for_every_parameter_and_reverts_bad_values(tm
         assert app.studio.map_name == "restaurant_2024.json"
         assert app.layers.sizes["map_walls"] == len(app.studio.global_map.walls)
         assert app.studio.cfg.perception.scan.min_length == 0.5  # tuned values survive a map change
+        png = example_maps()["escape_room.png"]  # a heightmap, vectorised on loading
+        app.switch_map(png, png.name, None)
+        assert app.studio.map_name == "escape_room.png" and app.layers.sizes["map_walls"] > 4
     finally:
         app.stop()
 
@@ -181,3 +192,36 @@ def test_serve_bad_input_is_one_line_and_exit_2(capsys: pytest.CaptureFixture[st
     assert "missing.json" in capsys.readouterr().err
     assert main(["serve", "--source", "tape:foo"]) == 2
     assert "--source" in capsys.readouterr().err
+    assert main(["serve", "--behaviour", "dance"]) == 2
+    assert "dance" in capsys.readouterr().err
+
+
+def test_behaviour_target_and_plan_are_drawn_in_their_frame() -> None:
+    s = _studio()
+    for _ in range(5):
+        s.tick(0.05)
+    frame = s.shown()
+    frame.behaviour_target, frame.behaviour_plan = (1.0, 0.0), np.array([[0.0, 0.0], [1.0, 0.0]])
+    frame.behaviour_frame = "global"
+    assert frame_prims(s, frame)["target"].data[0] == pytest.approx([1.0, 0.0])
+    frame.behaviour_frame, frame.behaviour_pose = "odom", (0.0, 0.0, 0.0)
+    robot = s.robot_pose_in_map(frame)
+    # the target 1 m ahead of where the behaviour thinks it is = 1 m ahead of the robot
+    ahead = (robot[0] + math.cos(robot[2]), robot[1] + math.sin(robot[2]))
+    assert frame_prims(s, frame)["target"].data[0] == pytest.approx(ahead)
+    assert len(frame_prims(s, frame)["plan"]) == 1
+
+
+def test_core_behaviours_run_on_the_page_and_their_plan_is_drawn() -> None:
+    s = Studio(Config(), load_json_map(DEFAULT_MAP), make_source_factory("sim", None, 2), behaviour="hospital:1,0")
+    for _ in range(30):
+        s.tick(0.05)
+    frame = s.shown()
+    assert frame.behaviour_state.startswith("hospital") and frame.behaviour_frame == "global"
+    plan = frame_prims(s, frame)["plan"].data
+    assert len(plan) >= 1
+    x0, y0, x1, y1 = s.global_map.bounds
+    assert ((plan[:, [0, 2]] >= x0 - 0.5) & (plan[:, [0, 2]] <= x1 + 0.5)).all()
+    s.set_behaviour("escape-room")
+    s.tick(0.05)
+    assert s.shown().behaviour_state.startswith("escape-room")

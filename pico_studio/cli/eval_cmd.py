@@ -20,6 +20,9 @@ import numpy as np
 
 from pico_studio.core.config import load_config
 from pico_studio.core.geometry import compose, invert
+from pico_studio.core.localisation import DistanceField, Localiser
+from pico_studio.core.localisation.score import PoseScore, summary_line
+from pico_studio.core.localisation.stage import LocalisingPerceptor
 from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
 from pico_studio.session import Action, Session
@@ -106,9 +109,15 @@ def evaluate(map_path: str, *, sim_config: str | None = None, config: str | None
     if len(starts) < poses:
         raise UserError(f"found only {len(starts)} free poses with {clearance} m clearance", file=map_path)
     run = RunScore()
+    localisation = PoseScore()
+    dfield = DistanceField.from_map(gmap, cfg.localisation.field) if cfg.localisation.enabled else None
     for k, pose in enumerate(starts):
         sim = Simulator(gmap, cfg.sim, sc, seed=seed + 1 + k, initial_pose=pose)
-        perceptor = Perceptor(cfg.perception)
+        perceptor: Any = Perceptor(cfg.perception)
+        if dfield is not None:  # localised from the start pose as a sim config gives it
+            perceptor = LocalisingPerceptor(perceptor, Localiser(cfg.localisation, gmap, pose, dfield),
+                                            truth=lambda sim=sim: sim.truth.pose)
+            perceptor.score = localisation
         session = Session(sim, perceptor=perceptor, behaviour=lambda f, wm: Action(0.0, 0.0, turn), history=1)
         wm = None
         for _ in range(frames):
@@ -125,6 +134,8 @@ def evaluate(map_path: str, *, sim_config: str | None = None, config: str | None
         run.add(score_frame(wm, sim.truth, tol or Tolerances(), true_zero=true_zero, true_vertices=vertices))
     out = {"map": map_path, "seed": seed, "poses": len(run.frames), "frames_per_pose": frames}
     out.update(run.summary())
+    if dfield is not None:
+        out["localisation"] = localisation.summary()
     return out
 
 
@@ -144,4 +155,6 @@ def _eval(args: argparse.Namespace) -> int:
           f"({r['doors_detected']} found, {r['doors_visible']} visible)")
     print(f"  pose     error {r['pose_error_m']:.4f} m, {r['pose_error_rad']:.4f} rad")
     print(f"  speed    {r['ms_per_scan']:.3f} ms per scan (median)")
+    if "localisation" in r:
+        print(f"  localise {summary_line(r['localisation'])}")
     return 0

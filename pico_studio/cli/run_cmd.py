@@ -14,6 +14,7 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
+from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
 from pico_studio.cli.run_sources import (
     check_source_args,
     make_perceptor,
@@ -21,6 +22,9 @@ from pico_studio.cli.run_sources import (
     recorded,
     run_source,
 )
+from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
+from pico_studio.core.behaviours.registry import is_behaviour
+from pico_studio.core.behaviours.registry import make_behaviour as make_core_behaviour
 from pico_studio.core.config import load_config
 from pico_studio.errors import UserError
 from pico_studio.session import Action, Session
@@ -57,7 +61,8 @@ BEHAVIOURS["drive"] = _drive
 def make_behaviour(spec: str) -> Callable[..., Any]:
     name, _, arg = spec.partition(":")
     if name not in BEHAVIOURS:
-        raise UserError(f"unknown behaviour {name!r}; known: {', '.join(sorted(BEHAVIOURS))}", field="--behaviour")
+        known = sorted(BEHAVIOURS) + list(CORE_BEHAVIOURS)
+        raise UserError(f"unknown behaviour {name!r}; known: {', '.join(known)}", field="--behaviour")
     return BEHAVIOURS[name](arg)
 
 
@@ -66,14 +71,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--source", default="sim", help=SOURCE_HELP + " (default sim)")
     p.add_argument("--map", help="a JSON map or heightmap image (for --source sim)")
     p.add_argument("--record", metavar="FILE.bag", help="record the run as a ROS 1 bag (laser, odometry, base references, true pose)")
+    p.add_argument("--no-perceptor", action="store_true", help="recordings and robot: only read (and record), no perception")
     p.add_argument("--sim-config", help="the official simulator's config JSON (start pose, moving objects, ...)")
     p.add_argument("--config", help="a pico_studio config YAML (partial files merge over the defaults)")
     p.add_argument("--seed", type=int, help="random seed (default: sim.seed of the config)")
     p.add_argument("--seconds", type=float, help="seconds to run (default 10; a replay runs to its end)")
     p.add_argument("--dt", type=float, help="control period in seconds (default 0.05 = 20 Hz; a replay meets every frame unless given)")
-    p.add_argument("--behaviour", default="idle", help="idle | drive:VX,VY,VA (default idle)")
+    p.add_argument("--behaviour", default="idle", help="idle | drive:VX,VY,VA | escape-room | room-finder | hospital[:I,J,K] (default idle)")
     p.add_argument("--realtime", action="store_true", help="pace to wall-clock time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--localise", action="store_true",
+                   help="run the perceptor and localisation on the map; report the pose error against the truth")
     p.set_defaults(func=_run)
 
 
@@ -85,14 +93,26 @@ def _run(args: argparse.Namespace) -> int:
     spec = parse_source(args.source)
     check_source_args(args, spec)
     cfg = load_config(args.config)
+    if is_behaviour(args.behaviour):  # the reference behaviours (core/behaviours/registry.py)
+        if spec.kind != "sim":
+            return run_source(args, spec, cfg, make_core_behaviour(args.behaviour, cfg.behaviour))
+        result = run_sim_behaviour(args, cfg)
+        if args.json:
+            print(json.dumps(result))
+        else:
+            print_behaviour_result(result)
+        return 0
     behaviour = make_behaviour(args.behaviour)
     if spec.kind != "sim":
+        if args.localise:
+            raise UserError("needs the simulator (--source sim): a map and the true pose", field="--localise")
         return run_source(args, spec, cfg, behaviour)
     params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
-    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed)
+    sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
     perceptor = make_perceptor(cfg)
-    session = Session(sim, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
+    localising = _localising(cfg, sim, perceptor) if args.localise else None
+    session = Session(sim, perceptor=localising or perceptor, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
     scores = None
     try:
@@ -119,6 +139,8 @@ def _run(args: argparse.Namespace) -> int:
         "recorded": record,
         "perceptor": scores.summary() if scores is not None else None,
     }
+    if localising is not None:
+        result["localisation"] = localising.score.summary()
     if args.json:
         print(json.dumps(result))
         return 0
@@ -134,4 +156,19 @@ def _run(args: argparse.Namespace) -> int:
               f"doors P {r['door_precision']:.3f} R {r['door_recall']:.3f}, corners P {r['corner_precision']:.3f} "
               f"R {r['corner_recall']:.3f}, convexity {r['convexity_accuracy']:.3f}, "
               f"pose error {r['pose_error_m']:.3f} m, {r['ms_per_scan']:.2f} ms/scan")
+    if localising is not None:
+        from pico_studio.core.localisation.score import summary_line
+
+        print("  localisation " + summary_line(result["localisation"]))
     return 0
+
+
+def _localising(cfg: Any, sim: Simulator, perceptor: Any) -> Any:
+    """The perceptor with localisation on the simulator's map, scored against its truth; the
+    prior is the sim config's start pose when it has one, else the map's start area."""
+    from pico_studio.core.localisation import Localiser
+    from pico_studio.core.localisation.stage import LocalisingPerceptor
+
+    localiser = Localiser(cfg.localisation, sim.world.map, sim.sim_config.initial_pose)
+    return LocalisingPerceptor(perceptor, localiser, truth=lambda: sim.truth.pose)
+

@@ -15,13 +15,12 @@ import time
 from typing import Any
 
 from pico_studio.core.config import Config
+from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
 from pico_studio.session import Session
 from pico_studio.sources import SourceSpec, open_source
 from pico_studio.sources.recorder import BagRecorder
 from pico_studio.sources.replay_run import run_replay
-
-LIVE_CONNECT_TIMEOUT = 10.0  # seconds to wait for the robot's master before giving up
 
 
 def open_recorder(args: argparse.Namespace, cfg: Config) -> BagRecorder | None:
@@ -37,21 +36,18 @@ def recorded(recorder: BagRecorder | None) -> dict[str, Any] | None:
     return {"file": str(recorder.path), "messages": dict(sorted(recorder.counts.items()))}
 
 
-def make_perceptor(cfg: Config) -> Any:
-    try:
-        from pico_studio.core.perception import Perceptor
-    except ImportError:  # the perceptor is not part of this build yet
-        return None
-    return Perceptor(cfg.perception)  # type: ignore[attr-defined]
+def make_perceptor(cfg: Config) -> Perceptor:
+    return Perceptor(cfg.perception)
 
 
 def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviour: Any) -> int:
     """Run a replay or the live robot; print the report (one JSON object with --json)."""
     source = open_source(spec, cfg.sources)
-    recorder = open_recorder(args, cfg)
-    perceptor = make_perceptor(cfg)
+    recorder = None
+    perceptor = None if args.no_perceptor else make_perceptor(cfg)
     t0 = time.perf_counter()
     try:
+        recorder = open_recorder(args, cfg)
         if spec.kind == "ros":
             result = _run_live(args, source, perceptor, behaviour, recorder)
         else:
@@ -59,8 +55,9 @@ def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviou
             result = run_replay(session, source, dt=args.dt, seconds=args.seconds)
     finally:
         result_recorded = recorded(recorder)
-        if spec.kind == "ros":
-            source.close()
+        close = getattr(source, "close", None)
+        if callable(close):  # the live robot: stop the base, leave the master
+            close()
     result.update(source=str(spec), wall_seconds=time.perf_counter() - t0, recorded=result_recorded)
     if args.json:
         print(json.dumps(result))
@@ -70,7 +67,7 @@ def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviou
 
 
 def _run_live(args: argparse.Namespace, source: Any, perceptor: Any, behaviour: Any, recorder: Any) -> dict[str, Any]:
-    source.wait_connected(LIVE_CONNECT_TIMEOUT)
+    source.wait_connected(source.params.ros.connect_timeout)
     session = Session(source, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
     dt = args.dt or 0.05
     seconds = 10.0 if args.seconds is None else args.seconds

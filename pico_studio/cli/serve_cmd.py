@@ -13,7 +13,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--map", help="a JSON map or heightmap image (default: the built-in hospital_2019.json)")
     p.add_argument("--sim-config", help="simulator config JSON (initial pose, moving objects, ...)")
     p.add_argument("--config", help="a (partial) config YAML to start from")
-    p.add_argument("--behaviour", default="wander", help="what drives the robot: wander (default), teleop, stop")
+    p.add_argument("--behaviour", default="wander", help="what drives the robot: wander (default), escape-room, room-finder, hospital[:I,J,K] (cabinet order), teleop, stop")
     p.add_argument("--source", default="sim", help="sim (default), bag:FILE, carmen:FILE or ros (a replay drives nothing: behaviours are ignored)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
     p.add_argument("--port", type=int, default=8080, help="port (default 8080)")
@@ -50,6 +50,7 @@ def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioAp
 
 def _serve(args: argparse.Namespace) -> int:
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    logging.getLogger("websockets").setLevel(logging.WARNING)  # not a line per tab
     app = build_app(args, verbose=False)
     app.start()
     print(f"pico-studio: serving {app.studio.map_name} at {app.url}  (Ctrl-C stops)", flush=True)

@@ -2,10 +2,15 @@
 collisions and ground truth, behind the emc-IO shaped `RobotIO` interface.
 
     from pico_studio.sim import Simulator
-    sim = Simulator.from_files("examples/maps/hospital_2019.json", seed=1)
+    sim = Simulator.from_files("examples/maps/hospital_2019.json", seed=1)   # or a heightmap
     sim.send_base_reference(0.3, 0.0, 0.0); sim.advance(0.05)
     scan, odom = sim.read_laser(), sim.read_odometry()
-    sim.truth.pose
+    sim.truth.pose, sim.truth.visible_walls(), sim.truth.visible_corners(), sim.truth.visible_doors()
+
+Modules: `world` (solid segments, doors, moving objects, free start place), `raycast` (the
+laser fan), `laser`, `base` (kinematics, collisions), `odometry`, `doors`, `moving_objects`,
+`sim_config` (the official simulator's config JSON), `map_features` (corners, door openings),
+`truth`, `simulator`; `scoring` compares a perceptor's world model with the truth.
 """
 
 from __future__ import annotations

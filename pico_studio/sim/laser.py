@@ -14,7 +14,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from pico_studio.core.config.sim_params import HokuyoLaserParams, LaserParams, PicoSimLaserParams
+from pico_studio.core.config.sim_params import (
+    NO_RETURN_CHOICES,
+    HokuyoLaserParams,
+    LaserParams,
+    PicoSimLaserParams,
+)
 from pico_studio.core.io import LaserData
 from pico_studio.errors import ConfigError
 from pico_studio.sim.raycast import Fan
@@ -26,6 +31,10 @@ _NOISE_BLOCK = 64  # scans of noise drawn per random-generator call
 class Laser:
     def __init__(self, params: LaserParams, rng: np.random.Generator):
         self.params = params
+        if params.profile not in ("pico-sim", "hokuyo"):
+            raise ConfigError(f"unknown laser profile {params.profile!r}; one of: pico-sim, hokuyo", field="sim.laser.profile")
+        if params.no_return not in NO_RETURN_CHOICES:
+            raise ConfigError(f"unknown rule {params.no_return!r}; one of: {', '.join(NO_RETURN_CHOICES)}", field="sim.laser.no_return")
         p: PicoSimLaserParams | HokuyoLaserParams = params.active
         if p.angle_max <= p.angle_min:
             raise ConfigError(f"must be above angle_min ({p.angle_min:g})", field=f"sim.laser.{params.profile.replace('-', '_')}.angle_max")

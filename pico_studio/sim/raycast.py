@@ -51,13 +51,13 @@ class Fan:
             return ranges
         # 1. end points as complex numbers in the sensor frame: (z - position) e^{-i heading}
         x, y, th = pose
-        z = (np.ascontiguousarray(segments, dtype=float).view(np.complex128) - complex(x, y)) * complex(
-            math.cos(th), -math.sin(th)
-        )
+        if segments.dtype != np.float64 or not segments.flags.c_contiguous:
+            segments = np.ascontiguousarray(segments, dtype=np.float64)
+        z = (segments.view(np.complex128) - complex(x, y)) * complex(math.cos(th), -math.sin(th))
         z1, z2 = z[:, 0], z[:, 1]
         # 2. the angular span of each in beam-index units: [lo, hi], or for a segment behind
         #    the sensor that crosses the +-pi cut, the two pieces [hi, top] and [bottom, lo]
-        span = (np.angle(z) - self.angle_min) * (1.0 / self.increment)
+        span = (np.arctan2(z.imag, z.real) - self.angle_min) * (1.0 / self.increment)
         lo, hi = np.minimum(span[:, 0], span[:, 1]), np.maximum(span[:, 0], span[:, 1])
         wrap = (hi - lo) > self._half_turn
         start = np.concatenate([np.where(wrap, hi, lo), np.where(wrap, self._bottom, self._top)])
@@ -65,7 +65,8 @@ class Fan:
         # 3. the beam index range [i0, i1) of every piece, and all (piece, beam) pairs
         i0 = np.maximum(np.ceil(start - _EPS), 0.0)
         counts = np.maximum(np.minimum(np.floor(stop + _EPS) + 1.0, self.n) - i0, 0.0).astype(np.int64)
-        beam = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts - i0.astype(np.int64), counts)
+        ends = counts.cumsum()
+        beam = np.arange(int(ends[-1])) - np.repeat(ends - counts - i0.astype(np.int64), counts)
         # 4. the distance along each beam to its segment's line: 1 / Im(e^{-ib} d / cross)
         with np.errstate(divide="ignore", invalid="ignore"):
             q = (z2 - z1) / (np.conj(z1) * z2).imag

@@ -22,10 +22,11 @@ from pathlib import Path
 
 import numpy as np
 
+from pico_studio.core.config.map_params import HeightmapParams
 from pico_studio.core.config.sim_params import SimParams
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.errors import MapError, SourceError
-from pico_studio.json_map import GlobalMap
+from pico_studio.json_map import GlobalMap, load_map
 from pico_studio.sim.base import Base
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.odometry import Odometry
@@ -37,13 +38,10 @@ Pose = tuple[float, float, float]
 _EPS_T = 1e-9  # events this close to the end of a step belong to it
 
 
-def load_any_map(path: str | Path) -> GlobalMap:
-    """A JSON map or (once the foundation's `load_map` is there) a heightmap image."""
-    try:
-        from pico_studio.json_map import load_map  # type: ignore[attr-defined]
-    except ImportError:
-        from pico_studio.json_map import load_json_map as load_map
-    return load_map(path)
+def load_any_map(path: str | Path, map_params: HeightmapParams | None = None) -> GlobalMap:
+    """A JSON map, or a heightmap image / map_server YAML vectorised with `map_params`
+    (cfg.map.heightmap): `json_map.load_map`."""
+    return load_map(path, map_params)
 
 
 def _legacy_start_center(m: GlobalMap) -> tuple[float, float] | None:
@@ -88,12 +86,16 @@ class Simulator:
         self._gain_k = 1
         self._laser_period = 1.0 / self.laser.profile.rate_hz
         self._odom_period = 1.0 / params.odometry.rate_hz
+        # the next event times (k * period)
+        self._t_laser, self._t_odom, self._t_gain = 0.0, 0.0, params.odometry.gain_period
         self._new_laser: LaserData | None = None
         self._new_odom: OdometryData | None = None
         self._wall_start: float | None = None
         self.steps = 0
         self._closed = False
+        self._due_laser: tuple[Pose, np.ndarray, float] | None = None
         self._emit_due(0.0)
+        self._cast_due_scan()
 
     @classmethod
     def from_files(
@@ -103,15 +105,19 @@ class Simulator:
         params: SimParams | None = None,
         *,
         seed: int | None = None,
+        map_params: HeightmapParams | None = None,
     ) -> Simulator:
+        """A simulator for a map file (JSON or heightmap, vectorised with `map_params`) and
+        an optional official simulator config JSON."""
         sim_config = load_sim_config(sim_config_path) if sim_config_path is not None else None
-        return cls(load_any_map(map_path), params, sim_config, seed=seed)
+        return cls(load_any_map(map_path, map_params), params, sim_config, seed=seed)
 
     # ----- start pose -----------------------------------------------------------------------
     def _start_pose(self, explicit: Pose | None) -> Pose:
         """The explicit pose, else the sim config's, else the centre of the start area facing
-        +x (`start_area`, or the `start` polygon some team maps use), else the free place
-        farthest from everything (see `World.farthest_free_place`)."""
+        +x (`start_area`, or the `start` polygon some team maps use), else the origin facing +x
+        when the robot fits there inside the walls (the official simulator's default), else
+        the free place farthest from everything (see `World.farthest_free_place`)."""
         if explicit is not None:
             return tuple(float(v) for v in explicit)  # type: ignore[return-value]
         if self.sim_config.initial_pose is not None:
@@ -119,6 +125,9 @@ class Simulator:
         center = self.world.map.start_center or _legacy_start_center(self.world.map)
         if center is not None:
             return (center[0], center[1], 0.0)
+        origin = (0.0, 0.0, 0.0)  # where the official simulator puts the robot by default
+        if self.world.enclosed(origin[:2]) and not Base(self.params.base, origin).collides(origin, self.world.segments()).any():
+            return origin
         b = self.params.base
         clearance = math.hypot(b.footprint_length, b.footprint_width) / 2
         place = self.world.farthest_free_place(clearance)
@@ -178,11 +187,13 @@ class Simulator:
 
     # ----- time -------------------------------------------------------------------------------
     def advance(self, dt: float) -> None:
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt >= 0):
+        if isinstance(dt, bool) or not isinstance(dt, (int, float, np.floating, np.integer)) or not (
+            math.isfinite(dt) and dt >= 0
+        ):
             raise SourceError(f"must be a finite, non-negative number of seconds, got {dt!r}", field="dt")
-        t_end = self._t + dt
+        t_end = self._t + float(dt)
         while True:
-            t_next = min(self._next_laser(), self._next_odom(), self._next_gain(), t_end)
+            t_next = min(self._t_laser, self._t_odom, self._t_gain, t_end)
             self._integrate(t_next - self._t)
             self._t = t_next
             if t_next >= t_end - _EPS_T:
@@ -190,20 +201,12 @@ class Simulator:
             self._emit_due(t_next)
         self._t = t_end
         self._emit_due(t_end)
+        self._cast_due_scan()
         self.steps += 1
         if self.params.realtime:
             self._pace()
 
     step = advance
-
-    def _next_laser(self) -> float:
-        return self._laser_k * self._laser_period
-
-    def _next_odom(self) -> float:
-        return self._odom_k * self._odom_period
-
-    def _next_gain(self) -> float:
-        return self._gain_k * self.params.odometry.gain_period
 
     def _integrate(self, h: float) -> None:
         if h <= 0.0:
@@ -214,21 +217,31 @@ class Simulator:
 
     def _emit_due(self, t: float) -> None:
         """Produce every reading whose time has come (at most one of each kind), stamped with
-        its scheduled time k / rate."""
-        if self._next_gain() <= t + _EPS_T:
+        its scheduled time k / rate (event times are k * period, never accumulated)."""
+        due = t + _EPS_T
+        if self._t_gain <= due:
             if self.odometry.uncertain:
                 self.odometry.redraw_gains()
-            while self._next_gain() <= t + _EPS_T:
+            while self._t_gain <= due:
                 self._gain_k += 1
-        if self._next_odom() <= t + _EPS_T:
-            while self._next_odom() <= t + _EPS_T:
+                self._t_gain = self._gain_k * self.params.odometry.gain_period
+        if self._t_odom <= due:
+            while self._t_odom <= due:
                 self._odom_k += 1
+                self._t_odom = self._odom_k * self._odom_period
             self._new_odom = self.odometry.snapshot((self._odom_k - 1) * self._odom_period)
-        if self._next_laser() <= t + _EPS_T:
-            while self._next_laser() <= t + _EPS_T:
+        if self._t_laser <= due:
+            while self._t_laser <= due:
                 self._laser_k += 1
-            stamp = (self._laser_k - 1) * self._laser_period
-            self._new_laser = self.laser.scan(self.base.pose, self.world.segments(), stamp)
+                self._t_laser = self._laser_k * self._laser_period
+            # latch where and what the scan sees; it is cast once, at the end of the step
+            # (a long step passes many scan times but delivers only the newest scan)
+            self._due_laser = (self.base.pose, self.world.segments(), (self._laser_k - 1) * self._laser_period)
+
+    def _cast_due_scan(self) -> None:
+        if self._due_laser is not None:
+            self._new_laser = self.laser.scan(*self._due_laser)
+            self._due_laser = None
 
     def _pace(self) -> None:
         now = time.perf_counter()

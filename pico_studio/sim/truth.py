@@ -80,7 +80,7 @@ class GroundTruth:
 
     def doors(self) -> list[tuple[np.ndarray, bool]]:
         """Every sliding door as it is now: (outline vertices (K, 2), opened?)."""
-        return [(d.vertices + d.offset * d.axis, d.opening) for d in self._sim.world.doors]
+        return [(d.vertices + d.offset * d.slide, d.opening) for d in self._sim.world.doors]
 
     def moving_objects(self) -> list[np.ndarray]:
         """Every moving object's box as it is now: corners (4, 2)."""

@@ -32,7 +32,8 @@ class World:
         objects = [global_map.segments_of(p) for p in global_map.objects]
         self.objects = np.vstack(objects) if objects else np.zeros((0, 4))
         self.static = np.vstack([self.walls, self.objects])
-        self.doors = [SlidingDoor(v) for v in global_map.door_polygons]
+        greys = _door_greys(global_map)
+        self.doors = [SlidingDoor(v, g) for v, g in zip(global_map.door_polygons, greys, strict=True)]
         specs = sim_config.objects if sim_config is not None else ()
         self.moving = [
             MovingObject(s, pause_margin=params.objects.pause_margin, arrive_tolerance=params.objects.arrive_tolerance)
@@ -65,6 +66,8 @@ class World:
     # ----- dynamics -------------------------------------------------------------------------
     def update(self, dt: float, robot_xy: tuple[float, float]) -> None:
         """Move doors and objects on by `dt` seconds."""
+        if not self.doors and not self.moving:
+            return
         changed = False
         for d in self.doors:
             if d.moving:
@@ -130,6 +133,15 @@ class World:
 
 
 _MAX_START_CANDIDATES = 2000  # bounds the search on an open map (no inside component)
+
+
+def _door_greys(m: GlobalMap) -> list[int | None]:
+    """Each door's grey value when the map is a heightmap that recorded them, else None."""
+    info = m.extra.get("heightmap")
+    greys = info.get("door_grey") if isinstance(info, dict) else None
+    if not isinstance(greys, list) or len(greys) != len(m.doors):
+        return [None] * len(m.doors)
+    return [g if isinstance(g, int) and not isinstance(g, bool) else None for g in greys]
 
 
 def _distance_to_segments(points: np.ndarray, segments: np.ndarray) -> np.ndarray:

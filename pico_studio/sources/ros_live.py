@@ -11,8 +11,8 @@ Safety and failures, as the robot's user needs them:
   true; while stale every base reference is sent as zero, and a zero is sent once when the
   data goes stale, so a behaviour acting on old scans cannot drive the robot.
 * **The master goes away**: a monitor thread asks the master for its pid every
-  `master_check_interval`; while it does not answer `ok()` is False and `status()` says
-  why; nothing raises. Connections to publishers survive a master's death, so scans may
+  `master_check_interval`; while it does not answer `status()` says so (`ok()` stays
+  true, as `ros::ok()` does: the loop goes on, stale, base at zero); nothing raises. Connections to publishers survive a master's death, so scans may
   keep coming. When it answers again, the node registers its topics anew (a restarted
   master knows nothing of them): publishers that register later reach it again.
 * **No master at start**: `rospy.init_node` would block until one appears, so it runs in
@@ -135,7 +135,10 @@ class LiveRosSource:
             pub.publish(self._msg["empty"]())
 
     def ok(self) -> bool:
-        return self._connected and self._master_up and not self._closed.is_set()
+        """True until `close()`, like `ros::ok()` under emc's `io.ok()`: a master that goes
+        away is a state of the connection (`status()`), not the end of the program, so a
+        loop keeps running — stale, with the base held at zero — until it comes back."""
+        return not self._closed.is_set()
 
     def now(self) -> float:
         return time.time()
@@ -174,7 +177,7 @@ class LiveRosSource:
     def wait_connected(self, timeout: float) -> None:
         """Block until registered with the master, or raise `SourceError` after `timeout`."""
         deadline = time.monotonic() + timeout
-        while not self.ok():
+        while not self.status().connected:
             if time.monotonic() > deadline:
                 raise SourceError(
                     f"{self.status().message} after {timeout:g} s; is roscore running there, "

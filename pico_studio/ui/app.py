@@ -34,6 +34,7 @@ from pico_studio.ui.colour import line_uniform
 from pico_studio.ui.config_panel import ConfigPanel
 from pico_studio.ui.inspect import measure_text, nearest_feature, ray_to_ground
 from pico_studio.ui.layers import SceneLayers
+from pico_studio.ui.recording_panel import RecordingControls, source_status
 from pico_studio.ui.runtime import BEHAVIOURS, Studio
 from pico_studio.ui.scene_data import LAYERS, frame_prims, map_prims
 from pico_studio.ui.sources import example_maps, load_any_map
@@ -70,10 +71,12 @@ class StudioApp:
         self.tabs: dict[int, TabState] = {}
         self.layers = SceneLayers(self.server)
         self.layers.update(map_prims(studio.global_map))
-        self.update_ms: list[float] = []  # slider change -> layers sent, server side
+        self.update_ms: list[float] = []  # slider change -> layers sent, server side (wall)
+        self.update_cpu_ms: list[float] = []  # the same, CPU time of the callback's thread
         self.last_export: Path | None = None
         self._last_follow: tuple[float, float] | None = None
         self._stop = threading.Event()
+        self._draw_lock = threading.RLock()
         self._thread: threading.Thread | None = None
         self._build_gui()
         if studio.global_map is None:  # a recording without a map: keep the robot in view
@@ -96,6 +99,7 @@ class StudioApp:
         self._stop.set()
         if self._thread is not None:
             self._thread.join(timeout=2.0)
+        self.recording.recorder.stop()
         self.server.stop()
 
     # ----- errors -------------------------------------------------------------------------------
@@ -150,7 +154,12 @@ class StudioApp:
             self._stop.wait(max(0.0, next_t - now))
 
     def redraw(self) -> None:
-        """Push the frame under the cursor: layers, metrics, timeline, follow camera."""
+        """Push the frame under the cursor: layers, metrics, timeline, follow camera. The loop
+        and the callbacks both redraw; one at a time."""
+        with self._draw_lock:
+            self._redraw()
+
+    def _redraw(self) -> None:
         with self.studio.lock:
             frame = self.studio.shown()
             prims = frame_prims(self.studio, frame)
@@ -166,6 +175,7 @@ class StudioApp:
             self.timeline.value = min(pos, max(1, n - 1))
         self.metrics_md.content = self._metrics_text(metrics)
         self.status_md.content = status
+        self.recording.refresh()
         if robot is not None and self.follow.value:
             self._follow(robot[:2])
 
@@ -175,7 +185,10 @@ class StudioApp:
         if frame is None:
             return f"**{s.map_name}** · {state} · no frame yet"
         live = "live" if s.cursor is None else f"timeline frame {frame.index}"
-        return f"**{s.map_name}** · {state} · {live} · t = {frame.time:.2f} s · behaviour: {frame.behaviour_state or s.behaviour_name}"
+        if getattr(frame.wm, "too_close", False):
+            live += " · **too close!**"
+        source = source_status(s)
+        return f"**{s.map_name}** · {state} · {live} · t = {frame.time:.2f} s · behaviour: {frame.behaviour_state or s.behaviour_name}" + (f" · {source}" if source else "")
 
     def _metrics_text(self, m: dict[str, Any]) -> str:
         lines = []
@@ -227,7 +240,10 @@ class StudioApp:
         self._last_follow = xy
         span = self.studio.cfg.ui.follow_span
         for tab in list(self.tabs.values()):
-            self._view(tab.client, xy[0], xy[1], span, span)
+            try:
+                self._view(tab.client, xy[0], xy[1], span, span)
+            except Exception:  # a tab closing right now must not stop the loop
+                log.debug("camera of a closed tab not moved")
 
     # ----- tabs ---------------------------------------------------------------------------------
     def _on_connect(self, client: viser.ClientHandle) -> None:
@@ -301,28 +317,14 @@ class StudioApp:
         self.timeline = gui.add_slider("Timeline", 0, 1, 1, 0, hint="Scrub the recorded frames (pauses); each is re-processed with the current config")
         live = gui.add_button("Back to live", icon=viser.Icon.PLAYER_SKIP_FORWARD)
         self.metrics_md = gui.add_markdown("")
+        self.recording = RecordingControls(s, gui, self.export_dir, lambda: (self._sync_play_button(), self.redraw()), self._guard)
 
-        @self.play.on_click
-        def _(event: viser.GuiEvent) -> None:
-            s.playing = not s.playing
-            if s.playing:
-                s.scrub(None)
-            self._sync_play_button()
-            self.redraw()
-
-        step.on_click(self._guard("step", lambda e: (setattr(s, "playing", False), s.scrub(None), s.tick(1.0 / s.cfg.ui.rate_hz), self._sync_play_button(), self.redraw())))
-        reset.on_click(self._guard("reset", lambda e: (s.reset(), self.redraw())))
-        speed.on_update(lambda e: setattr(s, "speed", float(e.target.value)))
-        live.on_click(self._guard("live", lambda e: (s.scrub(None), setattr(s, "playing", True), self._sync_play_button(), self.redraw())))
-
-        @self.timeline.on_update
-        def _(event: viser.GuiEvent) -> None:
-            if self._timeline_quiet:
-                return
-            s.playing = False
-            s.scrub(int(event.target.value))
-            self._sync_play_button()
-            self.redraw()
+        self.play.on_click(self._guard("play/pause", self._on_play))
+        step.on_click(self._guard("step", self._on_step))
+        reset.on_click(self._guard("reset", self._on_reset))
+        speed.on_update(self._guard("speed", lambda e: setattr(s, "speed", float(e.target.value))))
+        live.on_click(self._guard("back to live", self._on_live))
+        self.timeline.on_update(self._guard("timeline", self._on_scrub))
 
         with gui.add_folder("Behaviour"):
             behaviour = gui.add_dropdown("Behaviour", list(BEHAVIOURS), initial_value=s.behaviour_name)
@@ -342,11 +344,53 @@ class StudioApp:
                 name = event.target.value
                 if name == "(keep)" or name == s.map_name:
                     return
-                self.switch_map(maps[name], name, event.client)
+                try:
+                    self.switch_map(maps[name], name, event.client)
+                except Exception:
+                    with _NoCallbacks(choice):  # show the map that is really loaded
+                        choice.value = s.map_name if s.map_name in maps else "(keep)"
+                    raise
 
             choice.on_update(self._guard("map", pick))
             upload.on_upload(self._guard("map upload", self._on_map_upload))
             self.map_choice = choice
+
+    # ----- run control -------------------------------------------------------------------------
+    def _on_play(self, _event: Any = None) -> None:
+        s = self.studio
+        s.playing = not s.playing
+        if s.playing:
+            s.scrub(None)
+        self._sync_play_button()
+        self.redraw()
+
+    def _on_step(self, _event: Any = None) -> None:
+        """Pause and advance exactly one control period."""
+        s = self.studio
+        s.playing = False
+        s.scrub(None)
+        s.tick(1.0 / s.cfg.ui.rate_hz)
+        self._sync_play_button()
+        self.redraw()
+
+    def _on_reset(self, _event: Any = None) -> None:
+        self.studio.reset()
+        self.redraw()
+
+    def _on_live(self, _event: Any = None) -> None:
+        self.studio.scrub(None)
+        self.studio.playing = True
+        self._sync_play_button()
+        self.redraw()
+
+    def _on_scrub(self, event: viser.GuiEvent) -> None:
+        """The timeline slider moved (by the user): pause on that frame, re-processed."""
+        if self._timeline_quiet:
+            return
+        self.studio.playing = False
+        self.studio.scrub(int(event.target.value))
+        self._sync_play_button()
+        self.redraw()
 
     _timeline_quiet = False
 
@@ -419,7 +463,7 @@ class StudioApp:
 
     # ----- actions ----------------------------------------------------------------------------
     def _on_param(self, event: viser.GuiEvent, path: str) -> None:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.thread_time()
         try:
             self.studio.set_param(path, event.target.value)
         except UserError:
@@ -428,11 +472,19 @@ class StudioApp:
         self.redraw()
         self.server.flush()
         self.update_ms.append((time.perf_counter() - t0) * 1000.0)
+        self.update_cpu_ms.append((time.thread_time() - c0) * 1000.0)
+        self._rescore()
+
+    def _rescore(self) -> None:
+        """The truth scores of a re-processed live frame, after its layers went out."""
+        self.studio.rescore()
+        self.metrics_md.content = self._metrics_text(self.studio.metrics())
 
     def apply_config(self, cfg: Config) -> None:
         self.studio.set_config(cfg)
         self.config_panel.show(cfg)
         self.redraw()
+        self._rescore()
 
     def export_yaml(self) -> tuple[str, Path]:
         text = dump_yaml(self.studio.cfg)

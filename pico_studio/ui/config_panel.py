@@ -17,6 +17,14 @@ import viser
 
 from pico_studio.core.config import Config, ParamInfo, SectionInfo, walk
 
+# When a section's values take effect (the rest apply at once, re-processing the frame shown).
+APPLIES = {
+    "map": "takes effect when a map is loaded",
+    "sim": "takes effect on Reset (a new simulator)",
+    "sources": "takes effect on Reset (the source is reopened)",
+    "behaviour": "takes effect when a behaviour is chosen, or on Reset",
+}
+
 
 def _step(info: ParamInfo) -> float:
     spec = info.spec
@@ -48,9 +56,11 @@ class ConfigPanel:
             with ctx if ctx is not None else contextlib.nullcontext():
                 if isinstance(item, SectionInfo):
                     top = "." not in item.path
-                    folders[item.path] = gui.add_folder(
-                        item.path.rsplit(".", 1)[-1], expand_by_default=top and item.path in expand
-                    )
+                    folder = gui.add_folder(item.path.rsplit(".", 1)[-1], expand_by_default=top and item.path in expand)
+                    with folder:
+                        note = APPLIES.get(item.path)
+                        gui.add_markdown(f"<small>{item.help}" + (f" — <i>{note}</i>" if note else "") + "</small>")
+                    folders[item.path] = folder
                 else:
                     self.inputs[item.path] = self._add_input(gui, item)
 

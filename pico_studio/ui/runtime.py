@@ -2,8 +2,9 @@
 
 `Studio` is what the page drives. One `tick(dt)` is one `Session.tick` (advance the source,
 read, perceive, behave, send the base reference).
-Every frame goes on the timeline with the perceptor state before it, so `reprocess()` can re-run
-the (pure) perceptor on the frame under the cursor with the current parameters.
+Every frame goes on the timeline with the state before it (perceptor, and localisation tracker
+when there is a map), so `reprocess()` can re-run the pure perceptor and localisation on the
+frame under the cursor with the current parameters.
 
 Thread safety: the page's callbacks and the 20 Hz loop run on different threads; every public
 method takes `self.lock`.
@@ -20,6 +21,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
+from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.behaviours.wander import Wander
 from pico_studio.core.config import Config, get_value, with_value
 from pico_studio.core.geometry import compose, invert, wrap_angle
@@ -52,7 +55,29 @@ class SourceBundle:
 
 SourceFactory = Callable[[Config, GlobalMap | None], SourceBundle]
 
-BEHAVIOURS = ("wander", "teleop", "stop")  # what the behaviour dropdown offers
+BehaviourFactory = Callable[[str, Config, GlobalMap | None, Pose | None], Any]
+
+
+def behaviour_factories() -> dict[str, BehaviourFactory]:
+    """Behaviours the page can run: the built-in wander and the core registry's, all objects
+    with `step(world_model, laser, odometry, now, *, ok)` returning a command (vx, vy, va,
+    optional open_door) and `state`, `target`, `plan`, `frame` for drawing (see
+    docs/ARCHITECTURE.md, the web UI). Factories get the spec (`name[:args]`, e.g.
+    `hospital:0,2`), the config, the map and the robot's map pose now (when known)."""
+    out: dict[str, BehaviourFactory] = {"wander": lambda _spec, cfg, _map, _pose: Wander(cfg.ui.wander)}
+    for name in CORE_BEHAVIOURS:
+        out[name] = lambda spec, cfg, m, pose: make_behaviour(spec, cfg.behaviour, m, initial_pose=pose)
+    return out
+
+
+def _check_behaviour(spec: str, field: str) -> str:
+    name = spec.partition(":")[0].strip()
+    if name not in BEHAVIOURS:
+        raise UserError(f"unknown behaviour {name!r}; choose one of {', '.join(BEHAVIOURS)}", field=field)
+    return name
+
+
+BEHAVIOURS = (*behaviour_factories(), "teleop", "stop")  # what the behaviour dropdown offers
 
 
 class Studio:
@@ -69,7 +94,8 @@ class Studio:
         self.global_map = global_map
         self.map_name = map_name
         self._make_source = make_source
-        self.behaviour_name = behaviour if behaviour in BEHAVIOURS else "wander"
+        self.behaviour_name = _check_behaviour(behaviour, "--behaviour")
+        self.behaviour_spec = behaviour
         self.playing = True
         self.speed = 1.0
         self.cursor: int | None = None  # timeline position shown; None = follow the live frame
@@ -82,6 +108,9 @@ class Studio:
         """A fresh source (new simulator from the current config), perceptor and timeline."""
         with self.lock:
             bundle = self._make_source(self.cfg, self.global_map)
+            old_close = getattr(getattr(self, "source", None), "close", None)
+            if callable(old_close):  # the live robot's topics, a simulator's threads
+                old_close()
             self.bundle = bundle
             self.source = bundle.source
             ui = self.cfg.ui
@@ -91,7 +120,7 @@ class Studio:
             self.state: tuple[Any, Any] = (PerceptorState.initial(), tracker)
             self.true_zero: Pose | None = None  # true pose when the perceptor took its zero
             self.run_score = scoring.RunScore() if scoring is not None else None
-            self.wander = Wander(ui.wander)
+            self.behaviour = self._make_behaviour(self.behaviour_spec)
             self.teleop_command: BaseReference | None = None
             self.teleop_until = 0.0
             self.cursor = None
@@ -206,6 +235,14 @@ class Studio:
             self.perceive_walltimes.append(time.monotonic())
         return state_after
 
+    def _make_behaviour(self, spec: str) -> Any:
+        factory = behaviour_factories().get(spec.partition(":")[0].strip())
+        if factory is None:
+            return None
+        latest = self.timeline.latest if hasattr(self, "timeline") else None
+        pose = self.robot_pose_in_map(latest) if latest is not None else self.bundle.truth_pose()
+        return factory(spec, self.cfg, self.global_map, pose)
+
     def _behave(self, frame: FrameRecord) -> BaseReference:
         now = frame.time
         name = self.behaviour_name
@@ -214,36 +251,40 @@ class Studio:
             if self.teleop_command is not None and time.monotonic() < self.teleop_until:
                 return BaseReference(self.teleop_command.vx, self.teleop_command.vy, self.teleop_command.va, now)
             return BaseReference(0.0, 0.0, 0.0, now)
-        if name == "wander":
-            cmd = self.wander.step(frame.laser, now) if frame.laser is not None else self.last_command
-            self._note_behaviour(frame, self.wander)
-            return cmd
-        frame.behaviour_state = "stopped"
-        return BaseReference(0.0, 0.0, 0.0, now)
+        b = self.behaviour
+        if b is None:
+            frame.behaviour_state = "stopped"
+            return BaseReference(0.0, 0.0, 0.0, now)
+        cmd = b.step(frame.wm, frame.laser, frame.odometry, now, ok=self.source.ok())
+        if getattr(cmd, "open_door", False):
+            self.source.open_door()
+        self._note_behaviour(frame, b)
+        return BaseReference(float(cmd.vx), float(cmd.vy), float(cmd.va), now)
 
     @staticmethod
     def _note_behaviour(frame: FrameRecord, behaviour: Any) -> None:
         """What the page shows of a behaviour: its `state`, and its `target` (x, y) and `plan`
-        (K, 2) in the zero frame when it has them (see docs/ARCHITECTURE.md, the web UI)."""
+        (K, 2) when it has them, in its `frame`: "zero" (the perceptor's), "odom" (the
+        odometry readings', with its `pose` there) or "global" (the map)."""
         frame.behaviour_state = f"{getattr(behaviour, 'name', '')}: {getattr(behaviour, 'state', '')}"
         frame.behaviour_target = getattr(behaviour, "target", None)
         frame.behaviour_plan = getattr(behaviour, "plan", None)
+        frame.behaviour_frame = str(getattr(behaviour, "frame", "zero"))
+        frame.behaviour_pose = getattr(behaviour, "pose", None)
 
     # ----- controls ------------------------------------------------------------------------
     def teleop(self, vx: float, vy: float, va: float) -> None:
         """Drive by hand for `ui.teleop_hold` seconds (switches the behaviour to teleop)."""
         with self.lock:
-            self.behaviour_name = "teleop"
+            self.behaviour_name = self.behaviour_spec = "teleop"
             self.teleop_command = BaseReference(vx, vy, va)
             self.teleop_until = time.monotonic() + self.cfg.ui.teleop_hold
 
     def set_behaviour(self, name: str) -> None:
-        if name not in BEHAVIOURS:
-            raise UserError(f"unknown behaviour {name!r}; choose one of {', '.join(BEHAVIOURS)}", field="behaviour")
+        base = _check_behaviour(name, "behaviour")
         with self.lock:
-            self.behaviour_name = name
-            if name == "wander":
-                self.wander = Wander(self.cfg.ui.wander)
+            behaviour = self._make_behaviour(name)  # may refuse (e.g. hospital without a map)
+            self.behaviour_name, self.behaviour_spec, self.behaviour = base, name, behaviour
 
     def open_door(self) -> None:
         with self.lock:
@@ -264,7 +305,8 @@ class Studio:
                 self.state = (self.state[0], tracker)
                 for frame in self.timeline:
                     frame.state_before = (frame.state_before[0], tracker)
-            self.wander.params = cfg.ui.wander
+            if isinstance(self.behaviour, Wander):
+                self.behaviour.params = cfg.ui.wander
             self.reprocess()
 
     def reprocess(self) -> FrameRecord | None:
@@ -279,9 +321,16 @@ class Studio:
             state_after = self._perceive(frame, live=False)
             if frame is self.timeline.latest:
                 self.state = state_after
-                if self.cfg.ui.score_rate_hz > 0:
-                    self._score_live(frame, add=False)
+                frame.score = None  # stale; `rescore()` (after the redraw) computes it again
             return frame
+
+    def rescore(self) -> None:
+        """Score the live frame again after a re-processing (kept apart: it is slow, and the
+        page redraws the layers before it)."""
+        with self.lock:
+            frame = self.shown()
+            if frame is not None and frame is self.timeline.latest and frame.score is None and self.cfg.ui.score_rate_hz > 0:
+                self._score_live(frame, add=False)
 
     def scrub(self, position: int | None) -> FrameRecord | None:
         """Show timeline position `position` (None: the live frame), re-processed."""

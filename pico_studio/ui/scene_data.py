@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.core.geometry import transform_points, transform_segments
+from pico_studio.core.geometry import compose, invert, transform_points, transform_segments
 from pico_studio.json_map import GlobalMap
 from pico_studio.ui import style
 from pico_studio.ui.runtime import Studio
@@ -244,11 +244,12 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
             out["corners"] = Prim(P, transform_points(corners, zero), _palette(kinds, style.ENDPOINT))
         out["doors"] = Prim(S, transform_segments(_segs(field(wm, "doors")), zero))
         out["possible_doors"] = Prim(S, transform_segments(_segs(field(wm, "possible_doors")), zero))
-        target = frame.behaviour_target
-        if target is not None:
-            out["target"] = Prim(P, transform_points(_pts(target), zero))
+    behaviour_frame = _behaviour_frame_in_map(frame, robot, zero)
+    if behaviour_frame is not None:
+        if frame.behaviour_target is not None:
+            out["target"] = Prim(P, transform_points(_pts(frame.behaviour_target), behaviour_frame))
         if frame.behaviour_plan is not None:
-            plan = transform_points(_pts(frame.behaviour_plan), zero)
+            plan = transform_points(_pts(frame.behaviour_plan), behaviour_frame)
             if len(plan) >= 2:
                 out["plan"] = Prim(S, np.hstack([plan[:-1], plan[1:]]))
 
@@ -279,6 +280,18 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
         seg = np.array([[0.0, 0.0, dist * math.cos(angle), dist * math.sin(angle)]])
         out["entrance"] = Prim(S, transform_segments(seg, robot))
     return out
+
+
+def _behaviour_frame_in_map(frame: FrameRecord, robot: tuple[float, float, float],
+                            zero: tuple[float, float, float] | None) -> tuple[float, float, float] | None:
+    """The map-frame pose of the frame a behaviour's target and plan are in."""
+    kind = frame.behaviour_frame
+    if kind == "global":
+        return (0.0, 0.0, 0.0)
+    if kind == "odom":
+        pose = frame.behaviour_pose
+        return compose(robot, invert(tuple(map(float, pose)))) if pose is not None else None
+    return zero
 
 
 def _palette(kinds: np.ndarray, colours: dict[int, style.RGB]) -> np.ndarray:

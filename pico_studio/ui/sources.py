@@ -13,7 +13,7 @@ import numpy as np
 
 from pico_studio.core.config import Config
 from pico_studio.errors import MapError
-from pico_studio.json_map import GlobalMap
+from pico_studio.json_map import GlobalMap, load_map
 from pico_studio.ui.runtime import SourceBundle, SourceFactory
 
 EXAMPLES_DIR = Path(__file__).resolve().parents[1] / "data" / "maps"
@@ -36,20 +36,9 @@ def sim_config_for(map_path: Path) -> Path | None:
 
 
 def load_any_map(path: str | Path, cfg: Config) -> GlobalMap:
-    """A JSON map or a heightmap image (PNG/PGM, or its map_server YAML)."""
-    p = Path(path)
-    try:
-        from pico_studio.json_map import load_map  # type: ignore[attr-defined]
-    except ImportError:  # heightmap loading is the maps part; JSON works without it
-        if p.suffix.lower() != ".json":
-            raise MapError("only JSON maps can be loaded in this build (heightmap loading is not merged yet)", file=p) from None
-        from pico_studio.json_map import load_json_map
-
-        return load_json_map(p)
-    try:
-        return load_map(p, cfg.map)  # type: ignore[call-arg]
-    except TypeError:
-        return load_map(p)
+    """A JSON map or a heightmap image (PNG/PGM, or its map_server YAML), vectorised with
+    the config's map parameters."""
+    return load_map(path, cfg.map)
 
 
 def make_source_factory(spec: str, sim_config: str | Path | None, seed: int | None = None) -> SourceFactory:

@@ -28,8 +28,10 @@ class FrameRecord:
     wm: Any = None  # the WorldModel last computed for this frame
     command: BaseReference | None = None  # what was sent to the base after this frame
     behaviour_state: str = ""
-    behaviour_target: tuple[float, float] | None = None  # zero frame, when the behaviour has one
-    behaviour_plan: Any = None  # (K, 2) zero-frame waypoints, when the behaviour plans
+    behaviour_target: tuple[float, float] | None = None  # when the behaviour has one
+    behaviour_plan: Any = None  # (K, 2) waypoints, when the behaviour plans
+    behaviour_frame: str = "zero"  # the frame of target/plan: "zero", "odom" or "global"
+    behaviour_pose: Any = None  # the behaviour's own pose in its "odom" frame
     errors: list[str] = field(default_factory=list)
     sim_world: Any = None  # (K, 4) the simulator's doors and moving objects now, map frame
     map_xy: tuple[float, float] | None = None  # where the robot was drawn live (for the trail)

@@ -15,11 +15,12 @@ on that side; beams with no return count as `range_max`.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from pico_studio.core.config.ui_params import WanderParams
-from pico_studio.core.io import BaseReference, LaserData
+from pico_studio.core.io import BaseReference, LaserData, OdometryData
 
 DRIVE = "drive"
 TURN = "turn"
@@ -50,17 +51,28 @@ def clearance(laser: LaserData, front_half_angle: float) -> Clearance:
 
 
 class Wander:
-    """Call `step(laser)` once per control period; it returns the base reference to send."""
+    """Call `step(world_model, laser, odometry, now)` once per control period (the behaviour
+    protocol; only the laser is used); it returns the base reference to send."""
 
     name = "wander"
+    target = None  # it has no goal and no plan: nothing for the page to draw
+    plan = None
+    frame = "zero"
+    done = False
 
     def __init__(self, params: WanderParams):
         self.params = params
         self.state = DRIVE
         self._turn_sign = 1.0
 
-    def step(self, laser: LaserData | None, timestamp: float = 0.0) -> BaseReference:
+    def step(
+        self, world_model: Any, laser: LaserData | None, odometry: OdometryData | None = None,
+        now: float = 0.0, *, ok: bool = True,
+    ) -> BaseReference:
+        timestamp = now
         p = self.params
+        if not ok:
+            return BaseReference(0.0, 0.0, 0.0, timestamp)
         if laser is None or len(laser.ranges) == 0:
             return BaseReference(0.0, 0.0, 0.0, timestamp)
         c = clearance(laser, p.front_half_angle)

@@ -29,7 +29,7 @@ class PriorParams:
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
         help="Half-width of the square searched around a given pose (a start area uses its own extent)",
     )
-    heading_known: bool = param(False, help="Whether the initial heading is known")
+    heading_known: bool = param(False, help="Whether the configured heading (a) is known; a sim config's pose always gives it")
     heading_uncertainty: float = param(
         0.35, lo=0.0, hi=math.pi, step=0.01, unit="rad",
         help="Half-range searched around a known initial heading",
@@ -62,6 +62,12 @@ class MatcherParams:
                                    help="A beam is explained when its point lies this close to the map")
     max_range: float = param(8.0, lo=0.5, hi=60.0, step=0.5, unit="m",
                              help="Points further than this from the robot are not used")
+    ray_beams: int = param(120, lo=10, hi=2000, step=10, unit="beams",
+                           help="Beams checked for passing through map walls (evenly subsampled)")
+    ray_step: float = param(0.05, lo=0.01, hi=0.5, step=0.01, unit="m",
+                            help="Sample spacing along a beam when checking it for passing through walls")
+    ray_clearance: float = param(0.03, lo=0.0, hi=1.0, step=0.005, unit="m",
+                                 help="A beam's last stretch before its end point is not checked (its own wall, within the range noise)")
 
 
 @dataclass(frozen=True)
@@ -76,6 +82,8 @@ class SearchParams:
                               help="Distance above which a point scores as a plain miss")
     candidates: int = param(6, lo=1, hi=50, step=1, unit="",
                             help="Best distinct candidates refined by the matcher")
+    separation: float = param(3.0, lo=0.0, hi=10.0, step=0.5, unit="grid steps",
+                              help="Candidates closer than this (in position and heading) to a better one are skipped")
     lost_radius: float = param(1.0, lo=0.1, hi=20.0, step=0.1, unit="m",
                                help="Half-width searched around the estimate when first lost")
     lost_growth: float = param(0.5, lo=0.0, hi=10.0, step=0.1, unit="m",
@@ -92,8 +100,16 @@ class SearchParams:
 class TrackerParams:
     quality_lost: float = param(0.45, lo=0.0, hi=1.0, step=0.01, unit="",
                                 help="Quality (fraction of beams explained) below which a step is bad")
-    quality_found: float = param(0.85, lo=0.0, hi=1.0, step=0.01, unit="",
+    quality_found: float = param(0.65, lo=0.0, hi=1.0, step=0.01, unit="",
                                  help="Quality at or above which a step is good (clears lost; a searched pose is believed)")
+    quality_confirm: float = param(
+        0.85, lo=0.0, hi=1.0, step=0.01, unit="",
+        help="Quality a pose found only by a widened search needs (far from the estimate: more alike places)",
+    )
+    max_through_walls: float = param(
+        0.05, lo=0.0, hi=1.0, step=0.01, unit="",
+        help="A good step also has at most this fraction of beams passing through map walls",
+    )
     min_constraint: float = param(0.03, lo=0.0, hi=0.5, step=0.005, unit="",
                                   help="A good step also needs walls pinning x and y down this well (0 corridor .. 0.5 corner)")
     lost_after: int = param(2, lo=1, hi=100, step=1, unit="steps",
@@ -112,6 +128,8 @@ class TrackerParams:
     def check(self) -> list[tuple[str, str]]:
         if self.quality_lost > self.quality_found:
             return [("quality_lost", f"must not exceed quality_found ({self.quality_found})")]
+        if self.quality_found > self.quality_confirm:
+            return [("quality_found", f"must not exceed quality_confirm ({self.quality_confirm})")]
         return []
 
 

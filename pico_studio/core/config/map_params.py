@@ -18,7 +18,7 @@ class HeightmapParams:
         help="Douglas-Peucker tolerance when turning wall contours into segments",
     )
     min_speck_area: int = param(
-        4, lo=0, hi=1000, step=1, unit="px",
+        10, lo=0, hi=1000, step=1, unit="px",
         help="Occupied blobs smaller than this are stray pixels: dropped and reported",
     )
     door_grey_low: int = param(
@@ -37,5 +37,22 @@ class HeightmapParams:
 
 
 @dataclass(frozen=True)
+class RasterParams:
+    resolution: float = param(
+        0.025, lo=0.001, hi=1.0, step=0.001, unit="m/px",
+        help="Pixel size of a heightmap image written from a vector map",
+    )
+    wall_thickness: int = param(
+        3, lo=1, hi=50, step=1, unit="px",
+        help="Line width of a (zero-thickness) JSON wall when it is drawn into an image",
+    )
+    margin: float = param(
+        0.25, lo=0.0, hi=10.0, step=0.05, unit="m",
+        help="Free border around the map's bounds in a written image",
+    )
+
+
+@dataclass(frozen=True)
 class MapParams:
     heightmap: HeightmapParams = section(HeightmapParams, "Heightmap images: vectorising walls and doors")
+    raster: RasterParams = section(RasterParams, "Drawing vector maps into occupancy/heightmap images")

@@ -50,6 +50,10 @@ class LiveRosParams:
         0.5, lo=0.05, hi=10.0, step=0.05, unit="s",
         help="No scan for this long = stale data: reported, and the base is stopped",
     )
+    connect_timeout: float = param(
+        10.0, lo=0.1, hi=600.0, step=0.1, unit="s",
+        help="How long `pico-studio run --source ros` waits for the master before giving up",
+    )
     master_check_interval: float = param(
         1.0, lo=0.1, hi=30.0, step=0.1, unit="s",
         help="How often the master is checked (and re-registered with once it is back)",

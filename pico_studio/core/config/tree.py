@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from pico_studio.core.config.behaviour_params import BehaviourParams
 from pico_studio.core.config.localisation_params import LocalisationParams
 from pico_studio.core.config.map_params import MapParams
 from pico_studio.core.config.perception_params import PerceptionParams
@@ -25,3 +26,4 @@ class Config:
     localisation: LocalisationParams = section(LocalisationParams, "Localisation in the global map and the combined map")
     sources: SourcesParams = section(SourcesParams, "Data sources: recordings and the live robot")
     ui: UiParams = section(UiParams, "The web UI (pico-studio serve)")
+    behaviour: BehaviourParams = section(BehaviourParams, "Reference behaviours: escape room, room finder, hospital")

@@ -54,12 +54,15 @@ __all__ = [
 
 
 def build_localisation_map(
-    global_map: GlobalMap, params: LocalisationParams, initial_pose: Pose | None = None
+    global_map: GlobalMap, params: LocalisationParams, initial_pose: Pose | None = None,
+    dfield: DistanceField | None = None,
 ) -> LocalisationMap:
-    """The distance field and prior of `global_map` (the expensive part, done once)."""
-    dfield = DistanceField.from_segments(map_segments(global_map, params.field),
-                                         resolution=params.field.resolution,
-                                         margin=params.field.margin)
+    """The distance field and prior of `global_map` (the field is the expensive part: pass
+    one already built for the same map and field params to reuse it)."""
+    if dfield is None:
+        dfield = DistanceField.from_segments(map_segments(global_map, params.field),
+                                             resolution=params.field.resolution,
+                                             margin=params.field.margin)
     return LocalisationMap(dfield, initial_prior(global_map, params.prior, initial_pose),
                            global_map.bounds, len(global_map.walls))
 
@@ -97,10 +100,10 @@ class Localiser:
     """Stateful wrapper around `localise`, plus the combined map for a WorldModel."""
 
     def __init__(self, params: LocalisationParams, global_map: GlobalMap,
-                 initial_pose: Pose | None = None):
+                 initial_pose: Pose | None = None, dfield: DistanceField | None = None):
         self.params = params
         self.global_map = global_map
-        self.lmap = build_localisation_map(global_map, params, initial_pose)
+        self.lmap = build_localisation_map(global_map, params, initial_pose, dfield)
         self.state = TrackerState.initial(len(self.lmap.field.segments))
         self.last: StepResult | None = None
         self.last_ms = 0.0

@@ -15,7 +15,9 @@ once, then score every position of the grid at once by the mean truncated distan
 points (nearest-cell lookups of the distance field); the best distinct candidates are then
 refined and the one explaining most beams wins.
 
-Quality = the fraction of the scan's points within `inlier_distance` of the map.
+Quality = the fraction of the scan's points within `inlier_distance` of the map. Through-walls
+= the fraction of beams that would cross a map wall before their end point (an unmapped
+obstacle only makes beams short; a wrong pose sends them through walls).
 Constraint = the smallest eigenvalue of the translation block of J^T W J / sum(W): how
 firmly the matched walls pin the position down (0 in a corridor, up to 0.5 in a corner).
 """
@@ -23,7 +25,7 @@ firmly the matched walls pin the position down (0 in a corridor, up to 0.5 in a 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -41,6 +43,7 @@ class Match:
     inliers: int  # number of points used in the last Gauss-Newton step
     converged: bool
     constraint: float = 0.0  # smallest eigenvalue of the per-point x-y information (0 .. 0.5)
+    through: float | None = None  # fraction of beams passing through map walls (when checked)
 
 
 def usable_points(points: np.ndarray, max_range: float) -> np.ndarray:
@@ -59,13 +62,52 @@ def quality(field: DistanceField, points: np.ndarray, pose: Pose, inlier_distanc
     return float(np.mean(d <= inlier_distance))
 
 
+def beams_through_walls(field: DistanceField, points: np.ndarray, pose: Pose,
+                        params: MatcherParams) -> float:
+    """Fraction of (about `ray_beams`) laser beams that would cross a map wall before their
+    end point at `pose`: negative evidence a plain fit cannot see (an unmapped box only makes
+    beams *short*; a wrong pose sends them *through* walls).
+
+    Samples every `ray_step` along each beam up to `ray_clearance` before its end point (so a
+    wall's far face, a few cm behind its near face, is seen as through the wall); a
+    crossing is a sign change of the signed distance to the same nearest segment between two
+    samples, at a point within that segment (so grazing a corner is no crossing).
+    """
+    if len(points) == 0:
+        return 0.0
+    step, clearance = params.ray_step, params.ray_clearance
+    pts = points[:: max(1, len(points) // params.ray_beams)]
+    ranges = np.hypot(pts[:, 0], pts[:, 1])
+    # samples every step, the last one exactly `clearance` before the end point (repeats of
+    # it after that are harmless: a pair of equal samples has no sign change)
+    last = np.maximum(ranges - clearance, 0.0)[:, None]
+    t = np.minimum(np.arange(1, int(np.ceil(ranges.max() / step)) + 1)[None, :] * step, last)  # (B, n)
+    ahead = t > 0.0
+    dirs = pts / np.maximum(ranges, 1e-9)[:, None]
+    q = transform_points((dirs[:, None, :] * t[:, :, None]).reshape(-1, 2), pose)
+    q = q.reshape(t.shape[0], t.shape[1], 2)
+    k = field.nearest_segment(q)  # (B, n)
+    seg = field.segments[np.maximum(k, 0)]  # (B, n, 4)
+    side = ((q - seg[..., 0:2]) * field.normals[np.maximum(k, 0)]).sum(axis=-1)
+    flip = (k[:, :-1] == k[:, 1:]) & (k[:, 1:] >= 0) & ahead[:, 1:]
+    flip &= np.signbit(side[:, :-1]) != np.signbit(side[:, 1:])
+    # where the beam crosses the line, and whether that is on the segment
+    w = side[:, :-1] / np.where(flip, side[:, :-1] - side[:, 1:], 1.0)
+    c = q[:, :-1] + w[..., None] * (q[:, 1:] - q[:, :-1])
+    a, b = seg[:, :-1, 0:2], seg[:, :-1, 2:4]
+    ab = b - a
+    u = ((c - a) * ab).sum(axis=-1) / np.maximum((ab**2).sum(axis=-1), 1e-12)
+    crossed = (flip & (u >= 0.0) & (u <= 1.0)).any(axis=1)
+    return float(crossed.mean())
+
+
 def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: MatcherParams) -> Match:
     """Gauss-Newton point-to-line alignment of `points` (robot frame) starting at `pose`."""
     pts = points[:: params.beam_stride]
     x = np.array(pose, dtype=float)
     converged = False
     used = 0
-    constraint = 0.0
+    info = np.zeros((2, 2))  # the last step's per-point x-y information
     for it in range(params.iterations):
         # 1. outlier distance shrinks linearly over the first half of the iterations
         f = min(1.0, it / max(1, params.iterations // 2))
@@ -81,7 +123,7 @@ def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: Matcher
         r = ((q[ok] - a) * n).sum(axis=1)
         keep = np.abs(r) <= outlier
         # a point beyond the segment's ends is not on that line: use the true distance
-        keep &= field.distance(q[ok]) <= outlier
+        keep[keep] &= field.distance(q[ok][keep]) <= outlier
         used = int(keep.sum())
         if used < 3:
             break
@@ -93,18 +135,19 @@ def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: Matcher
         j = np.column_stack([n[:, 0], n[:, 1], n[:, 0] * -rel[:, 1] + n[:, 1] * rel[:, 0]])
         h = (j * w[:, None]).T @ j
         g = (j * w[:, None]).T @ r
-        # how well the points pin down x and y: ~0 in a featureless corridor
-        constraint = float(np.linalg.eigvalsh(h[:2, :2] / w.sum())[0])
+        info = h[:2, :2] / w.sum()
         try:
             dx = -np.linalg.solve(h + 1e-9 * np.eye(3), g)
         except np.linalg.LinAlgError:
             break
         x += dx
-        x[2] = wrap_angle(x[2])
+        x[2] = math.remainder(x[2], 2 * math.pi)
         if it >= params.iterations // 2 and abs(dx[0]) + abs(dx[1]) < 1e-4 and abs(dx[2]) < 1e-4:
             converged = True
             break
     result: Pose = (float(x[0]), float(x[1]), float(x[2]))
+    # how well the points pin down x and y: ~0 in a featureless corridor
+    constraint = float(np.linalg.eigvalsh(info)[0])
     return Match(result, quality(field, points, result, params.inlier_distance), used, converged,
                  constraint)
 
@@ -126,7 +169,9 @@ def search(
     best: Match | None = None
     for pose in candidates:
         m = refine(field, points, pose, matcher)
-        if best is None or m.quality > best.quality:
+        m = replace(m, through=beams_through_walls(field, points, m.pose, matcher))
+        # explained beams count for, beams through walls against a candidate
+        if best is None or m.quality - m.through > best.quality - (best.through or 0.0):
             best = m
     return best
 
@@ -210,8 +255,9 @@ def coarse_candidates(
         h, i, j = np.unravel_index(flat, scores.shape)
         pose = (field.x0 + (j0 + j) * step, field.y0 + (i0 + i) * step,
                 float(wrap_angle(heading + hs[h])))
-        if any(math.hypot(pose[0] - t[0], pose[1] - t[1]) < 3 * step
-               and abs(float(wrap_angle(pose[2] - t[2]))) < 3 * params.heading_step for t in taken):
+        sep = params.separation
+        if any(math.hypot(pose[0] - t[0], pose[1] - t[1]) < sep * step
+               and abs(float(wrap_angle(pose[2] - t[2]))) < sep * params.heading_step for t in taken):
             continue
         taken.append(pose)
         if len(taken) >= params.candidates:

@@ -1,11 +1,12 @@
 """The initial pose: a box of possible positions and a range of headings in the global map.
 
 Sources, in order of preference:
-1. a pose given by the caller (the simulator config's `initial_pose`) or by the config
-   (`prior.source: pose`) — uncertain by `position_uncertainty` around it;
+1. a pose given by the caller (the simulator config's `initial_pose`, heading included) or by
+   the config (`prior.source: pose`) — uncertain by `position_uncertainty` around it;
 2. the map's `start_area` polygon — its bounding box (about 1 x 1 m in the challenges);
 3. neither: the whole map.
-The heading is unknown (any) unless given (`heading_known`).
+The heading is unknown (any) unless given: by the caller's pose, or `heading_known` in the
+config; a given heading is uncertain by `heading_uncertainty`.
 """
 
 from __future__ import annotations
@@ -44,11 +45,12 @@ def initial_prior(
 ) -> PosePrior:
     """The prior for `global_map`; `pose` (e.g. from a sim config) overrides the config."""
     heading_range = params.heading_uncertainty if params.heading_known else math.pi
-    if pose is None and params.source == "pose":
-        pose = (params.x, params.y, params.a)
     if pose is not None:
         u = params.position_uncertainty
-        return PosePrior(pose[0], pose[1], u, u, pose[2], heading_range, "pose")
+        return PosePrior(pose[0], pose[1], u, u, pose[2], params.heading_uncertainty, "pose")
+    if params.source == "pose":
+        u = params.position_uncertainty
+        return PosePrior(params.x, params.y, u, u, params.a, heading_range, "pose")
 
     polygons = global_map.start_polygons
     if polygons:

@@ -46,3 +46,13 @@ class PoseScore:
             "lost_fraction": float(np.mean(self.lost)) if self.lost else None,
             "frames": len(self.lost),
         }
+
+
+def summary_line(s: dict[str, Any]) -> str:
+    """One line of a `PoseScore.summary()` for the CLI."""
+    p, h = s["pose_error_m"], s["heading_error_rad"]
+    if p["median"] is None:
+        return f"never found the robot ({s['frames']} frames, lost throughout)"
+    return (f"error median {p['median']:.3f} m / {math.degrees(h['median']):.2f} deg, "
+            f"max {p['max']:.3f} m / {math.degrees(h['max']):.2f} deg; "
+            f"lost {100 * s['lost_fraction']:.0f} % of {s['frames']} frames")

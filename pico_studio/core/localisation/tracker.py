@@ -8,8 +8,9 @@ Every step:
    larger than `max_correction` / `max_correction_angle` in one step is not believed (a
    kidnapped robot, a wrong local minimum) and the prediction is kept;
 4. *quality* = fraction of beams explained by the map at the estimate; a step is bad below
-   `quality_lost`, and good at or above `quality_found` with walls that pin the position down
-   (`min_constraint`: a corridor alone does not); `lost` is raised after `lost_after` bad
+   `quality_lost`; it is good at or above `quality_found` (`quality_confirm` for a pose only a
+   widened search found) with walls that pin the position down (`min_constraint`: a corridor alone does not) and hardly a beam through a map wall
+   (`max_through_walls`: an unmapped box makes beams short, a wrong pose sends them through); `lost` is raised after `lost_after` bad
    steps in a row and cleared after `found_after` good ones (hysteresis); a pose that only a
    widened search found (the narrow one failed) must moreover stay good while the robot
    travels `confirm_distance`: one scan of a dead end fits any dead end of a wrong map;
@@ -32,7 +33,14 @@ import numpy as np
 from pico_studio.core.config.localisation_params import LocalisationParams
 from pico_studio.core.geometry import compose, relative, transform_points, wrap_angle
 from pico_studio.core.localisation.distance_field import DistanceField
-from pico_studio.core.localisation.matcher import Match, Pose, refine, search, usable_points
+from pico_studio.core.localisation.matcher import (
+    Match,
+    Pose,
+    beams_through_walls,
+    refine,
+    search,
+    usable_points,
+)
 from pico_studio.core.localisation.prior import PosePrior
 
 
@@ -93,7 +101,7 @@ def localise(
         if len(pts) < 3:  # nothing to search with: not a failed search
             return StepResult(None, 0.0, True, False, False), replace(state, odom=odom, quality=0.0)
         match = _search_prior(lmap, pts, params, state.failed_searches)
-        if match is None or not _good(match, params):
+        if match is None or not _good(match, pts, lmap, params, strict=state.failed_searches > 0):
             new = replace(state, odom=odom, quality=match.quality if match else 0.0,
                           failed_searches=state.failed_searches + 1, steps_since_search=0)
             return StepResult(None, new.quality, True, True, False), new
@@ -122,7 +130,8 @@ def localise(
         searched = True
         radius = params.search.lost_radius + params.search.lost_growth * state.failed_searches
         found = _search_around(lmap, pts, best.pose, radius, params)
-        if found is not None and _good(found, params) and found.quality > best.quality:
+        strict = state.failed_searches > 0
+        if found is not None and _good(found, pts, lmap, params, strict) and found.quality > best.quality:
             best, corrected = found, True
             state = replace(state, failed_searches=0, confirm=state.failed_searches > 0)
         else:
@@ -146,7 +155,7 @@ def _finish(
     tp = params.tracker
     pose, q = match.pose, match.quality
     bad_steps = state.bad_steps + 1 if q < tp.quality_lost else 0
-    good = _good(match, params)
+    good = state.lost and _good(match, pts, lmap, params, strict=state.confirm)  # only while lost
     good_steps = state.good_steps + 1 if good else 0
     good_from = (state.good_from if state.good_steps > 0 else state.odom) if good else None
     travelled = 0.0
@@ -182,10 +191,19 @@ def _search_wait(state: TrackerState, params: LocalisationParams) -> int:
     return min(sp.every_steps * (1 + state.failed_searches), max(sp.every_steps, sp.max_every_steps))
 
 
-def _good(match: Match, params: LocalisationParams) -> bool:
-    """A good step: most beams explained, by walls that pin the position down."""
-    return (match.quality >= params.tracker.quality_found
-            and match.constraint >= params.tracker.min_constraint)
+def _good(match: Match, pts: np.ndarray, lmap: LocalisationMap, params: LocalisationParams,
+          strict: bool) -> bool:
+    """A good step: most beams explained (`quality_confirm` of them when `strict`: for a pose
+    only a widened search found), by walls that pin the position down, and (checked last, it
+    costs most) hardly a beam through a map wall."""
+    tp = params.tracker
+    least = tp.quality_confirm if strict else tp.quality_found
+    if match.quality < least or match.constraint < tp.min_constraint:
+        return False
+    through = match.through
+    if through is None:
+        through = beams_through_walls(lmap.field, pts, match.pose, params.matcher)
+    return through <= tp.max_through_walls
 
 
 def _quality(lmap: LocalisationMap, pts: np.ndarray, pose: Pose, params: LocalisationParams) -> float:

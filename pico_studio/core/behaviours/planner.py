@@ -1,0 +1,179 @@
+"""A* on the rasterised, inflated global map.
+
+The map is rasterised (`json_map.rasterise`: walls and cabinets/tables occupied; doors stay
+passable, the robot asks for them to open) and one OpenCV distance transform gives every
+cell's clearance. A cell is blocked when it lies closer than `inflation` to a
+segment (the robot's half-size plus a margin: the robot is then planned as a point), and a
+free cell within `cost_margin` more carries a penalty so plans keep to the middle of
+corridors:
+
+    step cost = length * (1 + cost_weight * max(0, 1 - (d - inflation) / cost_margin))
+
+A* over the 8-connected grid with the Euclidean heuristic (admissible: every step costs at
+least its length) returns the cheapest cell path; it is then thinned to the cells where the
+direction changes.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from pico_studio.core.config.behaviour_params import HospitalParams
+from pico_studio.json_map import GlobalMap
+from pico_studio.json_map.raster import OCCUPIED, rasterise
+
+_MOVES = [(dr, dc, math.hypot(dr, dc)) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if dr or dc]
+
+
+@dataclass
+class PlanGrid:
+    """The inflated map: per-cell clearance, blocked flags and step penalty."""
+
+    x0: float
+    y0: float
+    resolution: float
+    clearance: np.ndarray  # (H, W) metres to the nearest solid segment
+    blocked: np.ndarray  # (H, W) bool
+    penalty: np.ndarray  # (H, W) float >= 0
+
+    @classmethod
+    def from_map(cls, global_map: GlobalMap, p: HospitalParams) -> PlanGrid:
+        """Rasterise the map (`json_map.rasterise`: walls and cabinets/tables occupied,
+        doors passable) at `p.cell`, then inflate it by a distance transform."""
+        r = rasterise(global_map, resolution=p.cell)
+        # the image's rows run down from the top; the grid's rows run up with y
+        occupied = np.flipud(r.image == OCCUPIED)
+        free = np.where(occupied, 0, 255).astype(np.uint8)
+        d = cv2.distanceTransform(free, cv2.DIST_L2, cv2.DIST_MASK_PRECISE).astype(float) * p.cell
+        blocked = d < p.inflation
+        penalty = p.cost_weight * np.clip(1.0 - (d - p.inflation) / max(p.cost_margin, 1e-9), 0.0, 1.0)
+        ox, oy = r.frame.origin
+        return cls(ox + p.cell / 2, oy + p.cell / 2, p.cell, d, blocked, penalty)
+
+    @classmethod
+    def from_segments(cls, segments: np.ndarray, p: HospitalParams) -> PlanGrid:
+        """The grid of a map that is just these wall segments (N, 4)."""
+        segs = np.asarray(segments, dtype=float).reshape(-1, 4)
+        points = segs.reshape(-1, 2)
+        walls = np.arange(len(points)).reshape(-1, 2)
+        return cls.from_map(GlobalMap(points=points, walls=walls), p)
+
+    def cell(self, xy: tuple[float, float] | np.ndarray) -> tuple[int, int]:
+        return (int(round((xy[1] - self.y0) / self.resolution)), int(round((xy[0] - self.x0) / self.resolution)))
+
+    def xy(self, rc: tuple[int, int]) -> tuple[float, float]:
+        return (self.x0 + rc[1] * self.resolution, self.y0 + rc[0] * self.resolution)
+
+    def inside(self, rc: tuple[int, int]) -> bool:
+        return 0 <= rc[0] < self.blocked.shape[0] and 0 <= rc[1] < self.blocked.shape[1]
+
+    def free(self, xy: tuple[float, float] | np.ndarray) -> bool:
+        rc = self.cell(xy)
+        return self.inside(rc) and not self.blocked[rc]
+
+    def clearance_at(self, xy: tuple[float, float] | np.ndarray) -> float:
+        rc = self.cell(xy)
+        return float(self.clearance[rc]) if self.inside(rc) else 0.0
+
+    def with_obstacles(self, points: np.ndarray, radius: float) -> PlanGrid:
+        """A copy with discs of `radius` around `points` (N, 2) blocked as well."""
+        blocked = self.blocked.copy()
+        r = int(math.ceil(radius / self.resolution))
+        dr, dc = np.mgrid[-r:r + 1, -r:r + 1]
+        disc = (dr**2 + dc**2) * self.resolution**2 <= radius**2
+        offs_r, offs_c = dr[disc], dc[disc]
+        h, w = blocked.shape
+        for x, y in np.asarray(points, dtype=float).reshape(-1, 2):
+            rr = offs_r + int(round((y - self.y0) / self.resolution))
+            cc = offs_c + int(round((x - self.x0) / self.resolution))
+            ok = (rr >= 0) & (rr < h) & (cc >= 0) & (cc < w)
+            blocked[rr[ok], cc[ok]] = True
+        return PlanGrid(self.x0, self.y0, self.resolution, self.clearance, blocked, self.penalty)
+
+    def nearest_free(self, xy: tuple[float, float], search: float) -> tuple[float, float] | None:
+        """The free cell nearest to `xy` within `search` metres (xy itself when free)."""
+        if self.free(xy):
+            return (float(xy[0]), float(xy[1]))
+        r0, c0 = self.cell(xy)
+        n = int(math.ceil(search / self.resolution))
+        best: tuple[float, tuple[int, int]] | None = None
+        for r in range(r0 - n, r0 + n + 1):
+            for c in range(c0 - n, c0 + n + 1):
+                if self.inside((r, c)) and not self.blocked[r, c]:
+                    d = math.hypot(r - r0, c - c0)
+                    if d <= n and (best is None or d < best[0]):
+                        best = (d, (r, c))
+        return None if best is None else self.xy(best[1])
+
+
+def astar(grid: PlanGrid, start: tuple[float, float], goal: tuple[float, float]) -> np.ndarray | None:
+    """The cheapest path (K, 2) of cell centres from start to goal, or None when there is none.
+
+    The start cell is allowed to be blocked (the robot may stand inside an inflated zone); the
+    search then leaves it by the cheapest way out.
+    """
+    s, g = grid.cell(start), grid.cell(goal)
+    if not (grid.inside(s) and grid.inside(g)) or grid.blocked[g]:
+        return None
+    h, w = grid.blocked.shape
+    blocked, penalty = grid.blocked, grid.penalty
+    gr, gc = g
+    best = {s: 0.0}
+    parent: dict[tuple[int, int], tuple[int, int]] = {}
+    heap = [(math.hypot(s[0] - gr, s[1] - gc), 0.0, s)]
+    closed: set[tuple[int, int]] = set()
+    while heap:
+        _, cost, node = heapq.heappop(heap)
+        if node in closed:
+            continue
+        if node == g:
+            break
+        closed.add(node)
+        r, c = node
+        for dr, dc, length in _MOVES:
+            nr, nc = r + dr, c + dc
+            if not (0 <= nr < h and 0 <= nc < w) or blocked[nr, nc]:
+                continue
+            if dr and dc and (blocked[r, nc] or blocked[nr, c]):
+                continue  # no corner cutting between two blocked cells
+            new = cost + length * (1.0 + penalty[nr, nc])
+            nxt = (nr, nc)
+            if new < best.get(nxt, math.inf):
+                best[nxt] = new
+                parent[nxt] = node
+                heapq.heappush(heap, (new + math.hypot(nr - gr, nc - gc), new, nxt))
+    if g not in best:
+        return None
+    cells = [g]
+    while cells[-1] != s:
+        cells.append(parent[cells[-1]])
+    cells.reverse()
+    return np.array([grid.xy(rc) for rc in thin(cells)])
+
+
+def thin(cells: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """Keep the end cells and the cells where the step direction changes."""
+    if len(cells) <= 2:
+        return cells
+    out = [cells[0]]
+    for a, b, c in zip(cells, cells[1:], cells[2:], strict=False):
+        if (b[0] - a[0], b[1] - a[1]) != (c[0] - b[0], c[1] - b[1]):
+            out.append(b)
+    out.append(cells[-1])
+    return out
+
+
+def densify(path: np.ndarray, step: float) -> np.ndarray:
+    """Points every `step` metres along a polyline (K, 2), ends kept."""
+    if len(path) < 2:
+        return path
+    out = [path[0]]
+    for a, b in zip(path[:-1], path[1:], strict=True):
+        n = max(1, int(math.ceil(np.hypot(*(b - a)) / step)))
+        out += [a + (b - a) * (k / n) for k in range(1, n + 1)]
+    return np.array(out)
