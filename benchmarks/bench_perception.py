@@ -38,8 +38,9 @@ MAP = ROOT / "pico_studio" / "data" / "maps" / "hospital_2019.json"
 def record(poses: int, frames: int, seed: int) -> list[list[tuple]]:
     cfg = Config()
     gmap = load_any_map(MAP)
-    world = Simulator(gmap, cfg.sim, seed=seed).world
-    starts = random_free_poses(world.static, world.objects, poses, 0.4, np.random.default_rng(seed), gmap.bounds)
+    first = Simulator(gmap, cfg.sim, seed=seed)
+    starts = random_free_poses(first.world.segments(), first.truth.pose[:2], poses, 0.4,
+                               np.random.default_rng(seed), gmap.bounds)
     runs = []
     for k, pose in enumerate(starts):
         sim = Simulator(gmap, cfg.sim, seed=seed + k, initial_pose=pose)

@@ -111,7 +111,7 @@ def _run(args: argparse.Namespace) -> int:
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
     perceptor = make_perceptor(cfg)
-    localising = _localising(cfg, sim, perceptor) if args.localise else None
+    localising = _localising(cfg, sim, perceptor) if args.localise and cfg.localisation.enabled else None
     session = Session(sim, perceptor=localising or perceptor, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
     scores = None
