@@ -38,13 +38,38 @@ class ScanPoints:
     beam: np.ndarray  # (M,) beam index of each point
     clusters: np.ndarray  # (K, 2) int [start, end) into points
     end_seen: np.ndarray  # (K, 2) bool: the cluster's first / last end was seen as a true end
+    valid_xy: np.ndarray | None = None  # (V, 2) every valid beam's point, when already computed
 
     @property
     def all_points(self) -> np.ndarray:
         """Every valid beam's point (before resampling), robot frame."""
+        if self.valid_xy is not None:
+            return self.valid_xy
         r = self.ranges[self.valid]
         a = self.angles[self.valid]
         return np.column_stack([r * np.cos(a), r * np.sin(a)])
+
+
+# beam layouts seen so far: (n, angle_min, angle_max, increment) -> (angles, cos, sin, warnings).
+# A robot has one or two layouts; the cap only guards against a stream of odd ones.
+_LAYOUTS: dict[tuple[int, float, float, float], tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]] = {}
+_MAX_LAYOUTS = 16
+
+
+def _layout(laser: LaserData) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
+    """Angles, their cosines and sines (read-only, cached per beam layout) and warnings."""
+    key = (len(laser.ranges), float(laser.angle_min), float(laser.angle_max), float(laser.angle_increment))
+    hit = _LAYOUTS.get(key)
+    if hit is None:
+        angles, warnings = beam_angles(laser)
+        cos, sin = np.cos(angles), np.sin(angles)
+        for a in (angles, cos, sin):
+            a.flags.writeable = False
+        hit = (angles, cos, sin, warnings)
+        if len(_LAYOUTS) >= _MAX_LAYOUTS:
+            _LAYOUTS.clear()
+        _LAYOUTS[key] = hit
+    return hit[0], hit[1], hit[2], list(hit[3])
 
 
 def beam_angles(laser: LaserData) -> tuple[np.ndarray, list[str]]:
@@ -73,23 +98,34 @@ def process_scan(
     laser: LaserData, params: ScanParams, footprint: ProximityParams
 ) -> tuple[ScanPoints, list[str]]:
     ranges = np.asarray(laser.ranges, dtype=float).reshape(-1)
-    angles, warnings = beam_angles(laser)
-    if len(angles) != len(ranges):  # unusable angles: no beam can be placed
-        angles = np.zeros(len(ranges))
-        valid = np.zeros(len(ranges), dtype=bool)
+    angles, cos, sin, warnings = _layout(laser)
+    n = len(ranges)
+    if len(angles) != n:  # unusable angles: no beam can be placed
+        angles = np.zeros(n)
+        valid = np.zeros(n, dtype=bool)
+        idx = np.zeros(0, dtype=np.int64)
+        xy = np.zeros((0, 2))
     else:
         lo = max(_finite_or(laser.range_min, 0.0), params.min_range)
         hi = min(_finite_or(laser.range_max, math.inf), params.max_range)
         with np.errstate(invalid="ignore"):
             valid = np.isfinite(ranges) & (ranges >= lo) & (ranges <= hi)
-        if valid.any():
-            xy = np.column_stack([ranges * np.cos(angles), ranges * np.sin(angles)])
-            valid &= ~in_footprint(np.nan_to_num(xy), footprint)
-    if len(ranges) and not valid.any():
-        warnings.append(f"no valid range among {len(ranges)} beams")
-    elif not len(ranges):
+        # Cartesian points of the in-range beams only; those in the footprint are dropped
+        idx = np.flatnonzero(valid)
+        r = ranges[idx]
+        xy = np.empty((len(idx), 2))
+        np.multiply(r, cos[idx], out=xy[:, 0])
+        np.multiply(r, sin[idx], out=xy[:, 1])
+        inside = in_footprint(xy, footprint)
+        if inside.any():
+            valid[idx[inside]] = False
+            idx = idx[~inside]
+            xy = xy[~inside]
+    if n and not len(idx):
+        warnings.append(f"no valid range among {n} beams")
+    elif not n:
         warnings.append("empty scan")
-    return _cluster(ranges, angles, valid, params), warnings
+    return _cluster(ranges, angles, valid, idx, xy, params), warnings
 
 
 def _finite_or(v: float, default: float) -> float:
@@ -97,36 +133,45 @@ def _finite_or(v: float, default: float) -> float:
     return v if math.isfinite(v) else default
 
 
-def _cluster(ranges: np.ndarray, angles: np.ndarray, valid: np.ndarray, p: ScanParams) -> ScanPoints:
-    idx = np.flatnonzero(valid)
-    if len(idx) == 0:
+def _cluster(
+    ranges: np.ndarray, angles: np.ndarray, valid: np.ndarray, idx: np.ndarray, xy: np.ndarray, p: ScanParams
+) -> ScanPoints:
+    """Resample and break the valid beams `idx` (points `xy`) into clusters."""
+    m = len(idx)
+    if m == 0:
         z2 = np.zeros((0, 2))
         return ScanPoints(ranges, angles, valid, z2, np.zeros(0, dtype=np.int64),
-                          np.zeros((0, 2), dtype=np.int64), np.zeros((0, 2), dtype=bool))
+                          np.zeros((0, 2), dtype=np.int64), np.zeros((0, 2), dtype=bool), z2)
     r = ranges[idx]
-    a = angles[idx]
-    xy = np.column_stack([r * np.cos(a), r * np.sin(a)])
-    step = np.hypot(np.diff(xy[:, 0]), np.diff(xy[:, 1]))
+    d = xy[1:] - xy[:-1]
+    step = np.hypot(d[:, 0], d[:, 1])
     brk = step > p.break_distance + p.break_slope * np.minimum(r[:-1], r[1:])
-    first = np.concatenate([[True], brk])  # first point of each cluster
-    last = np.concatenate([brk, [True]])
-    # arc length restarted at every cluster, binned by the minimum spacing
-    arc = np.concatenate([[0.0], np.cumsum(np.where(brk, 0.0, step))])
+    first = np.empty(m, dtype=bool)  # first point of each cluster
+    first[0] = True
+    first[1:] = brk
+    last = np.empty(m, dtype=bool)
+    last[:-1] = brk
+    last[-1] = True
+    keep = first | last
     if p.min_spacing > 0:
+        # arc length restarted at every cluster, binned by the minimum spacing
+        arc = np.zeros(m)
+        np.cumsum(np.where(brk, 0.0, step), out=arc[1:])
         bins = np.floor(arc / p.min_spacing)
-        keep = first | last | np.concatenate([[True], np.diff(bins) > 0])
+        keep[1:] |= bins[1:] > bins[:-1]
     else:
-        keep = np.ones(len(idx), dtype=bool)
-    cluster_id = np.cumsum(first) - 1
+        keep[:] = True
     kept = np.flatnonzero(keep)
     points = xy[kept]
     beam = idx[kept]
-    kid = cluster_id[kept]
-    starts = np.flatnonzero(np.concatenate([[True], np.diff(kid) > 0]))
-    ends = np.concatenate([starts[1:], [len(kept)]])
+    # clusters in kept-point indices: every cluster's first point is kept
+    starts = np.flatnonzero(first[kept])
+    ends = np.empty_like(starts)
+    ends[:-1] = starts[1:]
+    ends[-1] = len(kept)
     clusters = np.column_stack([starts, ends])
     end_seen = _ends_seen(ranges, valid, beam[starts], beam[ends - 1], p)
-    return ScanPoints(ranges, angles, valid, points, beam, clusters, end_seen)
+    return ScanPoints(ranges, angles, valid, points, beam, clusters, end_seen, xy)
 
 
 def _ends_seen(
