@@ -18,6 +18,7 @@ within `facing_distance`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,36 +47,39 @@ def identify(
     n = len(walls)
     prop = np.full((n, 2), FLOATING, dtype=np.int64)
     prop[seen_end] = CONVEX
-    corners: list[np.ndarray] = []
+    corners: list[tuple[float, float]] = []
     convex: list[bool] = []
-    robot = np.asarray(robot_xy, dtype=float)
+    # a few dozen walls: plain-float Python beats numpy's per-call cost on 2-vectors here
+    rx, ry = float(robot_xy[0]), float(robot_xy[1])
+    wl = walls.tolist()
+    cl = connected.tolist()
     for i in range(n):
         for a in (0, 1):
-            k = int(connected[i, a])
+            k = cl[i][a]
             if k < 0:
                 continue
-            c = walls[i, 2 * a : 2 * a + 2]
-            far_i = walls[i, 2 * (1 - a) : 2 * (1 - a) + 2]
-            back = connected[k] == i
-            if back.any():  # end to end: one corner for the pair
-                b = int(np.flatnonzero(back)[0])
+            cx, cy = wl[i][2 * a], wl[i][2 * a + 1]
+            back = cl[k]
+            if back[0] == i or back[1] == i:  # end to end: one corner for the pair
+                b = 0 if back[0] == i else 1
                 if k < i:
                     continue
-                far_k = walls[k, 2 * (1 - b) : 2 * (1 - b) + 2]
-                is_convex = not _in_wedge(robot - c, far_i - c, far_k - c)
+                fix, fiy = wl[i][2 * (1 - a)], wl[i][2 * (1 - a) + 1]
+                fkx, fky = wl[k][2 * (1 - b)], wl[k][2 * (1 - b) + 1]
+                is_convex = not _in_wedge((rx - cx, ry - cy), (fix - cx, fiy - cy), (fkx - cx, fky - cy))
                 prop[i, a] = prop[k, b] = CONVEX if is_convex else CONCAVE
             else:  # a T: i's end on k's inside
                 is_convex = False
                 prop[i, a] = CONCAVE
-            corners.append(c.copy())
+            corners.append((cx, cy))
             convex.append(is_convex)
     for i, a in zip(*np.nonzero(seen_end & (connected < 0)), strict=True):
-        corners.append(walls[i, 2 * a : 2 * a + 2].copy())
+        corners.append((wl[i][2 * a], wl[i][2 * a + 1]))
         convex.append(True)
     doors, possible, kinds = _doors(walls, prop, connected, params)
     return Identified(
         prop,
-        np.array(corners).reshape(-1, 2),
+        np.array(corners, dtype=float).reshape(-1, 2),
         np.array(convex, dtype=bool),
         doors,
         possible,
@@ -83,7 +87,7 @@ def identify(
     )
 
 
-def _in_wedge(r: np.ndarray, u: np.ndarray, v: np.ndarray) -> bool:
+def _in_wedge(r: tuple[float, float], u: tuple[float, float], v: tuple[float, float]) -> bool:
     uv = u[0] * v[1] - u[1] * v[0]
     ur = u[0] * r[1] - u[1] * r[0]
     rv = r[0] * v[1] - r[1] * v[0]
@@ -111,7 +115,7 @@ def _doors(
     dist_all = np.hypot(diff[..., 0], diff[..., 1])
     width_ok = (dist_all >= params.door_min_width) & (dist_all <= params.door_max_width)
     ia, ja = np.nonzero(np.triu(width_ok, 1))
-    doors: list[np.ndarray] = []
+    doors: list[list[float]] = []
     possible: list[np.ndarray] = []
     kinds: list[str] = []
     if len(ia):
@@ -153,9 +157,10 @@ def _doors(
         # best aligned first; a later door from the same point in about the same direction is
         # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
         cand = np.flatnonzero(is_door & ~blocked)
+        seg_list = segs.tolist()
         for m in cand[np.argsort(np.minimum(off_ij[cand], off_ji[cand]))].tolist():
-            if not any(_same_opening(segs[m], d) for d in doors):
-                doors.append(segs[m])
+            if not any(_same_opening(seg_list[m], d) for d in doors):
+                doors.append(seg_list[m])
         for m in np.flatnonzero(is_possible & ~blocked).tolist():
             possible.append(segs[m])
             kinds.append("convex_loose" if is_convex[ia[m]] or is_convex[ja[m]] else "loose_loose")
@@ -182,14 +187,15 @@ def _doors(
     return d, p, kinds
 
 
-def _same_opening(a: np.ndarray, b: np.ndarray, max_angle: float = 0.5, tol: float = 1e-6) -> bool:
-    """Two gaps from one point (either end) leaving in about the same direction."""
+def _same_opening(a: list[float], b: list[float], max_angle: float = 0.5, tol: float = 1e-6) -> bool:
+    """Two gaps (x0, y0, x1, y1) from one point (either end) leaving in about the same direction."""
+    cos_max = math.cos(max_angle)
     for pa, qa in ((a[0:2], a[2:4]), (a[2:4], a[0:2])):
         for pb, qb in ((b[0:2], b[2:4]), (b[2:4], b[0:2])):
-            if np.abs(pa - pb).max() < tol:
-                u, v = qa - pa, qb - pb
-                cos = float(u @ v) / max(float(np.hypot(*u) * np.hypot(*v)), 1e-12)
-                if cos > np.cos(max_angle):
+            if max(abs(pa[0] - pb[0]), abs(pa[1] - pb[1])) < tol:
+                ux, uy, vx, vy = qa[0] - pa[0], qa[1] - pa[1], qb[0] - pb[0], qb[1] - pb[1]
+                cos = (ux * vx + uy * vy) / max(math.hypot(ux, uy) * math.hypot(vx, vy), 1e-12)
+                if cos > cos_max:
                     return True
     return False
 

@@ -30,20 +30,27 @@ MAX_LEVELS = 64  # a safety bound: each level at least halves... or splits off o
 def split(points: np.ndarray, clusters: np.ndarray, params: SplitMergeParams) -> np.ndarray:
     """(S, 2) int: inclusive [first, last] point index of every piece, in scan order."""
     pts32 = np.ascontiguousarray(points, dtype=np.float32)
-    out: list[np.ndarray] = []
+    keys = pts32.view(np.complex64).ravel()  # one exact key per point: its float32 (x, y)
+    chains: list[np.ndarray] = []  # per cluster, its vertices' point indices in order
     for a, b in clusters.tolist():
         if b - a < 2:
             continue
-        chunk = pts32[a:b]
-        v = cv2.approxPolyDP(chunk.reshape(-1, 1, 2), params.split_distance, False).reshape(-1, 2)
-        # the vertices are copies of input points: find them by their exact coordinates
-        idx = np.flatnonzero(np.isin(chunk.view(np.complex64).ravel(), v.view(np.complex64).ravel()))
-        if len(idx) != len(v):  # duplicate points: do this cluster the numpy way
-            out.append(split_numpy(points, np.array([[a, b]]), params))
-            continue
-        idx += a
-        out.append(np.column_stack([idx[:-1], idx[1:]]))
-    return np.vstack(out).astype(np.int64) if out else np.zeros((0, 2), dtype=np.int64)
+        v = cv2.approxPolyDP(pts32[a:b].reshape(-1, 1, 2), params.split_distance, False)
+        # the vertices are copies of input points: find them by their exact coordinates (a
+        # broadcast compare: a handful of vertices against a cluster's points)
+        vk = v.reshape(-1, 2).view(np.complex64).ravel()
+        idx = np.flatnonzero((keys[a:b, None] == vk[None, :]).any(axis=1))
+        if len(idx) != len(vk):  # duplicate points: do this cluster the numpy way
+            pieces = split_numpy(points, np.array([[a, b]]), params)
+            idx = np.append(pieces[:, 0], pieces[-1, 1]) - a
+        chains.append(idx + a)
+    if not chains:
+        return np.zeros((0, 2), dtype=np.int64)
+    # consecutive vertices of one chain are a piece; a chain's last vertex starts none
+    verts = np.concatenate(chains).astype(np.int64)
+    starts_piece = np.ones(len(verts), dtype=bool)
+    starts_piece[np.cumsum([len(c) for c in chains]) - 1] = False
+    return np.column_stack([verts[:-1], verts[1:]])[starts_piece[:-1]]
 
 
 def split_numpy(points: np.ndarray, clusters: np.ndarray, params: SplitMergeParams) -> np.ndarray:
