@@ -12,6 +12,7 @@ are noisy, so the estimate is the median angle and distance over the last `media
 from __future__ import annotations
 
 import math
+import statistics
 
 import numpy as np
 
@@ -60,11 +61,12 @@ def median_entrance(history: tuple[Estimate, ...]) -> tuple[tuple[float, float] 
     """Median (angle, distance) over the recent estimates, and whether most were hallways."""
     if not history:
         return None, False
-    a = np.array([h[0] for h in history])
+    # a few dozen scalars: plain-float math (numpy's per-call cost would dominate)
+    a = [h[0] for h in history]
     # the median of angles near +-pi: taken relative to the circular mean
-    ref = math.atan2(np.sin(a).mean(), np.cos(a).mean())
-    rel = (a - ref + math.pi) % (2 * math.pi) - math.pi
-    ang = (ref + float(np.median(rel)) + math.pi) % (2 * math.pi) - math.pi
-    dist = float(np.median([h[1] for h in history]))
+    ref = math.atan2(math.fsum(map(math.sin, a)) / len(a), math.fsum(map(math.cos, a)) / len(a))
+    rel = [(x - ref + math.pi) % (2 * math.pi) - math.pi for x in a]
+    ang = (ref + statistics.median(rel) + math.pi) % (2 * math.pi) - math.pi
+    dist = float(statistics.median([h[1] for h in history]))
     hallway = sum(h[2] for h in history) * 2 > len(history)
     return (ang, dist), hallway

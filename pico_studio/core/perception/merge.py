@@ -105,7 +105,9 @@ def merge(
             _, first = np.unique(target[todo], return_index=True)
             now = todo[first]
             _fuse(w, target[now], new[now], new_real[now], new_seen[now], params)
-            todo = np.setdiff1d(todo, now)
+            rest = np.ones(len(todo), dtype=bool)
+            rest[first] = False
+            todo = todo[rest]
         fresh = target < 0
         w.add(new[fresh], new_seen[fresh])
     _merge_local(w, params)
@@ -320,32 +322,50 @@ def _connect(w: _Work, params: MergeParams) -> np.ndarray:
     weak = (w.hits < params.confirm_hits) * r
     cost = dist_i + dist_k + weak[ia] + weak[ka]
     pairs = np.flatnonzero(end_end & (ia < ka))
-    for m in pairs[np.argsort(cost[pairs])].tolist():
-        i, k, a, b = int(ia[m]), int(ka[m]), int(ei[m]), int(ek[m])
-        if connected[i, a] >= 0 or connected[k, b] >= 0:
-            continue
-        x = p0[i] + s[m] * d[i]
-        prev = (w.walls[i, 2 * a : 2 * a + 2] + w.walls[k, 2 * b : 2 * b + 2]) / 2
-        wt = min(max(old_weight[i, a], old_weight[k, b]), params.max_weight)
-        corner = (wt * prev + x) / (wt + 1.0)
-        w.walls[i, 2 * a : 2 * a + 2] = corner
-        w.walls[k, 2 * b : 2 * b + 2] = corner
-        connected[i, a], connected[k, b] = k, i
-        w.end_weight[i, a] = w.end_weight[k, b] = wt + 1.0
-        w.seen_end[i, a] = w.seen_end[k, b] = False
     tees = np.flatnonzero(t_join)
-    for m in tees[np.argsort(dist_i[tees])].tolist():
-        i, k, a = int(ia[m]), int(ka[m]), int(ei[m])
-        if connected[i, a] >= 0:
+    pairs = pairs[np.argsort(cost[pairs])].tolist()
+    tees = tees[np.argsort(dist_i[tees])].tolist()
+    if not pairs and not tees:
+        return connected
+    # a handful of corners per scan, one after the other (each may take an end another
+    # wanted): plain floats, as numpy's per-call cost on 2-vectors would dominate
+    wl = w.walls.tolist()  # p0[i] is read from here, so a moved end moves later crossings
+    conn = connected.tolist()
+    ow = old_weight.tolist()
+    ew = w.end_weight.tolist()
+    seen = w.seen_end.tolist()
+    il, kl, eil, ekl, sl, dl = ia.tolist(), ka.tolist(), ei.tolist(), ek.tolist(), s.tolist(), d.tolist()
+    cap = params.max_weight
+    for m in pairs:
+        i, k, a, b = il[m], kl[m], eil[m], ekl[m]
+        if conn[i][a] >= 0 or conn[k][b] >= 0:
             continue
-        x = p0[i] + s[m] * d[i]
-        prev = w.walls[i, 2 * a : 2 * a + 2]
-        wt = min(old_weight[i, a], params.max_weight)
-        w.walls[i, 2 * a : 2 * a + 2] = (wt * prev + x) / (wt + 1.0)
-        connected[i, a] = k
-        w.end_weight[i, a] = wt + 1.0
-        w.seen_end[i, a] = False
-    return connected
+        wi_, wk_ = wl[i], wl[k]
+        x = (wi_[0] + sl[m] * dl[i][0], wi_[1] + sl[m] * dl[i][1])
+        prev = ((wi_[2 * a] + wk_[2 * b]) / 2, (wi_[2 * a + 1] + wk_[2 * b + 1]) / 2)
+        wt = min(max(ow[i][a], ow[k][b]), cap)
+        corner = ((wt * prev[0] + x[0]) / (wt + 1.0), (wt * prev[1] + x[1]) / (wt + 1.0))
+        wi_[2 * a], wi_[2 * a + 1] = corner
+        wk_[2 * b], wk_[2 * b + 1] = corner
+        conn[i][a], conn[k][b] = k, i
+        ew[i][a] = ew[k][b] = wt + 1.0
+        seen[i][a] = seen[k][b] = False
+    for m in tees:
+        i, k, a = il[m], kl[m], eil[m]
+        if conn[i][a] >= 0:
+            continue
+        wi_ = wl[i]
+        x = (wi_[0] + sl[m] * dl[i][0], wi_[1] + sl[m] * dl[i][1])
+        wt = min(ow[i][a], cap)
+        wi_[2 * a] = (wt * wi_[2 * a] + x[0]) / (wt + 1.0)
+        wi_[2 * a + 1] = (wt * wi_[2 * a + 1] + x[1]) / (wt + 1.0)
+        conn[i][a] = k
+        ew[i][a] = wt + 1.0
+        seen[i][a] = False
+    w.walls = np.array(wl, dtype=float).reshape(-1, 4)
+    w.end_weight = np.array(ew, dtype=float).reshape(-1, 2)
+    w.seen_end = np.array(seen, dtype=bool).reshape(-1, 2)
+    return np.array(conn, dtype=np.int64).reshape(-1, 2)
 
 
 # ----- 6. dropping -----------------------------------------------------------------------------
