@@ -199,3 +199,24 @@ def test_opencv_split_agrees_with_the_numpy_recursion():
         a, b = results
         assert a.shape == b.shape and len(a) >= 3
         np.testing.assert_allclose(a, b, atol=0.08)  # an end at a corner may move a point or two
+
+
+def test_beam_layout_cache_follows_the_layout_and_keeps_warnings():
+    """Cos/sin tables are cached per beam layout: a second layout, a bad one in between and a
+    repeat of the first each get their own angles and their own warnings."""
+    r = np.array([1.0, 2.0, 3.0])
+    first = LaserData(0.0, 10.0, -math.pi / 2, math.pi / 2, math.pi / 2, 0.0, r)
+    other = LaserData(0.0, 10.0, 0.0, math.pi, math.pi / 2, 0.0, r)
+    bad = LaserData(0.0, 10.0, 0.0, 1.0, 0.3, 0.0, r)  # ends at 0.6, not 1.0: warned
+    for laser, expect, warned in ((first, [[0, -1], [2, 0], [0, 3]], False),
+                                  (other, [[1, 0], [0, 2], [-3, 0]], False),
+                                  (bad, None, True), (bad, None, True),
+                                  (first, [[0, -1], [2, 0], [0, 3]], False)):
+        scan, w = process_scan(laser, P.scan, P.proximity)
+        assert bool(w) == warned
+        angles, _ = beam_angles(laser)
+        np.testing.assert_array_equal(scan.angles, angles)
+        pts = scan.all_points
+        np.testing.assert_allclose(pts, np.column_stack([r * np.cos(angles), r * np.sin(angles)]), atol=1e-12)
+        if expect is not None:
+            np.testing.assert_allclose(pts, expect, atol=1e-12)

@@ -114,7 +114,9 @@ def _doors(
     diff = pts[None, :, :] - pts[:, None, :]
     dist_all = np.hypot(diff[..., 0], diff[..., 1])
     width_ok = (dist_all >= params.door_min_width) & (dist_all <= params.door_max_width)
-    ia, ja = np.nonzero(np.triu(width_ok, 1))
+    ia, ja = np.nonzero(width_ok)
+    upper = ia < ja
+    ia, ja = ia[upper], ja[upper]
     doors: list[list[float]] = []
     possible: list[np.ndarray] = []
     kinds: list[str] = []
@@ -128,11 +130,11 @@ def _doors(
         off_ji = np.abs(pq[:, 0] * oj[:, 1] - pq[:, 1] * oj[:, 0])
         ui, uj = (u * oi).sum(1), (u * oj).sum(1)  # cosines of the gap with each wall's outward
         base = (wi[ia] != wi[ja]) & (connected[wi[ia], we[ia]] != wi[ja])
-        cos_a, sin_a = np.cos(params.door_angle), np.sin(params.door_angle)
+        cos_a, sin_a = math.cos(params.door_angle), math.sin(params.door_angle)
         # the wall a door continues is long, or a short stub whose far end joins a long wall
         # (a cabinet's side is short and joins another short side)
         # (then the gap must continue it closely: `door_offset_short`)
-        lengths = wall_len_of(walls, np.arange(len(walls)))
+        lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
         far = connected[wi, 1 - we]
         long = lengths[wi] >= params.door_wall_min_length
         stub = ~long & (far >= 0) & (lengths[np.maximum(far, 0)] >= params.door_wall_min_length)
@@ -150,7 +152,7 @@ def _doors(
         collinear = (np.abs((oi * oj).sum(1)) > cos_a) & (off_ij < params.door_offset) & (off_ji < params.door_offset)
         facing = (ui > 0) & (uj < 0)
         is_possible = base & collinear & facing & ~both_convex
-        segs = np.hstack([pts[ia], pts[ja]])
+        segs = np.concatenate([pts[ia], pts[ja]], axis=1)
         blocked = np.zeros(len(ia), dtype=bool)
         some = np.flatnonzero(is_door | is_possible)
         blocked[some] = _blocked_many(segs[some], walls, wi[ia[some]], wi[ja[some]])
