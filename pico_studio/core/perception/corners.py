@@ -31,7 +31,10 @@ def spike_corners(scan: ScanPoints, params: CornerParams) -> np.ndarray:
     gap = np.hypot(*np.diff(p, axis=0).T)
     nearer = np.where(r[:-1] <= r[1:], np.arange(len(p) - 1), np.arange(1, len(p)))
     hit = (gap > params.spike_gap) & (r[nearer] < params.spike_max_range)
-    return p[np.unique(nearer[hit])]
+    near = nearer[hit]  # non-decreasing: drop repeats instead of sorting (np.unique)
+    if len(near) > 1:
+        near = near[np.concatenate([[True], near[1:] != near[:-1]])]
+    return p[near]
 
 
 def vector_corners(scan: ScanPoints, params: CornerParams, spacing: float) -> tuple[np.ndarray, np.ndarray]:

@@ -115,16 +115,18 @@ def _looked_past(
     n = np.column_stack([-d[:, 1], d[:, 0]]) / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)[:, None]
     # robot (origin) side of each line: sign of n . (0 - a)
     robot_side = np.sign(-(n * seg[:, 0:2]).sum(axis=1))
-    out = []
-    for col, step in ((0, -1), (1, 1)):
-        base = pieces[:, col]
-        off = step * np.arange(1, k + 1)
-        idx = base[:, None] + off[None, :]
-        inside = (idx >= clusters[:, 0:1]) & (idx < clusters[:, 1:2])
-        q = pts[np.clip(idx, 0, len(pts) - 1)]
-        depth = ((q - seg[:, None, 0:2]) * n[:, None, :]).sum(-1) * -robot_side[:, None]
-        out.append((inside & (depth > margin)).any(axis=1))
-    return out[0], out[1]
+    # both ends at once: idx[p, end, j] is the j-th point past that end of piece p
+    off = np.arange(1, k + 1)
+    idx = np.empty((len(pieces), 2, k), dtype=np.int64)
+    idx[:, 0, :] = pieces[:, 0:1] - off
+    idx[:, 1, :] = pieces[:, 1:2] + off
+    inside = (idx >= clusters[:, 0, None, None]) & (idx < clusters[:, 1, None, None])
+    q = pts[np.clip(idx, 0, len(pts) - 1)]
+    depth = (q[..., 0] - seg[:, 0, None, None]) * n[:, 0, None, None]
+    depth += (q[..., 1] - seg[:, 1, None, None]) * n[:, 1, None, None]
+    depth *= -robot_side[:, None, None]
+    hit = (inside & (depth > margin)).any(axis=2)
+    return hit[:, 0], hit[:, 1]
 
 
 def _wrap_half(a: np.ndarray) -> np.ndarray:
@@ -133,9 +135,17 @@ def _wrap_half(a: np.ndarray) -> np.ndarray:
 
 
 def _prefix(pts: np.ndarray) -> np.ndarray:
+    """(M + 1, 6) running sums of 1, x, y, x^2, xy, y^2 (row 0 all zero)."""
     x, y = pts[:, 0], pts[:, 1]
-    mom = np.column_stack([np.ones(len(pts)), x, y, x * x, x * y, y * y])
-    return np.vstack([np.zeros((1, 6)), np.cumsum(mom, axis=0)])
+    mom = np.empty((len(pts) + 1, 6))
+    mom[0] = 0.0
+    mom[1:, 0] = 1.0
+    mom[1:, 1] = x
+    mom[1:, 2] = y
+    np.multiply(x, x, out=mom[1:, 3])
+    np.multiply(x, y, out=mom[1:, 4])
+    np.multiply(y, y, out=mom[1:, 5])
+    return np.cumsum(mom, axis=0, out=mom)
 
 
 def refit(pts: np.ndarray, pieces: np.ndarray, pre: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
