@@ -219,7 +219,7 @@ def _merge_local(w: _Work, params: MergeParams) -> None:
         ia, ka = _near_pairs(w.walls, max(params.gap, params.distance))
         half = ia < ka
         ia, ka = ia[half], ka[half]
-        ok = _similar_rows(w.walls[ia], w.walls[ka], params) & _similar_rows(w.walls[ka], w.walls[ia], params)
+        ok = _similar_both(w.walls[ia], w.walls[ka], params)
         if not ok.any():
             return
         gone = np.zeros(n, dtype=bool)
@@ -232,11 +232,19 @@ def _merge_local(w: _Work, params: MergeParams) -> None:
         w.keep(~gone)
 
 
-def _similar_rows(a: np.ndarray, b: np.ndarray, params: MergeParams) -> np.ndarray:
-    """(P,) bool: wall b[p] is similar to wall a[p] (the test of `_similar`, row by row)."""
+def _similar_both(a: np.ndarray, b: np.ndarray, params: MergeParams) -> np.ndarray:
+    """(P,) bool: walls a[p] and b[p] are similar both ways (the test of `_similar`, row by
+    row, in each direction; directions and lengths computed once)."""
     da, la = _dir(a)
-    db, _ = _dir(b)
+    db, lb = _dir(b)
     ang_ok = np.abs((da * db).sum(1)) > math.cos(params.angle)
+    if not ang_ok.any():
+        return ang_ok
+    return ang_ok & _rows_near(a, da, la, b, params) & _rows_near(b, db, lb, a, params)
+
+
+def _rows_near(a: np.ndarray, da: np.ndarray, la: np.ndarray, b: np.ndarray, params: MergeParams) -> np.ndarray:
+    """(P,) bool: b[p]'s ends lie near a[p]'s line, overlapping it or within `gap` of it."""
     rel0 = b[:, 0:2] - a[:, 0:2]
     rel1 = b[:, 2:4] - a[:, 0:2]
     t0 = (rel0 * da).sum(1)
@@ -244,7 +252,7 @@ def _similar_rows(a: np.ndarray, b: np.ndarray, params: MergeParams) -> np.ndarr
     n0 = np.abs(rel0[:, 0] * da[:, 1] - rel0[:, 1] * da[:, 0])
     n1 = np.abs(rel1[:, 0] * da[:, 1] - rel1[:, 1] * da[:, 0])
     gap = np.maximum(np.minimum(t0, t1) - la, -np.maximum(t0, t1))
-    return ang_ok & (np.maximum(n0, n1) < params.distance) & (gap < params.gap)
+    return (np.maximum(n0, n1) < params.distance) & (gap < params.gap)
 
 
 def _absorb(w: _Work, i: int, k: int, params: MergeParams) -> None:

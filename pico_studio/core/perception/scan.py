@@ -183,17 +183,16 @@ def _ends_seen(
     field of view (nothing there within range: seen), or valid and farther by more than the
     break distance (seen), or nearer (occluded: not seen)."""
     n = len(ranges)
-    out = np.zeros((len(first_beam), 2), dtype=bool)
-    for col, beams, d in ((0, first_beam, -1), (1, last_beam, 1)):
-        nb = beams + d
-        inside = (nb >= 0) & (nb < n)
-        nbc = np.clip(nb, 0, n - 1)
-        nr = np.where(valid[nbc], ranges[nbc], np.inf)
-        own = ranges[beams]
-        farther = nr > own + p.break_distance + p.break_slope * own
-        # an invalid neighbour counts as far only when the laser itself returned nothing
-        # there (a dropped footprint point or a too-short return is not "far")
-        raw = ranges[nbc]
-        far_invalid = ~valid[nbc] & ~(np.isfinite(raw) & (raw > 0) & (raw < own))
-        out[:, col] = inside & np.where(valid[nbc], farther, far_invalid)
-    return out
+    beams = np.column_stack([first_beam, last_beam])  # (K, 2): both ends at once
+    nb = beams + np.array([-1, 1])
+    inside = (nb >= 0) & (nb < n)
+    nbc = np.clip(nb, 0, n - 1)
+    nvalid = valid[nbc]
+    raw = ranges[nbc]
+    own = ranges[beams]
+    nr = np.where(nvalid, raw, np.inf)
+    farther = nr > own + p.break_distance + p.break_slope * own
+    # an invalid neighbour counts as far only when the laser itself returned nothing
+    # there (a dropped footprint point or a too-short return is not "far")
+    far_invalid = ~nvalid & ~(np.isfinite(raw) & (raw > 0) & (raw < own))
+    return inside & np.where(nvalid, farther, far_invalid)
