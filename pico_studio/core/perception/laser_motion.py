@@ -31,18 +31,24 @@ def laser_motion(
         return None, 0
     motion = predicted if predicted is not None else (0.0, 0.0, 0.0)
     count = 0
+    rows = np.arange(len(current))
+    matched: tuple[np.ndarray, np.ndarray] | None = None
     for _ in range(params.iterations):
         q = _apply(current, motion)
         d = np.hypot(*(q[:, None, :] - previous[None, :, :]).transpose(2, 0, 1))
         nearest = np.argmin(d, axis=1)
-        ok = d[np.arange(len(q)), nearest] < params.match_radius
+        ok = d[rows, nearest] < params.match_radius
         # one previous corner takes at most one current corner: the nearest
         back = np.argmin(d, axis=0)
-        ok &= back[nearest] == np.arange(len(q))
+        ok &= back[nearest] == rows
         count = int(ok.sum())
         if count == 0:
             return None, 0
-        motion = fit_rigid(previous[nearest[ok]], current[ok], motion[2])
+        pairs = (ok, nearest[ok])
+        if matched is not None and np.array_equal(matched[0], pairs[0]) and np.array_equal(matched[1], pairs[1]):
+            break  # the same matches give the same fit: a fixed point, later rounds repeat it
+        matched = pairs
+        motion = fit_rigid(previous[pairs[1]], current[ok], motion[2])
     return motion, count
 
 
