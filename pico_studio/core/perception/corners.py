@@ -44,13 +44,14 @@ def vector_corners(scan: ScanPoints, params: CornerParams, spacing: float) -> tu
     k = max(1, int(round(params.vector_step / max(spacing, 1e-3))))
     if m < 2 * k + 1:
         return np.zeros((0, 2)), np.zeros(0, dtype=bool)
-    cid = np.zeros(m, dtype=np.int64)
-    cid[scan.clusters[1:, 0]] = 1
-    cid = np.cumsum(cid)
+    cid = np.repeat(np.arange(len(scan.clusters)), scan.clusters[:, 1] - scan.clusters[:, 0])
     i = np.arange(k, m - k)
-    same = (cid[i - k] == cid[i]) & (cid[i + k] == cid[i])
-    v1 = p[i - k] - p[i]
-    v2 = p[i + k] - p[i]
+    # slices, not index arrays: point i against its neighbours i - k and i + k
+    mid = cid[k : m - k]
+    same = (cid[: m - 2 * k] == mid) & (cid[2 * k :] == mid)
+    pi = p[k : m - k]
+    v1 = p[: m - 2 * k] - pi
+    v2 = p[2 * k :] - pi
     ang = np.arctan2(v1[:, 0] * v2[:, 1] - v1[:, 1] * v2[:, 0], (v1 * v2).sum(axis=1))
     dev_in = np.abs(ang + math.pi / 2)
     dev_out = np.abs(ang - math.pi / 2)
