@@ -10,11 +10,17 @@ in the same process. `step_cpu` is the step's process CPU time: on a machine sha
 other jobs the wall-clock step also counts the time the process waited for a core.
 
     python benchmarks/bench_perception.py [--poses 10] [--frames 20] [--repeats 5]
+
+A speed-up must not change results: `--save-models F` writes the world models of the
+recorded scans (all three segmenters) to F, and `--same-as F` checks them against such a file
+(every number within 1e-9), e.g. saved before a change and checked after it.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
+import pickle
 import statistics
 import time
 from pathlib import Path
@@ -103,14 +109,56 @@ def time_opencv_peer(scans: list, params, repeats: int) -> float:
     return statistics.median(times)
 
 
+def world_models(runs: list[list[tuple]]) -> list[dict]:
+    """The world model of every recorded scan, per segmenter, as plain data (no timings)."""
+    out = []
+    for name in ("split_merge", "angle", "ransac"):
+        params = with_value(Config(), "perception.scan.segmenter", name).perception
+        for seq in runs:
+            p = Perceptor(params)
+            for laser, odom in seq:
+                d = p.step(laser, odom).to_dict()
+                d.pop("timings_ms")
+                out.append(d)
+    return out
+
+
+def first_difference(a, b, path: str = "", tol: float = 1e-9) -> str | None:  # noqa: ANN001
+    """Where two plain-data world models differ (beyond `tol` for floats), or None."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        if set(a) != set(b):
+            return f"{path}: keys {sorted(set(a) ^ set(b))}"
+        return next((d for k in a if (d := first_difference(a[k], b[k], f"{path}.{k}", tol))), None)
+    if isinstance(a, list) and isinstance(b, list):
+        if len(a) != len(b):
+            return f"{path}: length {len(a)} vs {len(b)}"
+        return next((d for i, (x, y) in enumerate(zip(a, b, strict=True)) if (d := first_difference(x, y, f"{path}[{i}]", tol))), None)
+    if isinstance(a, float) and isinstance(b, float):
+        same = (math.isnan(a) and math.isnan(b)) or a == b or abs(a - b) <= tol
+        return None if same else f"{path}: {a!r} vs {b!r}"
+    return None if a == b else f"{path}: {a!r} vs {b!r}"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--poses", type=int, default=10)
     ap.add_argument("--frames", type=int, default=20)
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--save-models", type=Path, help="write the world models to this file and stop")
+    ap.add_argument("--same-as", type=Path, help="check the world models against a --save-models file and stop")
     args = ap.parse_args()
     runs = record(args.poses, args.frames, args.seed)
+    if args.save_models or args.same_as:
+        models = world_models(runs)
+        if args.save_models:
+            args.save_models.write_bytes(pickle.dumps(models))
+            print(f"{len(models)} world models written to {args.save_models}")
+            return
+        ref = pickle.loads(args.same_as.read_bytes())  # a file this script wrote
+        diff = first_difference(ref, models, "models")
+        print(f"{len(models)} world models: " + ("the same (within 1e-9)" if diff is None else f"DIFFER at {diff}"))
+        raise SystemExit(0 if diff is None else 1)
     n = sum(len(r) for r in runs)
     beams = len(runs[0][0][0].ranges)
     print(f"hospital_2019: {n} simulated scans of {beams} beams, {args.repeats} repeats")
