@@ -383,6 +383,13 @@ class Studio:
             out["counts"] = _counts(wm)
             out["scores"] = self._scores(frame)
             out["localisation"] = self._localisation_figures(frame)
+            lm = getattr(wm, "laser_motion", None)
+            out["laser_motion"] = tuple(map(float, lm)) if lm is not None else None
+            out["laser_motion_matches"] = int(getattr(wm, "laser_motion_matches", 0) or 0)
+            entrance = getattr(wm, "entrance", None)
+            out["entrance"] = tuple(map(float, entrance)) if entrance is not None else None
+            out["hallway"] = bool(getattr(wm, "hallway", False))
+            out["room"] = dict(getattr(wm, "room", None) or {})
             return out
 
     def _scores(self, frame: FrameRecord | None) -> dict[str, dict[str, float]]:
