@@ -81,30 +81,37 @@ class SceneLayers:
         if n:
             data = np.asarray(prim.data, dtype=np.float32)
             colors = None if prim.colors is None else np.asarray(prim.colors, np.uint8)
-            key = (data.tobytes(), None if colors is None else colors.tobytes(), prim.text)
-            if self._sent.get(name) != key:
-                self._sent[name] = key
-                self._send(spec, h, n, data, colors, prim.text)
+            sent = self._sent.get(name, (None, None))
+            key = (data.tobytes() + prim.text.encode(), None if colors is None else colors.tobytes())
+            # each part only when it changed (equal colour bytes are an equal count too)
+            if colors is not None and key[1] != sent[1]:
+                self._send_colors(spec, h, colors)
+            if key[0] != sent[0]:
+                self._send_geometry(spec, h, n, data, prim.text)
+            self._sent[name] = key
         h.visible = n > 0
 
     @staticmethod
-    def _send(spec: PrimSpec, h: Any, n: int, data: np.ndarray, colors: np.ndarray | None, text: str) -> None:
+    def _send_colors(spec: PrimSpec, h: Any, colors: np.ndarray) -> None:
+        # one colour per node stays a (3,) colour; only multi-coloured prims send
+        # per-vertex colours (switching a node between the two is not reliable)
+        if spec.kind == "segments":
+            h.colors = np.ascontiguousarray(np.repeat(line_vertex(colors)[:, None, :], 2, axis=1))
+        elif spec.kind == "points":
+            h.colors = np.ascontiguousarray(colors)
+
+    @staticmethod
+    def _send_geometry(spec: PrimSpec, h: Any, n: int, data: np.ndarray, text: str) -> None:
         if spec.kind == "label":
             h.position = (float(data[0, 0]), float(data[0, 1]), h.position[2])
             h.text = text
         elif spec.kind == "segments":
             pts = np.zeros((n, 2, 3), dtype=np.float32)
             pts[:, :, :2] = data.reshape(n, 2, 2)
-            # one colour per node stays a (3,) colour; only multi-coloured prims send
-            # per-vertex colours (switching a node between the two is not reliable)
-            if colors is not None:
-                h.colors = np.ascontiguousarray(np.repeat(line_vertex(colors)[:, None, :], 2, axis=1))
             h.points = pts
         else:
             pts = np.zeros((n, 3), dtype=np.float32)
             pts[:, :2] = data
-            if colors is not None:
-                h.colors = np.ascontiguousarray(colors)
             h.points = pts
 
 
