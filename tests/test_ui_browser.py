@@ -268,6 +268,12 @@ def test_a_second_tab_sees_the_scene(app, page, browser) -> None:
     client1 = list(app.server.get_clients().values())[0]
     hits, total = _wall_hits(app, screenshot(page), dashed, unseen, client1)
     assert total >= 5 and hits >= 0.9 * total
+    # so is Follow: the second tab's view centres on the robot, the first tab's stays put
+    before = tuple(client1.camera.position)
+    second.locator("label", has_text="Follow robot").click()
+    robot = app.studio.robot_pose_in_map(app.studio.shown())
+    assert wait_until(lambda: abs(client2.camera.position[1] - robot[1]) < 0.05), "the second tab does not follow"
+    assert tuple(client1.camera.position) == pytest.approx(before)
     second.close()
 
 

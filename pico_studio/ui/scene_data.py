@@ -383,7 +383,7 @@ def room_text(room: Any) -> str:
     """Seed 000's side-room watch in one line: side range, its jump, objects in view."""
     side, jump = field(room, "side_range"), field(room, "jump")
     parts = [f"side {side:.2f} m" if side is not None else "side –"]
-    parts.append(f"jump {jump:+.2f} m" if jump is not None else "jump –")
+    parts.append(f"jump {round(jump, 2) + 0.0:+.2f} m" if jump is not None else "jump –")  # no "-0.00"
     parts.append(f"objects {int(field(room, 'objects') or 0)}")
     if field(room, "room"):
         parts.append("ROOM")
