@@ -314,7 +314,7 @@ def test_two_clicks_measure_a_distance(app, page) -> None:
     page.get_by_role("tab", name="Tools").click()
     input_of(page, "Click does").click()
     page.get_by_role("option", name="measure").click()
-    assert wait_until(lambda: app.click_mode.value == "measure")
+    assert wait_until(lambda: app.tabs[_client(app).client_id].click_mode.value == "measure")
     client = _client(app)
     a, b = world_to_pixel(client, 1.0, 1.0), world_to_pixel(client, 3.0, 1.0)
     page.mouse.click(*a)

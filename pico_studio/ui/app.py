@@ -33,7 +33,7 @@ from pico_studio.ui import style
 from pico_studio.ui.colour import line_uniform
 from pico_studio.ui.config_panel import ConfigPanel
 from pico_studio.ui.inspect import measure_text, nearest_feature, ray_to_ground
-from pico_studio.ui.layers import LayerToggles, SceneLayers
+from pico_studio.ui.layers import LAYER_OF, LayerToggles, SceneLayers
 from pico_studio.ui.recording_panel import RecordingControls, source_status
 from pico_studio.ui.runtime import BEHAVIOURS, Studio
 from pico_studio.ui.scene_data import LAYERS, frame_prims, map_prims, room_text
@@ -47,7 +47,8 @@ PANEL_PX = 420  # the control panel (control_width="large") covers this much of 
 @dataclass
 class TabState:
     """What belongs to one browser tab; rebuilt from scratch on every (re)connect: its layer
-    toggles and Follow (client-scoped GUI and scene), its measuring and inspect marks."""
+    toggles and Follow (client-scoped GUI and scene), its click mode, measuring and inspect
+    marks and their text."""
 
     client: viser.ClientHandle
     toggles: LayerToggles
@@ -56,6 +57,8 @@ class TabState:
     measure_from: tuple[float, float] | None = None
     tools: dict[str, Any] = field(default_factory=dict)  # per-tab scene nodes
     checkboxes: dict[str, Any] = field(default_factory=dict)  # layer key -> its checkbox
+    click_mode: Any = None  # the tab's "Click does" dropdown
+    tool_md: Any = None  # what its last click found
 
 
 class StudioApp:
@@ -75,7 +78,8 @@ class StudioApp:
         self.server.scene.world_axes.visible = False
         self.tabs: dict[int, TabState] = {}
         self.layers = SceneLayers(self.server)
-        self.layers.update(map_prims(studio.global_map))
+        self.map_prims = map_prims(studio.global_map)
+        self.layers.update(self.map_prims)
         self.update_ms: list[float] = []  # slider change -> layers sent, server side (wall)
         self.update_cpu_ms: list[float] = []  # the same, CPU time of the callback's thread
         self.last_export: Path | None = None
@@ -267,6 +271,7 @@ class StudioApp:
     def _on_connect(self, client: viser.ClientHandle) -> None:
         tab = TabState(client, LayerToggles(client))
         self._build_tab_layers(tab)
+        self._build_tab_tools(tab)
         tab.tools["measure"] = client.scene.add_line_segments(
             "/tools/measure", np.zeros((1, 2, 3), np.float32), line_uniform(style.MEASURE), thickness=0.04, visible=False
         )
@@ -287,24 +292,25 @@ class StudioApp:
         tab = self.tabs.get(event.client_id)
         if xy is None or tab is None:
             return
-        if self.click_mode.value == "measure":
+        if tab.click_mode.value == "measure":
             if tab.measure_from is None:
                 tab.measure_from = xy
-                self.tool_md.content = f"measure: first point ({xy[0]:.3f}, {xy[1]:.3f}); click the second"
+                tab.tool_md.content = f"measure: first point ({xy[0]:.3f}, {xy[1]:.3f}); click the second"
                 tab.tools["measure"].visible = False
             else:
                 a, tab.measure_from = tab.measure_from, None
                 tab.tools["measure"].points = np.array([[[a[0], a[1], 0.05], [xy[0], xy[1], 0.05]]], np.float32)
                 tab.tools["measure"].visible = True
-                self.tool_md.content = measure_text(a, xy)
+                tab.tool_md.content = measure_text(a, xy)
             return
-        feature = nearest_feature(xy, self.prims | map_prims(self.studio.global_map))
+        shown = {k: v for k, v in (self.prims | self.map_prims).items() if tab.toggles.visible[LAYER_OF[k]]}
+        feature = nearest_feature(xy, shown)  # what this tab shows
         tab.tools["inspect"].visible = False
         tab.tools["inspect_point"].visible = False
         if feature is None:
-            self.tool_md.content = f"nothing within 1 m of ({xy[0]:.3f}, {xy[1]:.3f})"
+            tab.tool_md.content = f"nothing within 1 m of ({xy[0]:.3f}, {xy[1]:.3f})"
             return
-        self.tool_md.content = feature.describe()
+        tab.tool_md.content = feature.describe()
         if feature.segment is not None:
             s = feature.segment
             tab.tools["inspect"].points = np.array([[[s[0], s[1], 0.04], [s[2], s[3], 0.04]]], np.float32)
@@ -489,12 +495,18 @@ class StudioApp:
         self.config_panel = ConfigPanel(gui, self.studio.cfg, self._guard("parameter", self._on_param))
 
     def _build_tools(self, gui: viser.GuiApi) -> None:
-        self.click_mode = gui.add_dropdown(
-            "Click does", ["inspect", "measure"], initial_value="inspect",
-            hint="inspect: the nearest wall, corner or door with its numbers; measure: two clicks, distance and angle",
-        )
-        self.click_mode.on_update(lambda e: [setattr(t, "measure_from", None) for t in self.tabs.values()])
-        self.tool_md = gui.add_markdown("Click in the view.")
+        # the click mode and its result are each tab's own: filled in per tab on connect
+        self.tools_folder = gui.add_folder("In this tab")
+
+    def _build_tab_tools(self, tab: TabState) -> None:
+        gui = tab.client.gui
+        with self.tools_folder:
+            tab.click_mode = gui.add_dropdown(
+                "Click does", ["inspect", "measure"], initial_value="inspect",
+                hint="inspect: the nearest wall, corner or door with its numbers; measure: two clicks, distance and angle",
+            )
+            tab.tool_md = gui.add_markdown("Click in the view.")
+        tab.click_mode.on_update(lambda e: setattr(tab, "measure_from", None))
 
     # ----- actions ----------------------------------------------------------------------------
     def _on_param(self, event: viser.GuiEvent, path: str) -> None:
@@ -558,7 +570,8 @@ class StudioApp:
     def switch_map(self, path: Path, name: str, client: viser.ClientHandle | None) -> None:
         global_map = load_any_map(path, self.studio.cfg)
         self.studio.set_map(global_map, name)
-        self.layers.update(map_prims(global_map))
+        self.map_prims = map_prims(global_map)
+        self.layers.update(self.map_prims)
         for tab in list(self.tabs.values()):
             self.fit_map(tab.client)
         self.redraw()
