@@ -20,12 +20,13 @@ import numpy as np
 
 from pico_studio.core.config import load_config
 from pico_studio.core.geometry import compose, invert
+from pico_studio.core.io import Command
 from pico_studio.core.localisation import DistanceField, Localiser
 from pico_studio.core.localisation.score import PoseScore, summary_line
 from pico_studio.core.localisation.stage import LocalisingPerceptor
 from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
-from pico_studio.session import Action, Session
+from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sim.map_features import vertex_graph
 from pico_studio.sim.scoring import RunScore, Tolerances, score_frame
@@ -118,7 +119,7 @@ def evaluate(map_path: str, *, sim_config: str | None = None, config: str | None
             perceptor = LocalisingPerceptor(perceptor, Localiser(cfg.localisation, gmap, pose, dfield),
                                             truth=lambda sim=sim: sim.truth.pose)
             perceptor.score = localisation
-        session = Session(sim, perceptor=perceptor, behaviour=lambda f, wm: Action(0.0, 0.0, turn), history=1)
+        session = Session(sim, perceptor=perceptor, behaviour=lambda f, wm: Command(0.0, 0.0, turn), history=1)
         wm = None
         for _ in range(frames):
             session.tick(1.0 / sim.laser.profile.rate_hz)
