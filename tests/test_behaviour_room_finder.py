@@ -33,3 +33,19 @@ def test_empty_room_and_noise_below_the_jump_count_nothing():
     rng = np.random.default_rng(0)
     r = 1.4 + rng.uniform(-0.01, 0.01, 200)
     assert count_objects(r, 0.1, 5) == (0, 0)
+
+
+def test_nearest_wall_foot_skips_a_jamb_corner_for_the_wall_hit_square_on():
+    from pico_studio.core.behaviours.room_finder import nearest_wall_beam
+    from pico_studio.sim.raycast import Fan
+
+    # facing a side room's opening (y -0.5..0.5 in the wall x = 1): its jamb corners are the
+    # nearest points; the nearest wall hit square on is the side wall y = -1.5
+    segs = np.array([[1, -3, 1, -0.5], [1, 0.5, 1, 3], [1, -0.5, 2, -0.5], [2, -0.5, 2, 0.5],
+                     [2, 0.5, 1, 0.5], [-3, -1.5, 1, -1.5]], dtype=float)
+    fan = Fan(-2.0, 4.0 / 999, 1000)
+    r = fan.cast(segs)
+    angles = -2.0 + np.arange(1000) * 4.0 / 999
+    assert abs(abs(angles[np.argmin(r)]) - np.arctan2(0.5, 1)) < 0.01  # plain minimum: a jamb
+    i = nearest_wall_beam(angles, r, 2.0)
+    assert i is not None and abs(angles[i] + np.pi / 2) < 0.05

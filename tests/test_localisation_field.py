@@ -71,3 +71,10 @@ def test_prior_from_start_area_given_pose_and_whole_map(restaurant, maps_dir):
     assert whole.origin == "map" and whole.heading_range == pytest.approx(math.pi)
     x0, y0, x1, y1 = hospital.bounds
     assert whole.half_x == pytest.approx((x1 - x0) / 2)
+
+
+def test_doors_are_passable_for_the_through_walls_check(restaurant):
+    field = DistanceField.from_map(restaurant, Config().localisation.field)
+    n_doors = sum(len(p) for p in restaurant.doors)
+    assert field.passable is not None and field.passable.sum() == n_doors
+    assert field.passable[-n_doors:].all() and not field.passable[: len(restaurant.walls)].any()

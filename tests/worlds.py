@@ -141,14 +141,16 @@ def room_finder_world(seed: int) -> World:
         pts.append(tuple(a + d * L))
         b.polyline(pts)
     # not facing a room (seed 000's assumption): along both axes the robot's perpendicular
-    # foot on each wall stays half a panel clear of every opening
+    # foot on each wall stays 0.25 m clear of every opening
     spans = [(k, s0) for k, ss in by_wall.items() for s0 in ss]
-    margin = 1.0
-    for _ in range(1000):
+    margin = 0.8
+    for _ in range(10000):
         x = rng.uniform(margin, w - margin)
         y = rng.uniform(margin, h - margin)
         feet = {0: x, 1: y, 2: w - x, 3: h - y}
-        if all(not (s0 - PANEL / 2 <= feet[k] <= s0 + 1.5 * PANEL) for k, s0 in spans):
+        if all(not (s0 - 0.25 <= feet[k] <= s0 + PANEL + 0.25) for k, s0 in spans):
             break
+    else:
+        raise RuntimeError(f"room-finder world {seed}: no start that faces no room")
     a = rng.uniform(-math.pi, math.pi)
     return World(map=b.build(), start=(float(x), float(y), float(a)), rooms=rooms, seed=seed)

@@ -15,6 +15,9 @@ from typing import Any
 
 import numpy as np
 
+from pico_studio.core.localisation import Localiser
+from pico_studio.core.localisation.stage import LocalisingPerceptor
+from pico_studio.core.perception import Perceptor
 from pico_studio.json_map import GlobalMap
 from pico_studio.session import Session
 
@@ -91,36 +94,12 @@ def run_behaviour(sim: Any, behaviour: Any, *, seconds: float, dt: float = 0.05,
     }
 
 
-class PerceiveAndLocalise:
-    """The session's perceptor for behaviours on a global map: the perceptor's world model
-    with the localisation's `global_pose` filled in."""
-
-    def __init__(self, perceptor: Any, localiser: Any):
-        self.perceptor = perceptor
-        self.localiser = localiser
-
-    def step(self, laser: Any, odometry: Any) -> Any:
-        wm = self.perceptor.step(laser, odometry)
-        if self.localiser is not None:
-            self.localiser.fill(wm)
-        return wm
-
-
-def make_perception(cfg: Any, global_map: GlobalMap | None, initial_pose: Any, *, localise: bool) -> Any:
-    """Perceptor (+ localiser on a global map) when this build has them, else None."""
-    try:
-        from pico_studio.core.perception import Perceptor
-    except ImportError:
-        return None
-    localiser = None
-    if localise and global_map is not None:
-        try:
-            from pico_studio.core.localisation import Localiser
-        except ImportError:
-            Localiser = None  # noqa: N806
-        if Localiser is not None:
-            localiser = Localiser(cfg.localisation, global_map, initial_pose)
-    return PerceiveAndLocalise(Perceptor(cfg.perception), localiser)
+def make_perception(cfg: Any, global_map: GlobalMap, initial_pose: Any, *, localise: bool) -> Any:
+    """The perceptor, with localisation on the global map when the behaviour needs a global pose."""
+    perceptor = Perceptor(cfg.perception)
+    if not localise:
+        return perceptor
+    return LocalisingPerceptor(perceptor, Localiser(cfg.localisation, global_map, initial_pose))
 
 
 def run_sim_behaviour(args: Any, cfg: Any) -> dict[str, Any]:

@@ -2,8 +2,8 @@
 
     pico-studio eval --map examples/maps/hospital_2019.json --poses 50 --seed 0 --json
 
-At each of K random free poses (inside the walls, outside every object, `--clearance` from
-everything) a fresh perceptor watches the simulated robot turn slowly on the spot for
+At each of K random free poses (reachable from the simulator's start pose with `--clearance`
+from everything) a fresh perceptor watches the simulated robot turn slowly on the spot for
 `--frames` scans (so its local map can form); the last frame is scored
 (`pico_studio.sim.scoring`) and the scores are summed over all poses.
 """
@@ -15,19 +15,20 @@ import json
 import math
 from typing import Any
 
+import cv2
 import numpy as np
 
 from pico_studio.core.config import load_config
-from pico_studio.core.geometry import compose, invert, point_segment_distance
+from pico_studio.core.geometry import compose, invert
+from pico_studio.core.io import Command
 from pico_studio.core.localisation import DistanceField, Localiser
 from pico_studio.core.localisation.score import PoseScore, summary_line
 from pico_studio.core.localisation.stage import LocalisingPerceptor
 from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
-from pico_studio.session import Action, Session
+from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sim.map_features import vertex_graph
-from pico_studio.sim.raycast import cast_rays
 from pico_studio.sim.scoring import RunScore, Tolerances, score_frame
 from pico_studio.sim.sim_config import load_sim_config
 from pico_studio.sim.simulator import load_any_map
@@ -47,36 +48,44 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_eval)
 
 
-def random_free_poses(segments: np.ndarray, objects: np.ndarray, k: int, clearance: float,
-                      rng: np.random.Generator, bounds: tuple[float, float, float, float]) -> list[tuple[float, float, float]]:
-    """K poses inside the walls (rays in every direction hit something; an odd number of
-    segments crossed towards +x), outside objects, at least `clearance` from every segment."""
+def random_free_poses(segments: np.ndarray, start: tuple[float, float], k: int, clearance: float,
+                      rng: np.random.Generator, bounds: tuple[float, float, float, float],
+                      resolution: float = 0.05) -> list[tuple[float, float, float]]:
+    """K poses the robot could drive to from `start`: every segment is drawn into a grid
+    grown by `clearance`, the free cells connected to the start cell are flood-filled, and K
+    of them are drawn (a random point in the cell, a random heading). So poses lie inside the
+    building, outside objects and thick walls, whatever way the map draws its walls."""
     x0, y0, x1, y1 = bounds
-    out: list[tuple[float, float, float]] = []
-    fans = np.arange(16) * (2 * math.pi / 16)
-    for _ in range(2000 * max(k, 1)):
-        if len(out) >= k:
-            break
-        xy = rng.uniform((x0, y0), (x1, y1))
-        if point_segment_distance(xy[None, :], segments).min() < clearance:
-            continue
-        if not np.isfinite(cast_rays((xy[0], xy[1]), fans, segments)).all():
-            continue
-        if _crossings(xy, segments) % 2 == 0:  # inside a thick wall's block or outside
-            continue
-        if len(objects) and _crossings(xy, objects) % 2 == 1:  # inside a cabinet or table
-            continue
-        out.append((float(xy[0]), float(xy[1]), float(rng.uniform(-math.pi, math.pi))))
+    x0, y0 = x0 - 2 * clearance, y0 - 2 * clearance
+    w = int(math.ceil((x1 + 2 * clearance - x0) / resolution)) + 1
+    h = int(math.ceil((y1 + 2 * clearance - y0) / resolution)) + 1
+    grid = np.zeros((h + 2, w + 2), np.uint8)  # floodFill's mask needs a 1-cell border
+    cells = np.round((segments.reshape(-1, 2) - (x0, y0)) / resolution).astype(np.int32).reshape(-1, 2, 2)
+    img = np.zeros((h, w), np.uint8)
+    thick = max(1, int(math.ceil(2 * clearance / resolution)))
+    cv2.polylines(img, list(cells), False, 255, thick)
+    grid[1:-1, 1:-1] = img
+    sx, sy = (int(round((start[0] - x0) / resolution)), int(round((start[1] - y0) / resolution)))
+    if not (0 <= sx < w and 0 <= sy < h):
+        return []
+    if img[sy, sx]:  # the start itself is tight: begin at the nearest free cell
+        fy, fx = np.nonzero(img == 0)
+        if len(fx) == 0:
+            return []
+        n = int(np.argmin((fx - sx) ** 2 + (fy - sy) ** 2))
+        sx, sy = int(fx[n]), int(fy[n])
+    filled = np.zeros((h, w), np.uint8)
+    cv2.floodFill(filled, grid, (sx, sy), 1, flags=4)
+    ys, xs = np.nonzero(filled)
+    if len(xs) == 0:
+        return []
+    pick = rng.choice(len(xs), size=k, replace=len(xs) < k)
+    jitter = rng.uniform(-0.5, 0.5, size=(k, 2)) * resolution
+    out = []
+    for (cx, cy), (jx, jy) in zip(zip(xs[pick], ys[pick], strict=True), jitter, strict=True):
+        out.append((float(x0 + cx * resolution + jx), float(y0 + cy * resolution + jy),
+                    float(rng.uniform(-math.pi, math.pi))))
     return out
-
-
-def _crossings(xy: np.ndarray, segments: np.ndarray) -> int:
-    """How many segments a ray from xy towards +x crosses."""
-    (ax, ay), (bx, by) = segments[:, 0:2].T, segments[:, 2:4].T
-    straddle = (ay > xy[1]) != (by > xy[1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x = ax + (xy[1] - ay) * (bx - ax) / (by - ay)
-    return int((straddle & (x > xy[0])).sum())
 
 
 def evaluate(map_path: str, *, sim_config: str | None = None, config: str | None = None, seed: int = 0,
@@ -96,8 +105,8 @@ def evaluate(map_path: str, *, sim_config: str | None = None, config: str | None
     world = first.world
     vertices = vertex_graph(world.static).points
     rng = np.random.default_rng(seed)
-    objects = world.objects if len(world.objects) else np.zeros((0, 4))
-    starts = random_free_poses(world.static, objects, poses, clearance, rng, gmap.bounds)
+    # closed doors count as walls here: the poses are those reachable from the start
+    starts = random_free_poses(world.segments(), first.truth.pose[:2], poses, clearance, rng, gmap.bounds)
     if len(starts) < poses:
         raise UserError(f"found only {len(starts)} free poses with {clearance} m clearance", file=map_path)
     run = RunScore()
@@ -110,7 +119,7 @@ def evaluate(map_path: str, *, sim_config: str | None = None, config: str | None
             perceptor = LocalisingPerceptor(perceptor, Localiser(cfg.localisation, gmap, pose, dfield),
                                             truth=lambda sim=sim: sim.truth.pose)
             perceptor.score = localisation
-        session = Session(sim, perceptor=perceptor, behaviour=lambda f, wm: Action(0.0, 0.0, turn), history=1)
+        session = Session(sim, perceptor=perceptor, behaviour=lambda f, wm: Command(0.0, 0.0, turn), history=1)
         wm = None
         for _ in range(frames):
             session.tick(1.0 / sim.laser.profile.rate_hz)

@@ -26,8 +26,9 @@ from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
 from pico_studio.core.behaviours.registry import is_behaviour
 from pico_studio.core.behaviours.registry import make_behaviour as make_core_behaviour
 from pico_studio.core.config import load_config
+from pico_studio.core.io import Command
 from pico_studio.errors import UserError
-from pico_studio.session import Action, Session
+from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sim.scoring import run_scored
 from pico_studio.sources import SOURCE_HELP, parse_source
@@ -50,7 +51,7 @@ def _drive(arg: str) -> Callable[..., Any]:
         raise UserError(f"drive needs three numbers drive:VX,VY,VA, got {arg!r}", field="--behaviour") from None
     if not all(math.isfinite(v) for v in (vx, vy, va)):
         raise UserError(f"drive needs finite numbers, got {arg!r}", field="--behaviour")
-    action = Action(vx, vy, va)
+    action = Command(vx, vy, va)
     return lambda frame, wm: action
 
 
@@ -111,7 +112,7 @@ def _run(args: argparse.Namespace) -> int:
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
     perceptor = make_perceptor(cfg)
-    localising = _localising(cfg, sim, perceptor) if args.localise else None
+    localising = _localising(cfg, sim, perceptor) if args.localise and cfg.localisation.enabled else None
     session = Session(sim, perceptor=localising or perceptor, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
     scores = None

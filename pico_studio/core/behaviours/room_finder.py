@@ -55,6 +55,34 @@ def count_objects(ranges: np.ndarray, jump: float, suppress: int) -> tuple[int, 
     return math.ceil(edges / 2), edges
 
 
+def nearest_wall_beam(angles: np.ndarray, ranges: np.ndarray, fov: float, half_window: int = 10,
+                      straightness: float = 0.03, square: float = 0.17) -> int | None:
+    """The beam (index) of the nearest *wall foot* within +-fov: the beam hits a straight
+    piece (its +-half_window neighbours within `straightness` of their chord) square on
+    (|cos| between beam and chord below `square`). None when no beam qualifies; a
+    room's jamb corner is near but never a straight piece hit square on."""
+    n = len(ranges)
+    pts = np.column_stack([ranges * np.cos(angles), ranges * np.sin(angles)])
+    for i in np.argsort(ranges):
+        if not np.isfinite(ranges[i]):
+            break  # sorted: only no-returns are left
+        if abs(angles[i]) > fov:
+            continue
+        lo, hi = i - half_window, i + half_window
+        if lo < 0 or hi >= n or not np.all(np.isfinite(ranges[lo:hi + 1])):
+            continue
+        chord = pts[hi] - pts[lo]
+        length = float(np.hypot(*chord))
+        if length < 1e-6:
+            continue
+        t = chord / length
+        off = np.abs((pts[lo:hi + 1, 0] - pts[lo, 0]) * t[1] - (pts[lo:hi + 1, 1] - pts[lo, 1]) * t[0])
+        beam = np.array([math.cos(angles[i]), math.sin(angles[i])])
+        if off.max() <= straightness and abs(float(beam @ t)) <= square:
+            return int(i)
+    return None
+
+
 class RoomFinder(BehaviourBase):
     name = "room-finder"
 
@@ -153,10 +181,12 @@ class RoomFinder(BehaviourBase):
         if s == "to wall":
             front = self._front()
             if front <= self.p.stop_distance:
-                # turn along the wall ahead (its direction from the right beam to the left one),
-                # so it ends up on the right, whatever angle we met it at
-                along = wall_angle(self.scan, 0.0, self.p.side_beam_angle)
-                turn = math.pi / 2 if along is None else float(wrap_angle(along))
+                # turn along the wall ahead, so it ends up on the right whatever angle we met
+                # it at: its nearest point is square to it (unlike two beams, which a side
+                # room's opening next to the spot can fool)
+                fan = np.abs(self.scan.angles) <= self.p.scan_fov / 1.5
+                i = int(np.argmin(np.where(fan, self.scan.ranges, np.inf)))
+                turn = float(wrap_angle(self.scan.angles[i] + math.pi / 2))
                 self._turn_goal = float(wrap_angle(self.pose[2] + turn))
                 self._after_turn, self._state = "to corner", "turn left"
                 return Command()
@@ -178,7 +208,8 @@ class RoomFinder(BehaviourBase):
         if self._turn_goal is None:
             fan = np.abs(self.scan.angles) <= self.p.scan_fov
             r = np.where(fan, self.scan.ranges, np.inf)
-            i = int(np.argmin(r))
+            foot = nearest_wall_beam(self.scan.angles, self.scan.ranges, self.p.scan_fov)
+            i = int(np.argmin(r)) if foot is None else foot
             self._turn_goal = float(wrap_angle(self.pose[2] + self.scan.angles[i]))
             # nearest at the fan's edge: the nearest wall may lie beyond it; scan again there
             self._rescan = abs(self.scan.angles[i]) > self.p.scan_fov - self.p.rescan_margin

@@ -63,7 +63,7 @@ class ScanParams:
         help="Consecutive points farther apart than this (plus break_slope x range) start a new cluster",
     )
     break_slope: float = param(
-        0.06, lo=0.0, hi=1.0, step=0.01, unit="m/m",
+        0.02, lo=0.0, hi=1.0, step=0.01, unit="m/m",
         help="Extra allowed gap per metre of range, for the sparser points far away",
     )
     segmenter: str = param(
@@ -222,7 +222,12 @@ class IdentifyParams:
     )
     door_wall_min_length: float = param(
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
-        help="The wall a door continues is at least this long (a cabinet's side is no door frame)",
+        help="The wall a door continues is this long, or joins one this long at its far end "
+        "(a cabinet's side is no door frame)",
+    )
+    door_offset_short: float = param(
+        0.05, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="A door continuing a wall shorter than door_wall_min_length must stay this close to its line",
     )
     facing_distance: float = param(
         1.3, lo=0.1, hi=5.0, step=0.01, unit="m",

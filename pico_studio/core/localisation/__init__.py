@@ -26,7 +26,7 @@ import numpy as np
 
 from pico_studio.core.config.localisation_params import LocalisationParams
 from pico_studio.core.localisation.combined import CombinedMap, combine
-from pico_studio.core.localisation.distance_field import DistanceField, map_segments
+from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose
 from pico_studio.core.localisation.prior import PosePrior, initial_prior
 from pico_studio.core.localisation.tracker import (
@@ -60,9 +60,7 @@ def build_localisation_map(
     """The distance field and prior of `global_map` (the field is the expensive part: pass
     one already built for the same map and field params to reuse it)."""
     if dfield is None:
-        dfield = DistanceField.from_segments(map_segments(global_map, params.field),
-                                             resolution=params.field.resolution,
-                                             margin=params.field.margin)
+        dfield = DistanceField.from_map(global_map, params.field)
     return LocalisationMap(dfield, initial_prior(global_map, params.prior, initial_pose),
                            global_map.bounds, len(global_map.walls))
 

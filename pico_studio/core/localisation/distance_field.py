@@ -35,6 +35,8 @@ class DistanceField:
     field: np.ndarray  # (H, W) float32 metres to the nearest segment
     segment_index: np.ndarray  # (H, W) int32 index of the nearest segment
     normals: np.ndarray  # (S, 2) unit normal of every segment
+    # segments a beam may pass (doors, which open): not counted as walls passed through
+    passable: np.ndarray | None = None  # (S,) bool
     _coarse: dict[tuple[int, float, int], np.ndarray] = dataclasses.field(default_factory=dict, repr=False)
 
     @classmethod
@@ -74,8 +76,11 @@ class DistanceField:
 
     @classmethod
     def from_map(cls, global_map: GlobalMap, params: FieldParams) -> DistanceField:
-        return cls.from_segments(map_segments(global_map, params),
-                                 resolution=params.resolution, margin=params.margin)
+        segments = map_segments(global_map, params)
+        out = cls.from_segments(segments, resolution=params.resolution, margin=params.margin)
+        n_doors = sum(len(p) for p in global_map.doors) if params.doors_as_walls else 0
+        out.passable = np.arange(len(segments)) >= len(segments) - n_doors
+        return out
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -131,7 +136,7 @@ class DistanceField:
 def map_segments(global_map: GlobalMap, params: FieldParams) -> np.ndarray:
     """The segments a laser can see: walls, and per the config objects and closed doors.
 
-    Walls come first, so index k < len(global_map.walls) is wall k of the map.
+    Walls come first, so index k < len(global_map.walls) is wall k of the map; doors last.
     """
     parts = [global_map.wall_segments]
     if params.objects_as_walls:

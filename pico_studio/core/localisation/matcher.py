@@ -90,6 +90,8 @@ def beams_through_walls(field: DistanceField, points: np.ndarray, pose: Pose,
     seg = field.segments[np.maximum(k, 0)]  # (B, n, 4)
     side = ((q - seg[..., 0:2]) * field.normals[np.maximum(k, 0)]).sum(axis=-1)
     flip = (k[:, :-1] == k[:, 1:]) & (k[:, 1:] >= 0) & ahead[:, 1:]
+    if field.passable is not None:  # an open door is no wall
+        flip &= ~field.passable[np.maximum(k[:, 1:], 0)]
     flip &= np.signbit(side[:, :-1]) != np.signbit(side[:, 1:])
     # where the beam crosses the line, and whether that is on the segment
     w = side[:, :-1] / np.where(flip, side[:, :-1] - side[:, 1:], 1.0)

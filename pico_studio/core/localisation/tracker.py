@@ -7,20 +7,22 @@ Every step:
 3. *correct*: align the scan to the map (matcher.refine) from the prediction; a correction
    larger than `max_correction` / `max_correction_angle` in one step is not believed (a
    kidnapped robot, a wrong local minimum) and the prediction is kept;
-4. *quality* = fraction of beams explained by the map at the estimate; a step is bad below
-   `quality_lost`; it is good at or above `quality_found` (`quality_confirm` for a pose only a
-   widened search found) with walls that pin the position down (`min_constraint`: a corridor alone does not) and hardly a beam through a map wall
-   (`max_through_walls`: an unmapped box makes beams short, a wrong pose sends them through); `lost` is raised after `lost_after` bad
-   steps in a row and cleared after `found_after` good ones (hysteresis); a pose that only a
-   widened search found (the narrow one failed) must moreover stay good while the robot
-   travels `confirm_distance`: one scan of a dead end fits any dead end of a wrong map;
+4. *quality* = fraction of beams explained by the map at the estimate. A step is bad below
+   `quality_lost`. It is good at or above `quality_found` (`quality_confirm` for a pose only
+   a widened search found) with walls that pin the position down (`min_constraint`: a
+   corridor alone does not) and hardly a beam through a map wall (`max_through_walls`: an
+   unmapped box makes beams short, a wrong pose sends them through). `lost` is raised after
+   `lost_after` bad steps in a row and cleared after `found_after` good ones (hysteresis); a
+   pose that only a widened search found must moreover stay good while the robot travels
+   `confirm_distance`: one scan of a dead end fits any dead end of a wrong map;
 5. *recover*: while lost, search a box around the estimate with any heading, at once and then
    every `every_steps` x (failed searches + 1) steps (at most `max_every_steps`); the box
    widens after every failed search (up to the whole map). A search result is taken only
    when it would be a good step, so a wrong map stays lost.
 
 `localise` is a pure function of (state, scan, odometry) like the perceptor, so a recorded
-frame can be re-processed with other parameters; `Tracker` is the thin stateful wrapper.
+frame can be re-processed with other parameters; `Localiser` (the package's __init__) is
+the thin stateful wrapper.
 """
 
 from __future__ import annotations

@@ -125,13 +125,20 @@ def _doors(
         ui, uj = (u * oi).sum(1), (u * oj).sum(1)  # cosines of the gap with each wall's outward
         base = (wi[ia] != wi[ja]) & (connected[wi[ia], we[ia]] != wi[ja])
         cos_a, sin_a = np.cos(params.door_angle), np.sin(params.door_angle)
-        long = wall_len_of(walls, wi) >= params.door_wall_min_length
+        # the wall a door continues is long, or a short stub whose far end joins a long wall
+        # (a cabinet's side is short and joins another short side)
+        # (then the gap must continue it closely: `door_offset_short`)
+        lengths = wall_len_of(walls, np.arange(len(walls)))
+        far = connected[wi, 1 - we]
+        long = lengths[wi] >= params.door_wall_min_length
+        stub = ~long & (far >= 0) & (lengths[np.maximum(far, 0)] >= params.door_wall_min_length)
         # door: the gap continues one wall's line (the other point ahead of its end, within
         # door_angle and door_offset), and the other point's wall either comes back along that
         # line or stands across it (the end cap of a thick wall seen from the side, when the
         # face beyond the gap is out of view)
-        line_i = (ui > cos_a) & (off_ij < params.door_offset) & long[ia]
-        line_j = (-uj > cos_a) & (off_ji < params.door_offset) & long[ja]
+        short = params.door_offset_short
+        line_i = (ui > cos_a) & (((off_ij < params.door_offset) & long[ia]) | ((off_ij < short) & stub[ia]))
+        line_j = (-uj > cos_a) & (((off_ji < params.door_offset) & long[ja]) | ((off_ji < short) & stub[ja]))
         door_ij = line_i & ((-uj > cos_a) | (np.abs(uj) < sin_a))
         door_ji = line_j & ((ui > cos_a) | (np.abs(ui) < sin_a))
         both_convex = is_convex[ia] & is_convex[ja]
