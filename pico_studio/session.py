@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from pico_studio.core.io import BaseReference, Command, Frame, LaserData, OdometryData
+from pico_studio.progress import Progress
 
 
 class Perceiving(Protocol):
@@ -109,13 +110,16 @@ class Session:
         self.ticks += 1
         return out
 
-    def run(self, seconds: float, dt: float = 0.05) -> int:
+    def run(self, seconds: float, dt: float = 0.05, progress: Progress | None = None) -> int:
         """Tick until `seconds` of source time have passed or the source stops; returns ticks."""
         n = 0
-        end = self.source.now() + seconds
+        start = self.source.now()
+        end = start + seconds
         while self.source.ok() and self.source.now() < end - 1e-9:
             self.tick(min(dt, end - self.source.now()))
             n += 1
+            if progress is not None:
+                progress.set(self.source.now() - start)
         return n
 
 

@@ -19,6 +19,7 @@ from pico_studio.core.localisation import Localiser
 from pico_studio.core.localisation.stage import LocalisingPerceptor
 from pico_studio.core.perception import Perceptor
 from pico_studio.json_map import GlobalMap
+from pico_studio.progress import Progress
 from pico_studio.session import Session
 
 ESCAPE_MARGIN = 0.3  # m beyond the walls' bounding box counts as out (issue 7)
@@ -63,7 +64,7 @@ class EscapeJudge:
 
 
 def run_behaviour(sim: Any, behaviour: Any, *, seconds: float, dt: float = 0.05,
-                  perceptor: Any = None) -> dict[str, Any]:
+                  perceptor: Any = None, progress: Progress | None = None) -> dict[str, Any]:
     """Tick a session until the behaviour is done or `seconds` pass; the scored result."""
     behaviour.ok_check = sim.ok
     session = Session(sim, perceptor=perceptor, behaviour=behaviour, history=1)
@@ -75,6 +76,8 @@ def run_behaviour(sim: Any, behaviour: Any, *, seconds: float, dt: float = 0.05,
         session.tick(dt)
         ticks += 1
         judge.update(tuple(sim.truth.pose[:2]), sim.now() - start)
+        if progress is not None:
+            progress.set(sim.now() - start)
     sim.send_base_reference(0.0, 0.0, 0.0)
     out = behaviour.result()
     escaped = judge.escaped_at is not None
@@ -124,7 +127,9 @@ def run_sim_behaviour(args: Any, cfg: Any) -> dict[str, Any]:
     perceptor = make_perception(cfg, sim.world.map, start, localise=name == "hospital") if needs_wm else None
     seconds = DEFAULT_SECONDS[name] if args.seconds is None else args.seconds
     t0 = time.perf_counter()
-    result = run_behaviour(sim, behaviour, seconds=seconds, dt=args.dt or 0.05, perceptor=perceptor)
+    with Progress(seconds, f"{name}", "s simulated") as progress:
+        result = run_behaviour(sim, behaviour, seconds=seconds, dt=args.dt or 0.05, perceptor=perceptor,
+                               progress=progress)
     wall = time.perf_counter() - t0
     return {"map": args.map, "seed": sim.seed, "wall_seconds": wall, **result}
 

@@ -28,6 +28,7 @@ from pico_studio.core.behaviours.registry import make_behaviour as make_core_beh
 from pico_studio.core.config import load_config
 from pico_studio.core.io import Command
 from pico_studio.errors import UserError
+from pico_studio.progress import Progress
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sim.scoring import run_scored
@@ -118,10 +119,11 @@ def _run(args: argparse.Namespace) -> int:
     scores = None
     try:
         seconds, dt = 10.0 if args.seconds is None else args.seconds, args.dt or 0.05
-        if perceptor is None:
-            steps = session.run(seconds, dt)
-        else:  # the perceptor's figures against the simulator's truth, every scan
-            steps, scores = run_scored(session, sim, seconds, dt)
+        with Progress(seconds, "simulating", "s") as progress:
+            if perceptor is None:
+                steps = session.run(seconds, dt, progress)
+            else:  # the perceptor's figures against the simulator's truth, every scan
+                steps, scores = run_scored(session, sim, seconds, dt, progress=progress)
     finally:
         record = recorded(recorder)
     wall = time.perf_counter() - t0

@@ -45,6 +45,7 @@ from pico_studio.core.geometry import (
     transform_segments,
 )
 from pico_studio.core.world_model import FLOATING, WorldModel
+from pico_studio.progress import Progress
 
 Pose = tuple[float, float, float]
 
@@ -326,17 +327,20 @@ def true_zero_pose(wm: WorldModel, sim: Any) -> Pose | None:
 
 
 def run_scored(session: Any, sim: Any, seconds: float, dt: float, tol: Tolerances | None = None,
-               every: int = 1) -> tuple[int, RunScore]:
+               every: int = 1, progress: Progress | None = None) -> tuple[int, RunScore]:
     """`session.run` that also scores every `every`-th new world model against `sim.truth`."""
     tol = tol or Tolerances()
     run = RunScore()
     vertices = _static_vertices(sim)
     ticks = scans = 0
     last = None
-    end = sim.now() + seconds
+    start = sim.now()
+    end = start + seconds
     while sim.ok() and sim.now() < end - 1e-9:
         session.tick(min(dt, end - sim.now()))
         ticks += 1
+        if progress is not None:
+            progress.set(sim.now() - start)
         wm = session.world_model
         if wm is None or wm is last:
             continue
