@@ -22,8 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
+from pico_studio.core.io import Command
 from pico_studio.json_map import load_json_map
-from pico_studio.session import Action, Session
+from pico_studio.session import Session
 from pico_studio.sim import Simulator
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -134,8 +135,8 @@ class Wander:
         clear = front[front > scan.range_min].min(initial=np.inf) > 0.6
         return (0.4, 0.0, 0.0) if clear else (0.0, 0.0, 1.0)
 
-    def __call__(self, frame, world_model) -> Action:
-        return Action() if frame.laser is None else Action(*self.command(frame.laser))
+    def __call__(self, frame, world_model) -> Command:
+        return Command() if frame.laser is None else Command(*self.command(frame.laser))
 
 
 def bench_run(seconds: float, repeats: int) -> dict[str, tuple[float, float]]:

@@ -7,6 +7,9 @@
 2. Streaming at 20 Hz: the server process's CPU time / wall time while playing (1.0 = one
    core), and its CPU milliseconds per streamed frame (times 20 Hz = the share it needs at
    full rate), next to the same loop headless (studio tick + layer geometry, no viser).
+3. The metrics the page reads every redraw, after a long run (10 minutes of frames scored
+   at 4 Hz): the studio's running score sum next to the peer `scoring.RunScore.summary()`,
+   which sums every scored frame again (what the page did before).
 
     .venv/bin/python benchmarks/bench_ui.py [--edits 30] [--seconds 10]
 """
@@ -62,6 +65,31 @@ def headless_share(seconds: float) -> tuple[float, float]:
     return cpu / (time.monotonic() - w0), 1000.0 * cpu / frames
 
 
+def long_run_metrics(scored: int = 2400, repeats: int = 50) -> tuple[float, float]:
+    """(ms per `Studio.metrics()`, ms per `RunScore.summary()` peer) with `scored` frames."""
+    from pico_studio.sim import scoring
+
+    studio = Studio(Config(), load_json_map(DEFAULT_MAP), make_source_factory("sim", None, 1), map_name="h")
+    for _ in range(10):
+        studio.tick(0.05)
+    peer = scoring.RunScore()
+    frame = studio.run_score.last or scoring.FrameScore()
+    for _ in range(scored):
+        studio.run_score.add(frame)
+        peer.add(frame)
+
+    def median_ms(fn) -> float:  # noqa: ANN001
+        times = []
+        for _ in range(repeats):
+            studio.run_score.add(frame)  # a new scored frame each redraw, the worst case
+            t0 = time.perf_counter()
+            fn()
+            times.append((time.perf_counter() - t0) * 1000.0)
+        return statistics.median(times)
+
+    return median_ms(studio.metrics), median_ms(peer.summary)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--edits", type=int, default=30)
@@ -102,6 +130,7 @@ def main() -> int:
     finally:
         app.stop()
     peer, peer_frame_ms = headless_share(a.seconds)
+    metrics_ms, summary_ms = long_run_metrics()
     ms, cpu_ms = app.update_ms, app.update_cpu_ms
     with open("/proc/loadavg") as f:
         load = f.read().split()[0]
@@ -113,6 +142,8 @@ def main() -> int:
           f"{frame_ms:.1f} ms CPU per frame = {2 * frame_ms:.0f}% of one core at 20 Hz")
     print(f"peer, the same loop headless (no viser): {peer_frame_ms:.1f} ms CPU per frame; "
           f"page/headless ratio {frame_ms / peer_frame_ms:.2f}")
+    print(f"after 10 minutes scored at 4 Hz: the page's metrics {metrics_ms:.2f} ms per redraw; "
+          f"peer RunScore.summary() {summary_ms:.2f} ms ({summary_ms / metrics_ms:.0f}x)")
     return 0
 
 

@@ -12,7 +12,7 @@ What plugs in (duck-typed, so each engineer's part stays independent):
 - `perceptor`: anything with `step(laser, odometry) -> world model`; called when a new scan
   arrived (the newest odometry reading, possibly None, goes with it).
 - `behaviour`: a callable `(frame, world_model) -> command`, where command is a
-  `BaseReference`, an `Action` (which can also ask to open a door), a (vx, vy, va) tuple, or
+  `BaseReference`, a `Command` (which can also ask to open a door), a (vx, vy, va) tuple, or
   None (send nothing; the source keeps the previous reference).
 - `recorder`: anything with `record(frame, command)`.
 """
@@ -24,17 +24,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from pico_studio.core.io import BaseReference, Frame, LaserData, OdometryData
-
-
-@dataclass(frozen=True)
-class Action:
-    """A behaviour's output: a base reference, and whether to ask for a door to open."""
-
-    vx: float = 0.0
-    vy: float = 0.0
-    va: float = 0.0
-    open_door: bool = False
+from pico_studio.core.io import BaseReference, Command, Frame, LaserData, OdometryData
+from pico_studio.progress import Progress
 
 
 class Perceiving(Protocol):
@@ -42,10 +33,10 @@ class Perceiving(Protocol):
 
 
 class Recording(Protocol):
-    def record(self, frame: Frame, command: Action | None) -> None: ...
+    def record(self, frame: Frame, command: Command | None) -> None: ...
 
 
-Behaviour = Callable[[Frame, Any], "Action | BaseReference | tuple[float, float, float] | None"]
+Behaviour = Callable[[Frame, Any], "Command | BaseReference | tuple[float, float, float] | None"]
 
 
 @dataclass
@@ -55,20 +46,18 @@ class SessionFrame:
     index: int
     frame: Frame
     world_model: Any
-    command: Action | None
+    command: Command | None
 
 
-def as_action(command: Any) -> Action | None:
+def as_command(command: Any) -> Command | None:
     """Normalise what a behaviour returned."""
-    if command is None or isinstance(command, Action):
+    if command is None or isinstance(command, Command):
         return command
     if isinstance(command, BaseReference):
-        return Action(command.vx, command.vy, command.va)
-    if all(hasattr(command, k) for k in ("vx", "vy", "va")):  # e.g. core.behaviours' Command
-        return Action(float(command.vx), float(command.vy), float(command.va), bool(getattr(command, "open_door", False)))
+        return Command(command.vx, command.vy, command.va)
     if isinstance(command, (tuple, list)) and len(command) == 3:
-        return Action(float(command[0]), float(command[1]), float(command[2]))
-    raise TypeError(f"a behaviour must return an Action, BaseReference, (vx, vy, va) or None, got {command!r}")
+        return Command(float(command[0]), float(command[1]), float(command[2]))
+    raise TypeError(f"a behaviour must return a Command, BaseReference, (vx, vy, va) or None, got {command!r}")
 
 
 class Session:
@@ -109,7 +98,7 @@ class Session:
         )
         if self.perceptor is not None and laser is not None:
             self.world_model = self.perceptor.step(laser, odometry)
-        command = as_action(self.behaviour(frame, self.world_model)) if self.behaviour is not None else None
+        command = as_command(self.behaviour(frame, self.world_model)) if self.behaviour is not None else None
         if command is not None:
             self.source.send_base_reference(command.vx, command.vy, command.va)
             if command.open_door:
@@ -121,13 +110,16 @@ class Session:
         self.ticks += 1
         return out
 
-    def run(self, seconds: float, dt: float = 0.05) -> int:
+    def run(self, seconds: float, dt: float = 0.05, progress: Progress | None = None) -> int:
         """Tick until `seconds` of source time have passed or the source stops; returns ticks."""
         n = 0
-        end = self.source.now() + seconds
+        start = self.source.now()
+        end = start + seconds
         while self.source.ok() and self.source.now() < end - 1e-9:
             self.tick(min(dt, end - self.source.now()))
             n += 1
+            if progress is not None:
+                progress.set(self.source.now() - start)
         return n
 
 

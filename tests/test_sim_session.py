@@ -7,8 +7,8 @@ import pytest
 from sim_helpers import box_map
 from test_sim_world import door_map
 
-from pico_studio.core.io import BaseReference, Frame, LaserData, OdometryData
-from pico_studio.session import Action, Session
+from pico_studio.core.io import BaseReference, Command, Frame, LaserData, OdometryData
+from pico_studio.session import Session
 from pico_studio.sim import Simulator
 
 
@@ -26,9 +26,9 @@ class NearestRange:
 
 class ListRecorder:
     def __init__(self) -> None:
-        self.rows: list[tuple[Frame, Action | None]] = []
+        self.rows: list[tuple[Frame, Command | None]] = []
 
-    def record(self, frame: Frame, command: Action | None) -> None:
+    def record(self, frame: Frame, command: Command | None) -> None:
         self.rows.append((frame, command))
 
 
@@ -36,8 +36,8 @@ def test_session_perceives_behaves_records() -> None:
     sim = Simulator(box_map(), initial_pose=(2.0, 5.0, 0.0))
     perceptor, recorder = NearestRange(), ListRecorder()
 
-    def stop_near_wall(frame: Frame, nearest: float | None) -> Action:
-        return Action(0.5 if nearest is None or nearest > 1.0 else 0.0)
+    def stop_near_wall(frame: Frame, nearest: float | None) -> Command:
+        return Command(0.5 if nearest is None or nearest > 1.0 else 0.0)
 
     session = Session(sim, perceptor=perceptor, behaviour=stop_near_wall, recorder=recorder, history=50)
     session.run(30.0, 0.05)
@@ -48,12 +48,12 @@ def test_session_perceives_behaves_records() -> None:
     last = session.history[-1]
     assert last.world_model == pytest.approx(10.0 - x, abs=0.02)
     assert last.frame.truth["pose"] == sim.truth.pose
-    assert len(recorder.rows) == 600 and recorder.rows[0][1] == Action(0.5)
+    assert len(recorder.rows) == 600 and recorder.rows[0][1] == Command(0.5)
 
 
 def test_session_accepts_tuples_and_base_references_and_opens_doors() -> None:
     sim = Simulator(door_map(), initial_pose=(4.1, 4.5, 0.0))
-    commands = iter([(0.0, 0.0, 0.5), BaseReference(0.0, 0.0, -0.5), Action(open_door=True)])
+    commands = iter([(0.0, 0.0, 0.5), BaseReference(0.0, 0.0, -0.5), Command(open_door=True)])
     session = Session(sim, behaviour=lambda frame, wm: next(commands, None))
     for _ in range(3):
         session.tick(0.1)

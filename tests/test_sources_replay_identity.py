@@ -21,8 +21,9 @@ import numpy as np
 import pytest
 
 from pico_studio.core.config import Config
+from pico_studio.core.io import Command
 from pico_studio.core.perception import Perceptor
-from pico_studio.session import Action, Session
+from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sources import open_bag
 from pico_studio.sources.recorder import BagRecorder
@@ -54,7 +55,7 @@ def _record_and_replay(tmp_path: Path) -> tuple[list, list, dict]:
     with BagRecorder(bag, cfg.sources.topics) as recorder:
         live = Session(
             sim, perceptor=Perceptor(cfg.perception),
-            behaviour=lambda frame, wm: Action(0.2, 0.0, 0.15), recorder=recorder, history=TICKS,
+            behaviour=lambda frame, wm: Command(0.2, 0.0, 0.15), recorder=recorder, history=TICKS,
         )
         for _ in range(TICKS):
             live.tick(0.05)

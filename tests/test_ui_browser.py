@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from pico_studio.core.config import loads_config, to_dict
+from pico_studio.core.geometry import point_segment_distance
 from pico_studio.ui import style
 from tests.ui_browser_helpers import (
     CHROMIUM,
@@ -78,14 +79,16 @@ def _client(app):
     return clients[-1]
 
 
-def _wall_hits(app, img: np.ndarray) -> tuple[int, int]:
-    """How many on-screen wall midpoints show the wall colour, out of how many."""
-    client = _client(app)
+def _wall_hits(app, img: np.ndarray, colours=(style.MAP_WALL,), walls=None, client=None) -> tuple[int, int]:  # noqa: ANN001
+    """How many on-screen wall midpoints (of `walls`, indices; default all) show one of
+    `colours`, out of how many."""
+    client = client or _client(app)
     segs = app.studio.global_map.wall_segments
+    segs = segs if walls is None else segs[walls]
     mids = (segs[:, :2] + segs[:, 2:]) / 2
     px = [world_to_pixel(client, x, y) for x, y in mids]
     px = [p for p in px if visible_on_screen(p, (img.shape[1], img.shape[0]))]
-    return sum(colour_near(img, p, style.MAP_WALL) for p in px), len(px)
+    return sum(any(colour_near(img, p, c) for c in colours) for p in px), len(px)
 
 
 def test_page_loads_and_connects(app, page) -> None:
@@ -107,6 +110,51 @@ def test_toggling_a_layer_hides_it(app, page) -> None:
     assert wait_until(lambda: _wall_hits(app, screenshot(page))[0] == 0), "walls still drawn with the layer off"
     page.locator("label", has_text="Global map").click()
     assert wait_until(lambda: _wall_hits(app, screenshot(page))[0] > 0)
+
+
+def _seen(app) -> np.ndarray:
+    return np.asarray(app.studio.shown().wm.combined.map_wall_seen, dtype=bool)
+
+
+def _uncovered(app, walls: np.ndarray) -> np.ndarray:
+    """Those of `walls` whose middle no laser point, local or combined wall is drawn over."""
+    segs = app.studio.global_map.wall_segments[walls]
+    mids = (segs[:, :2] + segs[:, 2:]) / 2
+    near = np.zeros(len(walls), bool)
+    for name in ("laser", "local_walls", "combined", "local_endpoints", "corners"):
+        data = app.prims[name].data
+        if len(data):
+            d = point_segment_distance(mids, data) if data.shape[1] == 4 else np.hypot(*(mids[:, None] - data[None]).T).T
+            near |= d.min(axis=1) < 0.2
+    return walls[~near]
+
+
+def test_never_seen_walls_show_dashed_then_as_seen(app, page) -> None:
+    """One frame in: the map's walls not seen yet carry the never-seen colour on their
+    middles; after the robot has looked around, those it saw show as plain map walls."""
+    page.get_by_role("tab", name="Run").click()
+    page.get_by_role("button", name="Step one frame").click()
+    assert wait_until(lambda: app.layers.sizes["combined_unseen"] > 0)  # drawn
+    unseen = _uncovered(app, np.flatnonzero(~_seen(app)))
+
+    def dashed() -> bool:
+        hits, total = _wall_hits(app, screenshot(page), (style.COMBINED_UNSEEN,), unseen)
+        return total >= 10 and hits >= 0.9 * total
+
+    assert wait_until(dashed), "never-seen walls are not drawn in their colour"
+    page.get_by_role("button", name="Play").click()
+    assert wait_until(lambda: len(np.intersect1d(unseen, np.flatnonzero(_seen(app)))) >= 5, timeout=40.0)
+    page.get_by_role("button", name="Pause").click()
+    assert wait_until(lambda: not app.studio.playing)
+    now_seen = _uncovered(app, np.intersect1d(unseen, np.flatnonzero(_seen(app))))
+
+    def plain() -> bool:  # a seen wall: the map's colour, or the combined/local map's wall on it
+        img = screenshot(page)
+        hits, total = _wall_hits(app, img, (style.MAP_WALL, style.COMBINED_MATCHED, style.LOCAL_WALL), now_seen)
+        dashes, _ = _wall_hits(app, img, (style.COMBINED_UNSEEN,), now_seen)
+        return total >= 3 and hits >= 0.9 * total and dashes == 0
+
+    assert wait_until(plain), "walls the robot saw are still drawn as never seen"
 
 
 def _current_count(page) -> int:
@@ -195,19 +243,37 @@ def test_an_invalid_value_is_reported_and_reverted(app, page) -> None:
     assert wait_until(lambda: float(input_of(page, "clear_distance").input_value()) == before)
 
 
-def test_a_second_tab_sees_the_scene(app, browser) -> None:
+def test_a_second_tab_sees_the_scene(app, page, browser) -> None:
     second = browser.new_page()
     second.goto(app.url + "/?fixedDpr=1")
     second.get_by_text("hospital_2019.json").first.wait_for(timeout=30000)
     assert wait_until(lambda: len(app.server.get_clients()) >= 2)
 
+    client2 = list(app.server.get_clients().values())[-1]
+    colours = (style.MAP_WALL, style.COMBINED_UNSEEN)  # seen or never-seen walls
+
     def drawn() -> bool:
-        hits, total = _wall_hits(app, screenshot(second))
+        hits, total = _wall_hits(app, screenshot(second), colours, client=client2)
         return total >= 10 and hits >= 0.5 * total
 
     assert wait_until(drawn)
     second.keyboard.press("w")
     assert wait_until(lambda: app.studio.behaviour_name == "teleop"), "the W key did not drive the robot"
+    # the layer toggles are per tab: hiding the combined map here leaves the first tab's alone
+    unseen = _uncovered(app, np.flatnonzero(~_seen(app)))
+    second.get_by_role("tab", name="Layers").click()
+    second.locator("label", has_text="Combined map").click()
+    dashed = (style.COMBINED_UNSEEN,)
+    assert wait_until(lambda: _wall_hits(app, screenshot(second), dashed, unseen, client2)[0] == 0)
+    client1 = list(app.server.get_clients().values())[0]
+    hits, total = _wall_hits(app, screenshot(page), dashed, unseen, client1)
+    assert total >= 5 and hits >= 0.9 * total
+    # so is Follow: the second tab's view centres on the robot, the first tab's stays put
+    before = tuple(client1.camera.position)
+    second.locator("label", has_text="Follow robot").click()
+    robot = app.studio.robot_pose_in_map(app.studio.shown())
+    assert wait_until(lambda: abs(client2.camera.position[1] - robot[1]) < 0.05), "the second tab does not follow"
+    assert tuple(client1.camera.position) == pytest.approx(before)
     second.close()
 
 
@@ -248,7 +314,7 @@ def test_two_clicks_measure_a_distance(app, page) -> None:
     page.get_by_role("tab", name="Tools").click()
     input_of(page, "Click does").click()
     page.get_by_role("option", name="measure").click()
-    assert wait_until(lambda: app.click_mode.value == "measure")
+    assert wait_until(lambda: app.tabs[_client(app).client_id].click_mode.value == "measure")
     client = _client(app)
     a, b = world_to_pixel(client, 1.0, 1.0), world_to_pixel(client, 3.0, 1.0)
     page.mouse.click(*a)

@@ -130,7 +130,8 @@ def test_inspect_finds_the_nearest_wall_with_its_numbers() -> None:
 
 def test_line_colours_show_as_declared() -> None:
     line_colours = {spec.color for spec in PRIM_SPECS.values() if spec.kind == "segments"}
-    line_colours |= {style.MEASURE, style.INSPECT, style.COMBINED_UNMATCHED}
+    line_colours |= {style.MEASURE, style.INSPECT, style.COMBINED_UNMATCHED, style.HALLWAY, style.ROOM_JUMP}
+    line_colours |= set(style.POSSIBLE_DOOR_KIND.values())
     for rgb in line_colours:
         shown = line_display(rgb)
         assert max(abs(a - b) for a, b in zip(shown, rgb, strict=True)) <= 2, (rgb, shown)
@@ -225,3 +226,101 @@ def test_core_behaviours_run_on_the_page_and_their_plan_is_drawn() -> None:
     s.set_behaviour("escape-room")
     s.tick(0.05)
     assert s.shown().behaviour_state.startswith("escape-room")
+
+
+def test_never_seen_map_walls_are_dashed_until_the_robot_sees_them() -> None:
+    s = _studio()
+    s.tick(0.05)
+    m = s.global_map
+
+    def unseen_walls() -> tuple[np.ndarray, set[int]]:
+        wm = s.shown().wm
+        seen = np.asarray(wm.combined.map_wall_seen, bool)
+        assert len(seen) == len(m.walls)
+        dashes = frame_prims(s, s.shown())["combined_unseen"].data
+        # every dash lies on a wall never seen; every such wall has a dash on its middle
+        walls = m.wall_segments
+        d = point_segment_distance((dashes[:, :2] + dashes[:, 2:]) / 2, walls)
+        on = d.argmin(axis=1)
+        assert (d.min(axis=1) < 1e-6).all()
+        mids = (walls[:, :2] + walls[:, 2:]) / 2
+        covered = point_segment_distance(mids, dashes).min(axis=1) < 1e-6
+        assert (covered == ~seen).all()
+        return seen, set(on.tolist())
+
+    seen0, _ = unseen_walls()
+    for _ in range(60):
+        s.tick(0.05)
+    seen1, dashed = unseen_walls()
+    assert seen1.sum() > seen0.sum() and (seen1 | ~seen0).all()  # seen stays seen
+    assert not (dashed & set(np.flatnonzero(seen1).tolist()))
+
+
+def test_dashes_cover_the_middle_and_a_share_of_each_wall() -> None:
+    from pico_studio.ui.scene_data import dash_segments
+
+    segs = np.array([[0.0, 0.0, 2.0, 0.0], [0.0, 1.0, 0.0, 1.1]])
+    dashes, owner = dash_segments(segs, 0.15, 0.1)
+    lengths = np.hypot(dashes[:, 2] - dashes[:, 0], dashes[:, 3] - dashes[:, 1])
+    assert lengths[owner == 0].sum() == pytest.approx(2.0 * 0.15 / 0.25, abs=0.15)
+    assert owner.tolist().count(1) == 1 and lengths[owner == 1][0] == pytest.approx(0.1)  # short: whole
+    assert point_segment_distance(np.array([[1.0, 0.0]]), dashes[owner == 0]).min() < 1e-9
+
+
+def test_doors_scan_corners_entrance_and_room_watch_are_drawn_from_the_world_model() -> None:
+    s = _studio()
+    for _ in range(40):
+        s.tick(0.05)
+    frame = s.shown()
+    wm = frame.wm
+    robot = s.robot_pose_in_map(frame)
+    # fill the fields this stretch of the run may not have, as the perceptor would
+    wm.spike_corners = np.array([[1.0, 0.0]])
+    wm.vector_corners, wm.vector_corner_inner = np.array([[0.0, 1.0], [2.0, 0.0]]), np.array([True, False])
+    wm.combined.possible_doors = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 1.0, 1.0, 2.0]])
+    wm.combined.possible_door_kind = np.array(["loose_wall", "loose_loose"], dtype=object)
+    wm.entrance, wm.hallway = (0.0, 2.0), True
+    wm.room = {"side_range": 1.5, "jump": 0.9, "room": True, "edges": 2, "objects": 1}
+    wm.laser_motion, wm.laser_motion_matches = (0.1, 0.0, 0.01), 5
+    prims = frame_prims(s, frame)
+    c, sn = math.cos(robot[2]), math.sin(robot[2])
+    assert prims["spike_corners"].data[0] == pytest.approx([robot[0] + c, robot[1] + sn])
+    assert prims["vector_corners"].colors.tolist() == [list(style.VECTOR_CORNER_INNER), list(style.VECTOR_CORNER_OUTER)]
+    # doors in the global frame are the combined map's, possible doors coloured by kind
+    assert prims["doors"].data == pytest.approx(np.asarray(wm.combined.doors).reshape(-1, 4))
+    assert prims["possible_doors"].data == pytest.approx(wm.combined.possible_doors)
+    kinds = [list(style.POSSIBLE_DOOR_KIND[k]) for k in ("loose_wall", "loose_loose")]
+    assert prims["possible_doors"].colors.tolist() == kinds
+    assert prims["entrance"].colors.tolist() == [list(style.HALLWAY)]
+    assert prims["entrance"].data[0, 2:] == pytest.approx([robot[0] + 2 * c, robot[1] + 2 * sn])
+    side = prims["room_side"].data[0]
+    assert math.hypot(side[2] - side[0], side[3] - side[1]) == pytest.approx(1.5)
+    assert prims["room_side"].colors.tolist() == [list(style.ROOM_JUMP)]
+    label = prims["room_label"]
+    assert "side 1.50 m" in label.text and "jump +0.90 m" in label.text and "objects 1" in label.text and "ROOM" in label.text
+    assert math.dist(label.data[0], robot[:2]) < 1.0
+    m = s.metrics()
+    assert m["room"]["objects"] == 1 and m["hallway"] and m["entrance"] == (0.0, 2.0)
+    assert m["laser_motion"] == (0.1, 0.0, 0.01) and m["laser_motion_matches"] == 5
+    # without a combined map the doors are the perceptor's, zero frame placed on the map
+    wm.combined = None
+    wm.doors = np.array([[0.0, 0.0, 1.0, 0.0]])
+    zero = s.zero_frame_in_map(frame)
+    from pico_studio.core.geometry import transform_segments
+
+    assert frame_prims(s, frame)["doors"].data == pytest.approx(transform_segments(wm.doors, zero))
+
+
+def test_running_score_sums_like_the_run_score() -> None:
+    from pico_studio.sim import scoring
+    from pico_studio.ui.runtime import RunningScore
+
+    rng = np.random.default_rng(0)
+    running, run = RunningScore(), scoring.RunScore()
+    for _ in range(20):
+        f = scoring.FrameScore(wall_len=rng.random(), wall_len_ok=rng.random() / 2, truth_len=rng.random(),
+                               truth_len_ok=rng.random() / 3, doors=int(rng.integers(0, 3)), doors_ok=1,
+                               pose_err_m=rng.random(), pose_err_rad=rng.random())
+        running.add(f)
+        run.add(f)
+    assert running.summary() == pytest.approx(run.summary())

@@ -15,7 +15,11 @@ from typing import Any
 
 import numpy as np
 
+from pico_studio.core.localisation import Localiser
+from pico_studio.core.localisation.stage import LocalisingPerceptor
+from pico_studio.core.perception import Perceptor
 from pico_studio.json_map import GlobalMap
+from pico_studio.progress import Progress
 from pico_studio.session import Session
 
 ESCAPE_MARGIN = 0.3  # m beyond the walls' bounding box counts as out (issue 7)
@@ -60,7 +64,7 @@ class EscapeJudge:
 
 
 def run_behaviour(sim: Any, behaviour: Any, *, seconds: float, dt: float = 0.05,
-                  perceptor: Any = None) -> dict[str, Any]:
+                  perceptor: Any = None, progress: Progress | None = None) -> dict[str, Any]:
     """Tick a session until the behaviour is done or `seconds` pass; the scored result."""
     behaviour.ok_check = sim.ok
     session = Session(sim, perceptor=perceptor, behaviour=behaviour, history=1)
@@ -72,6 +76,8 @@ def run_behaviour(sim: Any, behaviour: Any, *, seconds: float, dt: float = 0.05,
         session.tick(dt)
         ticks += 1
         judge.update(tuple(sim.truth.pose[:2]), sim.now() - start)
+        if progress is not None:
+            progress.set(sim.now() - start)
     sim.send_base_reference(0.0, 0.0, 0.0)
     out = behaviour.result()
     escaped = judge.escaped_at is not None
@@ -91,36 +97,12 @@ def run_behaviour(sim: Any, behaviour: Any, *, seconds: float, dt: float = 0.05,
     }
 
 
-class PerceiveAndLocalise:
-    """The session's perceptor for behaviours on a global map: the perceptor's world model
-    with the localisation's `global_pose` filled in."""
-
-    def __init__(self, perceptor: Any, localiser: Any):
-        self.perceptor = perceptor
-        self.localiser = localiser
-
-    def step(self, laser: Any, odometry: Any) -> Any:
-        wm = self.perceptor.step(laser, odometry)
-        if self.localiser is not None:
-            self.localiser.fill(wm)
-        return wm
-
-
-def make_perception(cfg: Any, global_map: GlobalMap | None, initial_pose: Any, *, localise: bool) -> Any:
-    """Perceptor (+ localiser on a global map) when this build has them, else None."""
-    try:
-        from pico_studio.core.perception import Perceptor
-    except ImportError:
-        return None
-    localiser = None
-    if localise and global_map is not None:
-        try:
-            from pico_studio.core.localisation import Localiser
-        except ImportError:
-            Localiser = None  # noqa: N806
-        if Localiser is not None:
-            localiser = Localiser(cfg.localisation, global_map, initial_pose)
-    return PerceiveAndLocalise(Perceptor(cfg.perception), localiser)
+def make_perception(cfg: Any, global_map: GlobalMap, initial_pose: Any, *, localise: bool) -> Any:
+    """The perceptor, with localisation on the global map when the behaviour needs a global pose."""
+    perceptor = Perceptor(cfg.perception)
+    if not localise:
+        return perceptor
+    return LocalisingPerceptor(perceptor, Localiser(cfg.localisation, global_map, initial_pose))
 
 
 def run_sim_behaviour(args: Any, cfg: Any) -> dict[str, Any]:
@@ -145,7 +127,9 @@ def run_sim_behaviour(args: Any, cfg: Any) -> dict[str, Any]:
     perceptor = make_perception(cfg, sim.world.map, start, localise=name == "hospital") if needs_wm else None
     seconds = DEFAULT_SECONDS[name] if args.seconds is None else args.seconds
     t0 = time.perf_counter()
-    result = run_behaviour(sim, behaviour, seconds=seconds, dt=args.dt or 0.05, perceptor=perceptor)
+    with Progress(seconds, f"{name}", "s simulated") as progress:
+        result = run_behaviour(sim, behaviour, seconds=seconds, dt=args.dt or 0.05, perceptor=perceptor,
+                               progress=progress)
     wall = time.perf_counter() - t0
     return {"map": args.map, "seed": sim.seed, "wall_seconds": wall, **result}
 

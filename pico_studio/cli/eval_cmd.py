@@ -20,12 +20,14 @@ import numpy as np
 
 from pico_studio.core.config import load_config
 from pico_studio.core.geometry import compose, invert
+from pico_studio.core.io import Command
 from pico_studio.core.localisation import DistanceField, Localiser
 from pico_studio.core.localisation.score import PoseScore, summary_line
 from pico_studio.core.localisation.stage import LocalisingPerceptor
 from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
-from pico_studio.session import Action, Session
+from pico_studio.progress import Progress
+from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sim.map_features import vertex_graph
 from pico_studio.sim.scoring import RunScore, Tolerances, score_frame
@@ -111,27 +113,29 @@ def evaluate(map_path: str, *, sim_config: str | None = None, config: str | None
     run = RunScore()
     localisation = PoseScore()
     dfield = DistanceField.from_map(gmap, cfg.localisation.field) if cfg.localisation.enabled else None
-    for k, pose in enumerate(starts):
-        sim = Simulator(gmap, cfg.sim, sc, seed=seed + 1 + k, initial_pose=pose)
-        perceptor: Any = Perceptor(cfg.perception)
-        if dfield is not None:  # localised from the start pose as a sim config gives it
-            perceptor = LocalisingPerceptor(perceptor, Localiser(cfg.localisation, gmap, pose, dfield),
-                                            truth=lambda sim=sim: sim.truth.pose)
-            perceptor.score = localisation
-        session = Session(sim, perceptor=perceptor, behaviour=lambda f, wm: Action(0.0, 0.0, turn), history=1)
-        wm = None
-        for _ in range(frames):
-            session.tick(1.0 / sim.laser.profile.rate_hz)
-            if session.world_model is not None and session.world_model is not wm:
-                wm = session.world_model
-                run.ms_per_scan.append(wm.timings_ms.get("total", 0.0))
-        if wm is None:
-            continue
-        true_zero = None
-        if wm.zero_pose is not None and cfg.sim.odometry.form == "absolute":
-            map_from_odom = compose(sim.truth.pose, invert(sim.truth.odometry_pose))
-            true_zero = compose(map_from_odom, tuple(wm.zero_pose))
-        run.add(score_frame(wm, sim.truth, tol or Tolerances(), true_zero=true_zero, true_vertices=vertices))
+    with Progress(len(starts), "eval", "poses") as progress:
+        for k, pose in enumerate(starts):
+            progress.set(k)
+            sim = Simulator(gmap, cfg.sim, sc, seed=seed + 1 + k, initial_pose=pose)
+            perceptor: Any = Perceptor(cfg.perception)
+            if dfield is not None:  # localised from the start pose as a sim config gives it
+                perceptor = LocalisingPerceptor(perceptor, Localiser(cfg.localisation, gmap, pose, dfield),
+                                                truth=lambda sim=sim: sim.truth.pose)
+                perceptor.score = localisation
+            session = Session(sim, perceptor=perceptor, behaviour=lambda f, wm: Command(0.0, 0.0, turn), history=1)
+            wm = None
+            for _ in range(frames):
+                session.tick(1.0 / sim.laser.profile.rate_hz)
+                if session.world_model is not None and session.world_model is not wm:
+                    wm = session.world_model
+                    run.ms_per_scan.append(wm.timings_ms.get("total", 0.0))
+            if wm is None:
+                continue
+            true_zero = None
+            if wm.zero_pose is not None and cfg.sim.odometry.form == "absolute":
+                map_from_odom = compose(sim.truth.pose, invert(sim.truth.odometry_pose))
+                true_zero = compose(map_from_odom, tuple(wm.zero_pose))
+            run.add(score_frame(wm, sim.truth, tol or Tolerances(), true_zero=true_zero, true_vertices=vertices))
     out = {"map": map_path, "seed": seed, "poses": len(run.frames), "frames_per_pose": frames}
     out.update(run.summary())
     if dfield is not None:

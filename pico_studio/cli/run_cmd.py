@@ -26,8 +26,10 @@ from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
 from pico_studio.core.behaviours.registry import is_behaviour
 from pico_studio.core.behaviours.registry import make_behaviour as make_core_behaviour
 from pico_studio.core.config import load_config
+from pico_studio.core.io import Command
 from pico_studio.errors import UserError
-from pico_studio.session import Action, Session
+from pico_studio.progress import Progress
+from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sim.scoring import run_scored
 from pico_studio.sources import SOURCE_HELP, parse_source
@@ -50,7 +52,7 @@ def _drive(arg: str) -> Callable[..., Any]:
         raise UserError(f"drive needs three numbers drive:VX,VY,VA, got {arg!r}", field="--behaviour") from None
     if not all(math.isfinite(v) for v in (vx, vy, va)):
         raise UserError(f"drive needs finite numbers, got {arg!r}", field="--behaviour")
-    action = Action(vx, vy, va)
+    action = Command(vx, vy, va)
     return lambda frame, wm: action
 
 
@@ -117,10 +119,11 @@ def _run(args: argparse.Namespace) -> int:
     scores = None
     try:
         seconds, dt = 10.0 if args.seconds is None else args.seconds, args.dt or 0.05
-        if perceptor is None:
-            steps = session.run(seconds, dt)
-        else:  # the perceptor's figures against the simulator's truth, every scan
-            steps, scores = run_scored(session, sim, seconds, dt)
+        with Progress(seconds, "simulating", "s") as progress:
+            if perceptor is None:
+                steps = session.run(seconds, dt, progress)
+            else:  # the perceptor's figures against the simulator's truth, every scan
+                steps, scores = run_scored(session, sim, seconds, dt, progress=progress)
     finally:
         record = recorded(recorder)
     wall = time.perf_counter() - t0

@@ -17,6 +17,7 @@ from typing import Any
 from pico_studio.core.config import Config
 from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
+from pico_studio.progress import Progress
 from pico_studio.session import Session
 from pico_studio.sources import SourceSpec, open_source
 from pico_studio.sources.recorder import BagRecorder
@@ -52,7 +53,10 @@ def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviou
             result = _run_live(args, source, perceptor, behaviour, recorder)
         else:
             session = Session(source, perceptor=perceptor, recorder=recorder, history=1)
-            result = run_replay(session, source, dt=args.dt, seconds=args.seconds)
+            t0_rec, t1_rec = source.time_span
+            total = t1_rec - t0_rec if args.seconds is None else min(args.seconds, t1_rec - t0_rec)
+            with Progress(total, f"replaying {spec}", "s") as progress:
+                result = run_replay(session, source, dt=args.dt, seconds=args.seconds, progress=progress)
     finally:
         result_recorded = recorded(recorder)
         close = getattr(source, "close", None)

@@ -56,6 +56,20 @@ class BaseReference:
     timestamp: float = 0.0
 
 
+@dataclass(frozen=True)
+class Command:
+    """What a behaviour decides each control step: a base reference in the robot frame
+    (vx, vy in m/s, va in rad/s) and whether to ask for a door to open."""
+
+    vx: float = 0.0
+    vy: float = 0.0
+    va: float = 0.0
+    open_door: bool = False
+
+
+STOP = Command()
+
+
 @runtime_checkable
 class RobotIO(Protocol):
     """What the perceptor and behaviours see of a robot, simulated, recorded or real."""

@@ -64,6 +64,7 @@ from pico_studio.core.config.map_params import HeightmapParams
 from pico_studio.errors import MapError
 from pico_studio.json_map.grid import GridFrame
 from pico_studio.json_map.model import GlobalMap
+from pico_studio.user_files import parse_yaml, read_text
 
 IMAGE_SUFFIXES = (".png", ".pgm")
 YAML_SUFFIXES = (".yaml", ".yml")
@@ -120,18 +121,7 @@ def _yaml_names_image(yaml_path: Path, image: Path) -> bool:
 def read_map_server_yaml(path: Path) -> dict[str, Any]:
     """The validated fields of a map_server YAML: image (Path), resolution, origin, negate,
     occupied_thresh, free_thresh. Errors name the field."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as e:
-        raise MapError(f"cannot read: {e.strerror or e}", file=path) from None
-    except UnicodeDecodeError:
-        raise MapError("not a text file (expected a map_server YAML)", file=path) from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        where = f" at line {mark.line + 1}" if mark is not None else ""
-        raise MapError(f"not valid YAML{where}", file=path) from None
+    data = parse_yaml(read_text(path, MapError, "a map_server YAML"), MapError, path)
     if not isinstance(data, dict):
         raise MapError("must be a mapping with image, resolution, origin, ...", file=path)
 

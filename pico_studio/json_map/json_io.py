@@ -17,6 +17,7 @@ import numpy as np
 
 from pico_studio.errors import MapError
 from pico_studio.json_map.model import GlobalMap, cycle_vertices
+from pico_studio.user_files import read_json
 
 OBJECT_KEYS = ("cabinets", "tables")
 POLYGON_KEYS = ("doors", "start_area")
@@ -25,17 +26,7 @@ KNOWN_KEYS = ("points", "walls", *OBJECT_KEYS, *POLYGON_KEYS, "finish")
 
 def load_json_map(path: str | Path) -> GlobalMap:
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as e:
-        raise MapError(f"cannot read: {e.strerror or e}", file=p) from None
-    except UnicodeDecodeError:
-        raise MapError("not a text file (expected a JSON map)", file=p) from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise MapError(f"not valid JSON at line {e.lineno}, column {e.colno}: {e.msg}", file=p) from None
-    return map_from_dict(data, file=p)
+    return map_from_dict(read_json(p, MapError, "a JSON map"), file=p)
 
 
 def map_from_dict(data: Any, *, file: str | Path | None = None) -> GlobalMap:

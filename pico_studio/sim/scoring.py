@@ -45,6 +45,7 @@ from pico_studio.core.geometry import (
     transform_segments,
 )
 from pico_studio.core.world_model import FLOATING, WorldModel
+from pico_studio.progress import Progress
 
 Pose = tuple[float, float, float]
 
@@ -148,16 +149,27 @@ def _samples(segments: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray,
 def covered(points: np.ndarray, owner_dir: np.ndarray, segments: np.ndarray, tol: Tolerances) -> np.ndarray:
     """(P,) bool: each point lies within `wall_distance` of a segment within `wall_angle` of
     its owner's direction (owner_dir (P, 2) unit vectors)."""
+    out = np.zeros(len(points), dtype=bool)
     if len(points) == 0 or len(segments) == 0:
-        return np.zeros(len(points), dtype=bool)
-    a = segments[None, :, 0:2]
-    ab = segments[None, :, 2:4] - a
+        return out
+    a, b = segments[:, 0:2], segments[:, 2:4]
+    ab = b - a
     len2 = np.maximum((ab**2).sum(-1), 1e-18)
-    t = np.clip(((points[:, None, :] - a) * ab).sum(-1) / len2, 0.0, 1.0)
-    d = np.hypot(*(points[:, None, :] - (a + t[..., None] * ab)).transpose(2, 0, 1))
-    sd = ab[0] / np.sqrt(len2[0])[:, None]
-    parallel = np.abs(owner_dir @ sd.T) >= math.cos(tol.wall_angle)
-    return ((d <= tol.wall_distance) & parallel).any(axis=1)
+    # only the (point, segment) pairs that can match get the exact distance: parallel enough,
+    # and the point inside the segment's box grown by the distance tolerance
+    r = tol.wall_distance
+    lo, hi = np.minimum(a, b) - r, np.maximum(a, b) + r
+    x, y = points[:, 0:1], points[:, 1:2]
+    near = (x >= lo[:, 0]) & (x <= hi[:, 0]) & (y >= lo[:, 1]) & (y <= hi[:, 1])
+    near &= np.abs(owner_dir @ (ab / np.sqrt(len2)[:, None]).T) >= math.cos(tol.wall_angle)
+    pi, si = np.nonzero(near)
+    if len(pi) == 0:
+        return out
+    ap = points[pi] - a[si]
+    t = np.clip((ap * ab[si]).sum(-1) / len2[si], 0.0, 1.0)
+    d = np.hypot(*(ap - t[:, None] * ab[si]).T)
+    out[pi[d <= r]] = True
+    return out
 
 
 def _dirs(segments: np.ndarray) -> np.ndarray:
@@ -326,17 +338,20 @@ def true_zero_pose(wm: WorldModel, sim: Any) -> Pose | None:
 
 
 def run_scored(session: Any, sim: Any, seconds: float, dt: float, tol: Tolerances | None = None,
-               every: int = 1) -> tuple[int, RunScore]:
+               every: int = 1, progress: Progress | None = None) -> tuple[int, RunScore]:
     """`session.run` that also scores every `every`-th new world model against `sim.truth`."""
     tol = tol or Tolerances()
     run = RunScore()
     vertices = _static_vertices(sim)
     ticks = scans = 0
     last = None
-    end = sim.now() + seconds
+    start = sim.now()
+    end = start + seconds
     while sim.ok() and sim.now() < end - 1e-9:
         session.tick(min(dt, end - sim.now()))
         ticks += 1
+        if progress is not None:
+            progress.set(sim.now() - start)
         wm = session.world_model
         if wm is None or wm is last:
             continue

@@ -11,13 +11,13 @@ listed in `ignored`. A value of the wrong type is a `SourceError` naming the fil
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from pico_studio.errors import SourceError
+from pico_studio.user_files import read_json
 
 Pose = tuple[float, float, float]
 
@@ -48,17 +48,7 @@ class SimConfigFile:
 
 def load_sim_config(path: str | Path) -> SimConfigFile:
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as e:
-        raise SourceError(f"cannot read: {e.strerror or e}", file=p) from None
-    except UnicodeDecodeError:
-        raise SourceError("not a text file (expected a simulator config JSON)", file=p) from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise SourceError(f"not valid JSON at line {e.lineno}, column {e.colno}: {e.msg}", file=p) from None
-    return sim_config_from_dict(data, file=p)
+    return sim_config_from_dict(read_json(p, SourceError, "a simulator config JSON"), file=p)
 
 
 def sim_config_from_dict(data: Any, *, file: str | Path | None = None) -> SimConfigFile:

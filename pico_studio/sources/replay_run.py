@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from pico_studio.progress import Progress
 from pico_studio.sources.replay import Replay
 
 
@@ -26,7 +27,12 @@ def frame_steps(replay: Replay) -> Iterator[float]:
 
 
 def run_replay(
-    session: Any, replay: Replay, *, dt: float | None = None, seconds: float | None = None
+    session: Any,
+    replay: Replay,
+    *,
+    dt: float | None = None,
+    seconds: float | None = None,
+    progress: Progress | None = None,
 ) -> dict[str, Any]:
     """Tick `session` (whose source is `replay`) to the end of the file, or for `seconds`
     of recording time; the report.
@@ -43,6 +49,8 @@ def run_replay(
             break
         out = session.tick(step)
         ticks += 1
+        if progress is not None:
+            progress.set(replay.now() - replay.time_span[0])
         if out.frame.laser is not None:
             figures.add(out.world_model, replay.truth_pose())
     report = replay.summary()

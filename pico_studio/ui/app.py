@@ -33,10 +33,10 @@ from pico_studio.ui import style
 from pico_studio.ui.colour import line_uniform
 from pico_studio.ui.config_panel import ConfigPanel
 from pico_studio.ui.inspect import measure_text, nearest_feature, ray_to_ground
-from pico_studio.ui.layers import SceneLayers
+from pico_studio.ui.layers import LAYER_OF, LayerToggles, SceneLayers
 from pico_studio.ui.recording_panel import RecordingControls, source_status
 from pico_studio.ui.runtime import BEHAVIOURS, Studio
-from pico_studio.ui.scene_data import LAYERS, frame_prims, map_prims
+from pico_studio.ui.scene_data import LAYERS, frame_prims, map_prims, room_text
 from pico_studio.ui.sources import example_maps, load_any_map
 
 log = logging.getLogger(__name__)
@@ -46,11 +46,19 @@ PANEL_PX = 420  # the control panel (control_width="large") covers this much of 
 
 @dataclass
 class TabState:
-    """What belongs to one browser tab; rebuilt from scratch on every (re)connect."""
+    """What belongs to one browser tab; rebuilt from scratch on every (re)connect: its layer
+    toggles and Follow (client-scoped GUI and scene), its click mode, measuring and inspect
+    marks and their text."""
 
     client: viser.ClientHandle
+    toggles: LayerToggles
+    follow: Any = None  # the tab's "Follow robot" checkbox
+    last_follow: tuple[float, float] | None = None  # where its camera was last centred
     measure_from: tuple[float, float] | None = None
     tools: dict[str, Any] = field(default_factory=dict)  # per-tab scene nodes
+    checkboxes: dict[str, Any] = field(default_factory=dict)  # layer key -> its checkbox
+    click_mode: Any = None  # the tab's "Click does" dropdown
+    tool_md: Any = None  # what its last click found
 
 
 class StudioApp:
@@ -70,17 +78,17 @@ class StudioApp:
         self.server.scene.world_axes.visible = False
         self.tabs: dict[int, TabState] = {}
         self.layers = SceneLayers(self.server)
-        self.layers.update(map_prims(studio.global_map))
+        self.map_prims = map_prims(studio.global_map)
+        self.layers.update(self.map_prims)
         self.update_ms: list[float] = []  # slider change -> layers sent, server side (wall)
         self.update_cpu_ms: list[float] = []  # the same, CPU time of the callback's thread
         self.last_export: Path | None = None
-        self._last_follow: tuple[float, float] | None = None
         self._stop = threading.Event()
         self._draw_lock = threading.RLock()
         self._thread: threading.Thread | None = None
+        # a recording without a map: keep the robot in view
+        self.follow_default = studio.global_map is None
         self._build_gui()
-        if studio.global_map is None:  # a recording without a map: keep the robot in view
-            self.follow.value = True
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(lambda c: self.tabs.pop(c.client_id, None))
         self.server.scene.on_click()(self._guard("click", self._on_click))
@@ -176,7 +184,7 @@ class StudioApp:
         self.metrics_md.content = self._metrics_text(metrics)
         self.status_md.content = status
         self.recording.refresh()
-        if robot is not None and self.follow.value:
+        if robot is not None:
             self._follow(robot[:2])
 
     def _status_text(self, frame: Any) -> str:
@@ -198,6 +206,17 @@ class StudioApp:
             lines.append("Stages: " + " · ".join(f"{k} {v:.2f} ms" for k, v in m["stages"].items()))
         if m["counts"]:
             lines.append("Counts: " + " · ".join(f"{k.replace('_', ' ')} {v}" for k, v in m["counts"].items()))
+        percept = []
+        lm = m.get("laser_motion")
+        if lm is not None:
+            percept.append(f"laser motion ({lm[0]:+.3f} m, {lm[1]:+.3f} m, {lm[2]:+.3f} rad), {m['laser_motion_matches']} matches")
+        if m.get("entrance") is not None:
+            a, d = m["entrance"]
+            percept.append(f"{'hallway' if m.get('hallway') else 'entrance'} at {d:.2f} m, {a:+.2f} rad")
+        if m.get("room"):
+            percept.append("side room: " + room_text(m["room"]))
+        if percept:
+            lines.append(" · ".join(percept))
         loc = m.get("localisation") or {}
         if loc:
             text = f"**Localisation** quality {loc['quality']:.2f}" + (" · LOST" if loc["lost"] else "")
@@ -235,11 +254,14 @@ class StudioApp:
         self._view(client, (x0 + x1) / 2, (y0 + y1) / 2, max(x1 - x0, 1.0), max(y1 - y0, 1.0))
 
     def _follow(self, xy: tuple[float, float]) -> None:
-        if self._last_follow is not None and math.dist(self._last_follow, xy) < 0.01:
-            return
-        self._last_follow = xy
+        """Centre the view of every tab with Follow on."""
         span = self.studio.cfg.ui.follow_span
         for tab in list(self.tabs.values()):
+            if tab.follow is None or not tab.follow.value:
+                continue
+            if tab.last_follow is not None and math.dist(tab.last_follow, xy) < 0.01:
+                continue
+            tab.last_follow = xy
             try:
                 self._view(tab.client, xy[0], xy[1], span, span)
             except Exception:  # a tab closing right now must not stop the loop
@@ -247,7 +269,9 @@ class StudioApp:
 
     # ----- tabs ---------------------------------------------------------------------------------
     def _on_connect(self, client: viser.ClientHandle) -> None:
-        tab = TabState(client)
+        tab = TabState(client, LayerToggles(client))
+        self._build_tab_layers(tab)
+        self._build_tab_tools(tab)
         tab.tools["measure"] = client.scene.add_line_segments(
             "/tools/measure", np.zeros((1, 2, 3), np.float32), line_uniform(style.MEASURE), thickness=0.04, visible=False
         )
@@ -259,32 +283,34 @@ class StudioApp:
             point_size=0.3, point_shape="circle", precision="float32", visible=False,
         )
         self.tabs[client.client_id] = tab
-        self._last_follow = None
         self.fit_map(client)
+        if tab.follow.value and getattr(self, "prims", None) is not None:
+            self.redraw()
 
     def _on_click(self, event: viser.SceneClickEvent) -> None:
         xy = ray_to_ground(event.ray_origin, event.ray_direction)
         tab = self.tabs.get(event.client_id)
         if xy is None or tab is None:
             return
-        if self.click_mode.value == "measure":
+        if tab.click_mode.value == "measure":
             if tab.measure_from is None:
                 tab.measure_from = xy
-                self.tool_md.content = f"measure: first point ({xy[0]:.3f}, {xy[1]:.3f}); click the second"
+                tab.tool_md.content = f"measure: first point ({xy[0]:.3f}, {xy[1]:.3f}); click the second"
                 tab.tools["measure"].visible = False
             else:
                 a, tab.measure_from = tab.measure_from, None
                 tab.tools["measure"].points = np.array([[[a[0], a[1], 0.05], [xy[0], xy[1], 0.05]]], np.float32)
                 tab.tools["measure"].visible = True
-                self.tool_md.content = measure_text(a, xy)
+                tab.tool_md.content = measure_text(a, xy)
             return
-        feature = nearest_feature(xy, self.prims | map_prims(self.studio.global_map))
+        shown = {k: v for k, v in (self.prims | self.map_prims).items() if tab.toggles.visible[LAYER_OF[k]]}
+        feature = nearest_feature(xy, shown)  # what this tab shows
         tab.tools["inspect"].visible = False
         tab.tools["inspect_point"].visible = False
         if feature is None:
-            self.tool_md.content = f"nothing within 1 m of ({xy[0]:.3f}, {xy[1]:.3f})"
+            tab.tool_md.content = f"nothing within 1 m of ({xy[0]:.3f}, {xy[1]:.3f})"
             return
-        self.tool_md.content = feature.describe()
+        tab.tool_md.content = feature.describe()
         if feature.segment is not None:
             s = feature.segment
             tab.tools["inspect"].points = np.array([[[s[0], s[1], 0.04], [s[2], s[3], 0.04]]], np.float32)
@@ -431,17 +457,32 @@ class StudioApp:
         return _NoCallbacks(self.behaviour_dropdown)
 
     def _build_layers(self, gui: viser.GuiApi) -> None:
-        for layer in LAYERS:
-            cb = gui.add_checkbox(layer.label, layer.default_on)
-            cb.on_update(functools.partial(self._toggle_layer, layer.key))
-        self.follow = gui.add_checkbox("Follow robot", False, hint="Keep the robot in the middle of the view")
-        self.follow.on_update(lambda e: (setattr(self, "_last_follow", None), None if e.target.value else [self.fit_map(t.client) for t in self.tabs.values()]))
+        # the toggles and Follow are each tab's own: filled in per tab on connect
+        self.layer_folder = gui.add_folder("Shown in this tab")
         fit = gui.add_button("Fit map", icon=viser.Icon.ZOOM_RESET)
         fit.on_click(lambda e: self.fit_map(e.client) if e.client is not None else None)
         gui.add_html(style.legend_html())
 
-    def _toggle_layer(self, key: str, event: viser.GuiEvent) -> None:
-        self.layers.set_layer_visible(key, bool(event.target.value))
+    def _build_tab_layers(self, tab: TabState) -> None:
+        """The layer toggles and Follow of one tab (client-scoped, in the shared Layers tab)."""
+        gui = tab.client.gui
+        with self.layer_folder:
+            for layer in LAYERS:
+                cb = gui.add_checkbox(layer.label, layer.default_on)
+                cb.on_update(functools.partial(self._toggle_layer, tab, layer.key))
+                tab.checkboxes[layer.key] = cb
+            tab.follow = gui.add_checkbox("Follow robot", self.follow_default, hint="Keep the robot in the middle of this tab's view")
+        tab.follow.on_update(self._guard("follow", functools.partial(self._on_follow, tab)))
+
+    def _toggle_layer(self, tab: TabState, key: str, event: viser.GuiEvent) -> None:
+        tab.toggles.set(key, bool(event.target.value))
+
+    def _on_follow(self, tab: TabState, event: viser.GuiEvent) -> None:
+        tab.last_follow = None
+        if event.target.value:
+            self.redraw()
+        else:
+            self.fit_map(tab.client)
 
     def _build_config(self, gui: viser.GuiApi) -> None:
         reset = gui.add_button("Reset to defaults", icon=viser.Icon.RESTORE)
@@ -454,12 +495,18 @@ class StudioApp:
         self.config_panel = ConfigPanel(gui, self.studio.cfg, self._guard("parameter", self._on_param))
 
     def _build_tools(self, gui: viser.GuiApi) -> None:
-        self.click_mode = gui.add_dropdown(
-            "Click does", ["inspect", "measure"], initial_value="inspect",
-            hint="inspect: the nearest wall, corner or door with its numbers; measure: two clicks, distance and angle",
-        )
-        self.click_mode.on_update(lambda e: [setattr(t, "measure_from", None) for t in self.tabs.values()])
-        self.tool_md = gui.add_markdown("Click in the view.")
+        # the click mode and its result are each tab's own: filled in per tab on connect
+        self.tools_folder = gui.add_folder("In this tab")
+
+    def _build_tab_tools(self, tab: TabState) -> None:
+        gui = tab.client.gui
+        with self.tools_folder:
+            tab.click_mode = gui.add_dropdown(
+                "Click does", ["inspect", "measure"], initial_value="inspect",
+                hint="inspect: the nearest wall, corner or door with its numbers; measure: two clicks, distance and angle",
+            )
+            tab.tool_md = gui.add_markdown("Click in the view.")
+        tab.click_mode.on_update(lambda e: setattr(tab, "measure_from", None))
 
     # ----- actions ----------------------------------------------------------------------------
     def _on_param(self, event: viser.GuiEvent, path: str) -> None:
@@ -523,7 +570,8 @@ class StudioApp:
     def switch_map(self, path: Path, name: str, client: viser.ClientHandle | None) -> None:
         global_map = load_any_map(path, self.studio.cfg)
         self.studio.set_map(global_map, name)
-        self.layers.update(map_prims(global_map))
+        self.map_prims = map_prims(global_map)
+        self.layers.update(self.map_prims)
         for tab in list(self.tabs.values()):
             self.fit_map(tab.client)
         self.redraw()

@@ -70,11 +70,18 @@ def linear_for(target: tuple[int, int, int]) -> tuple[float, float, float]:
 
 def _map(rgb: tuple[int, int, int] | np.ndarray, encode: bool) -> np.ndarray:
     a = np.asarray(rgb, dtype=np.uint8)
-    flat = a.reshape(-1, 3)
-    uniq, inverse = np.unique(flat, axis=0, return_inverse=True)
-    lin = np.array([linear_for(tuple(int(v) for v in u)) for u in uniq])
-    sent = np.round((srgb_encode(lin) if encode else lin) * 255.0).astype(np.uint8)
+    flat = a.reshape(-1, 3).astype(np.uint32)
+    # one int per colour: np.unique on them is far cheaper than on rows (this runs per frame)
+    keys = (flat[:, 0] << 16) | (flat[:, 1] << 8) | flat[:, 2]
+    uniq, inverse = np.unique(keys, return_inverse=True)
+    sent = np.array([_sent(int(k), encode) for k in uniq], dtype=np.uint8).reshape(-1, 3)
     return sent[inverse.reshape(-1)].reshape(a.shape)
+
+
+@lru_cache(maxsize=1024)
+def _sent(key: int, encode: bool) -> tuple[int, int, int]:
+    lin = np.array(linear_for((key >> 16, (key >> 8) & 255, key & 255)))
+    return tuple(int(v) for v in np.round((srgb_encode(lin) if encode else lin) * 255.0))  # type: ignore[return-value]
 
 
 def line_uniform(rgb: tuple[int, int, int]) -> tuple[int, int, int]:

@@ -27,7 +27,10 @@ SEGMENT_KINDS = {
     "doors": "door",
     "possible_doors": "possible door",
 }
-POINT_KINDS = {"corners": "corner", "local_endpoints": "local-map end point"}
+POINT_KINDS = {
+    "corners": "corner", "local_endpoints": "local-map end point",
+    "spike_corners": "spike corner (this scan)", "vector_corners": "vector corner (this scan)",
+}
 
 
 @dataclass

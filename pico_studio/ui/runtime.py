@@ -18,7 +18,7 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
@@ -119,7 +119,7 @@ class Studio:
             tracker = TrackerState.initial(len(self.lmap.field.segments)) if self.lmap is not None else None
             self.state: tuple[Any, Any] = (PerceptorState.initial(), tracker)
             self.true_zero: Pose | None = None  # true pose when the perceptor took its zero
-            self.run_score = scoring.RunScore() if scoring is not None else None
+            self.run_score = RunningScore() if scoring is not None else None
             self.behaviour = self._make_behaviour(self.behaviour_spec)
             self.teleop_command: BaseReference | None = None
             self.teleop_until = 0.0
@@ -383,18 +383,23 @@ class Studio:
             out["counts"] = _counts(wm)
             out["scores"] = self._scores(frame)
             out["localisation"] = self._localisation_figures(frame)
+            lm = getattr(wm, "laser_motion", None)
+            out["laser_motion"] = tuple(map(float, lm)) if lm is not None else None
+            out["laser_motion_matches"] = int(getattr(wm, "laser_motion_matches", 0) or 0)
+            entrance = getattr(wm, "entrance", None)
+            out["entrance"] = tuple(map(float, entrance)) if entrance is not None else None
+            out["hallway"] = bool(getattr(wm, "hallway", False))
+            out["room"] = dict(getattr(wm, "room", None) or {})
             return out
 
     def _scores(self, frame: FrameRecord | None) -> dict[str, dict[str, float]]:
         """The latest scored frame's and the run's scores (the live frames only: the truth is
         *now*; a frame on the timeline shows nothing)."""
-        if self.cursor is not None or self.run_score is None or not self.run_score.frames:
+        if self.cursor is not None or self.run_score is None or not self.run_score.count:
             return {}
         out = {"run": _score_figures(self.run_score.summary())}
-        if frame is not None and frame.score is not None:
-            out["frame"] = _score_figures(_summary([frame.score]))
-        else:
-            out["frame"] = _score_figures(_summary([self.run_score.frames[-1]]))
+        latest = frame.score if frame is not None and frame.score is not None else self.run_score.last
+        out["frame"] = _score_figures(_summary([latest]))
         return out
 
     @staticmethod
@@ -439,6 +444,37 @@ SCORE_FIGURES = {  # RunScore.summary() key -> label on the page
     "pose_error_m": "pose err m",
     "pose_error_rad": "pose err rad",
 }
+
+
+class RunningScore:
+    """The run's scores as a running sum (the page reads them every frame; summing a list of
+    every scored frame again each time grew with the run): `add`, `summary()` like
+    `scoring.RunScore`'s, `count`, `last`."""
+
+    def __init__(self) -> None:
+        self.total = scoring.FrameScore()
+        self.count = 0
+        self.last: Any = None
+        self._summary: dict[str, Any] | None = None
+
+    def add(self, frame: Any) -> None:
+        for name in _SCORE_FIELDS:
+            setattr(self.total, name, getattr(self.total, name) + getattr(frame, name))
+        self.count += 1
+        self.last = frame
+        self._summary = None
+
+    def summary(self) -> dict[str, Any]:
+        if self._summary is None:
+            out = _summary([self.total])  # the ratios of the sums are the run's ratios ...
+            for key in ("pose_error_m", "pose_error_rad"):  # ... the mean errors divide by n
+                out[key] = out[key] / max(self.count, 1)
+            out["frames"] = self.count
+            self._summary = out
+        return self._summary
+
+
+_SCORE_FIELDS = tuple(f.name for f in fields(scoring.FrameScore)) if scoring is not None else ()
 
 
 def _summary(frames: list[Any]) -> dict[str, Any]:

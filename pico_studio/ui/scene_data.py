@@ -29,9 +29,10 @@ CIRCLE_SIDES = 48
 class Prim:
     """One drawable: segments (N, 4) or points (N, 2), with one colour or one per item."""
 
-    kind: str  # "segments" | "points"
-    data: np.ndarray
+    kind: str  # "segments" | "points" | "label"
+    data: np.ndarray  # a label: its anchor (1, 2), or (0, 2) for none
     colors: np.ndarray | None = None  # (N, 3) uint8 per item; None = the prim's fixed colour
+    text: str = ""  # a label's text
 
     def __len__(self) -> int:
         return len(self.data)
@@ -55,7 +56,7 @@ class LayerSpec:
     default_on: bool = True
 
 
-S, P = "segments", "points"
+S, P, L = "segments", "points", "label"
 LAYERS: tuple[LayerSpec, ...] = (
     LayerSpec("map", "Global map", (
         PrimSpec("map_start", S, style.MAP_START, style.THICK_MAP),
@@ -66,13 +67,21 @@ LAYERS: tuple[LayerSpec, ...] = (
     ), static=True),
     LayerSpec("sim_world", "Simulated doors / moving objects", (PrimSpec("sim_world", S, style.SIM_WORLD, 0.05),)),
     LayerSpec("trail", "Trail", (PrimSpec("trail", S, style.TRAIL, 0.02),)),
-    LayerSpec("combined", "Combined map", (PrimSpec("combined", S, style.COMBINED_MATCHED, 0.06),)),
+    LayerSpec("combined", "Combined map", (
+        # thicker than the map's walls, so that its dashes hide the wall under them
+        PrimSpec("combined_unseen", S, style.COMBINED_UNSEEN, 1.5 * style.THICK_MAP),
+        PrimSpec("combined", S, style.COMBINED_MATCHED, 0.06),
+    )),
     LayerSpec("local", "Local map", (
         PrimSpec("local_walls", S, style.LOCAL_WALL),
         PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=0.07),
         PrimSpec("corners", P, style.ENDPOINT[2], point_size=0.11),
     )),
     LayerSpec("current", "Current map segments", (PrimSpec("current", S, style.CURRENT_MAP),)),
+    LayerSpec("scan_corners", "Scan corners (spike / vector)", (
+        PrimSpec("spike_corners", P, style.SPIKE_CORNER, point_size=0.1),
+        PrimSpec("vector_corners", P, style.VECTOR_CORNER_INNER, point_size=0.08),
+    ), default_on=False),
     LayerSpec("doors", "Doors and possible doors", (
         PrimSpec("doors", S, style.DOOR, 0.08),
         PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 0.06),
@@ -90,7 +99,11 @@ LAYERS: tuple[LayerSpec, ...] = (
         PrimSpec("plan", S, style.BEHAVIOUR_PLAN, 0.03),
         PrimSpec("target", P, style.BEHAVIOUR_TARGET, point_size=0.2),
     )),
-    LayerSpec("entrance", "Entrance estimate", (PrimSpec("entrance", S, style.ENTRANCE, 0.05),)),
+    LayerSpec("entrance", "Entrance estimate / hallway", (PrimSpec("entrance", S, style.ENTRANCE, 0.05),)),
+    LayerSpec("room", "Side room watch", (
+        PrimSpec("room_side", S, style.ROOM_SIDE, 0.02),
+        PrimSpec("room_label", L, style.ROOM_SIDE),
+    )),
 )
 PRIM_SPECS = {p.name: p for layer in LAYERS for p in layer.prims}
 
@@ -226,6 +239,7 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
     if wm is None:
         return out
     out["current"] = Prim(S, transform_segments(_segs(field(wm, "current_map")), robot))
+    out.update(_scan_corner_prims(wm, robot))
     if zero is not None:
         lm = field(wm, "local_map")
         walls = _segs(field(lm, "walls", 0))
@@ -239,11 +253,10 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
         corners = _pts(field(wm, "corners"))
         if len(corners):
             convex = field(wm, "corner_convex")
-            convex = np.asarray(convex, dtype=bool).reshape(-1) if convex is not None else np.ones(len(corners), bool)
-            kinds = np.where(convex, 2, 3) if len(convex) == len(corners) else np.full(len(corners), 2)
+            flags = np.asarray(convex, dtype=bool).reshape(-1) if convex is not None else np.ones(len(corners), bool)
+            kinds = np.where(flags, 2, 3) if len(flags) == len(corners) else np.full(len(corners), 2)
             out["corners"] = Prim(P, transform_points(corners, zero), _palette(kinds, style.ENDPOINT))
-        out["doors"] = Prim(S, transform_segments(_segs(field(wm, "doors")), zero))
-        out["possible_doors"] = Prim(S, transform_segments(_segs(field(wm, "possible_doors")), zero))
+    out.update(_door_prims(wm, zero))
     behaviour_frame = _behaviour_frame_in_map(frame, robot, zero)
     if behaviour_frame is not None:
         if frame.behaviour_target is not None:
@@ -253,13 +266,7 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
             if len(plan) >= 2:
                 out["plan"] = Prim(S, np.hstack([plan[:-1], plan[1:]]))
 
-    combined = field(wm, "combined")
-    if combined is not None:
-        cw = _segs(field(combined, "walls", 0))
-        matched = field(combined, "wall_matched", 1)
-        matched = np.asarray(matched, dtype=bool).reshape(-1) if matched is not None else np.ones(len(cw), bool)
-        colors = np.where(matched[:, None], style.COMBINED_MATCHED, style.COMBINED_UNMATCHED).astype(np.uint8)
-        out["combined"] = Prim(S, cw, colors if len(colors) == len(cw) else None)
+    out.update(_combined_prims(field(wm, "combined"), studio.global_map))
 
     flags = field(wm, "proximity")
     radius = _param(studio.cfg, "perception.proximity.radius")
@@ -278,7 +285,122 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
     if entrance is not None:
         angle, dist = float(entrance[0]), float(entrance[1])
         seg = np.array([[0.0, 0.0, dist * math.cos(angle), dist * math.sin(angle)]])
-        out["entrance"] = Prim(S, transform_segments(seg, robot))
+        colour = style.HALLWAY if field(wm, "hallway") else style.ENTRANCE
+        out["entrance"] = Prim(S, transform_segments(seg, robot), np.array([colour], np.uint8))
+    out.update(_room_prims(field(wm, "room"), robot, _param(studio.cfg, "perception.rooms.side_angle")))
+    return out
+
+
+def _scan_corner_prims(wm: Any, robot: tuple[float, float, float]) -> dict[str, Prim]:
+    """Seed 002's corner detectors on this scan (robot frame): spikes, and vector corners
+    coloured inner / outer."""
+    out = {"spike_corners": Prim(P, transform_points(_pts(field(wm, "spike_corners")), robot))}
+    vc = _pts(field(wm, "vector_corners"))
+    inner = field(wm, "vector_corner_inner")
+    flags = np.asarray(inner if inner is not None else [], dtype=bool).reshape(-1)
+    flags = flags if len(flags) == len(vc) else np.ones(len(vc), bool)
+    colours = np.where(flags[:, None], style.VECTOR_CORNER_INNER, style.VECTOR_CORNER_OUTER).astype(np.uint8)
+    out["vector_corners"] = Prim(P, transform_points(vc, robot), colours)
+    return out
+
+
+def _door_prims(wm: Any, zero: tuple[float, float, float] | None) -> dict[str, Prim]:
+    """Doors and possible doors (coloured by kind): the combined map's, in the global frame,
+    when localised; else the perceptor's, zero frame placed on the map."""
+    combined = field(wm, "combined")
+    if combined is not None and field(combined, "doors") is not None:
+        doors = _segs(field(combined, "doors"))
+        possible = _segs(field(combined, "possible_doors"))
+        kinds = field(combined, "possible_door_kind")
+    elif zero is not None:
+        doors = transform_segments(_segs(field(wm, "doors")), zero)
+        possible = transform_segments(_segs(field(wm, "possible_doors")), zero)
+        kinds = field(wm, "possible_door_kind")
+    else:
+        return {}
+    names = [str(k) for k in (kinds if kinds is not None else [])]
+    names = names if len(names) == len(possible) else [""] * len(possible)
+    colours = np.array([style.POSSIBLE_DOOR_KIND.get(k, style.POSSIBLE_DOOR) for k in names], np.uint8).reshape(-1, 3)
+    return {"doors": Prim(S, doors), "possible_doors": Prim(S, possible, colours)}
+
+
+def _combined_prims(combined: Any, global_map: GlobalMap | None) -> dict[str, Prim]:
+    """The combined map: local walls in the global frame (matched / unmatched), and the map's
+    walls never seen so far, dashed."""
+    if combined is None:
+        return {}
+    cw = _segs(field(combined, "walls", 0))
+    matched = field(combined, "wall_matched", 1)
+    matched = np.asarray(matched, dtype=bool).reshape(-1) if matched is not None else np.ones(len(cw), bool)
+    matched = matched if len(matched) == len(cw) else np.ones(len(cw), bool)
+    colors = np.where(matched[:, None], style.COMBINED_MATCHED, style.COMBINED_UNMATCHED).astype(np.uint8)
+    out = {"combined": Prim(S, cw, colors)}
+    seen = field(combined, "map_wall_seen", 2)
+    if global_map is not None and seen is not None:
+        seen = np.asarray(seen, dtype=bool).reshape(-1)
+        if len(seen) == len(global_map.walls):
+            dashes, owner = map_wall_dashes(global_map)
+            out["combined_unseen"] = Prim(S, dashes[~seen[owner]])
+    return out
+
+
+_dash_cache: tuple[GlobalMap, np.ndarray, np.ndarray] | None = None
+
+
+def map_wall_dashes(m: GlobalMap) -> tuple[np.ndarray, np.ndarray]:
+    """The map's walls cut into dashes (K, 4) and each dash's wall index (K,); computed once
+    per map."""
+    global _dash_cache
+    if _dash_cache is None or _dash_cache[0] is not m:
+        _dash_cache = (m, *dash_segments(m.wall_segments, style.DASH, style.DASH_GAP))
+    return _dash_cache[1], _dash_cache[2]
+
+
+def dash_segments(segs: np.ndarray, dash: float, gap: float) -> tuple[np.ndarray, np.ndarray]:
+    """Cut segments (N, 4) into dashes of `dash` metres every `dash + gap`, laid out from each
+    segment's middle (so a dash always covers the middle; a segment shorter than a dash stays
+    whole). Returns the dashes (K, 4) and their segment's index (K,)."""
+    segs = _segs(segs)
+    if not len(segs):
+        return np.zeros((0, 4)), np.zeros(0, dtype=int)
+    a, b = segs[:, :2], segs[:, 2:]
+    length = np.hypot(*(b - a).T)
+    period = dash + gap
+    m = np.ceil(length / 2 / period).astype(int)  # dashes each side of the middle one
+    owner = np.repeat(np.arange(len(segs)), 2 * m + 1)
+    k = np.concatenate([np.arange(-j, j + 1) for j in m])
+    half = length[owner] / 2
+    lo = np.clip(k * period - dash / 2, -half, half)
+    hi = np.clip(k * period + dash / 2, -half, half)
+    keep = hi - lo > 1e-9
+    owner, lo, hi = owner[keep], lo[keep], hi[keep]
+    mid = (a[owner] + b[owner]) / 2
+    unit = (b[owner] - a[owner]) / np.maximum(length[owner], 1e-12)[:, None]
+    return np.hstack([mid + lo[:, None] * unit, mid + hi[:, None] * unit]), owner
+
+
+def room_text(room: Any) -> str:
+    """Seed 000's side-room watch in one line: side range, its jump, objects in view."""
+    side, jump = field(room, "side_range"), field(room, "jump")
+    parts = [f"side {side:.2f} m" if side is not None else "side –"]
+    parts.append(f"jump {round(jump, 2) + 0.0:+.2f} m" if jump is not None else "jump –")  # no "-0.00"
+    parts.append(f"objects {int(field(room, 'objects') or 0)}")
+    if field(room, "room"):
+        parts.append("ROOM")
+    return " · ".join(parts)
+
+
+def _room_prims(room: Any, robot: tuple[float, float, float], side_angle: Any) -> dict[str, Prim]:
+    """The watched side beam (coloured when its range jumped) and the watch's label beside
+    the robot."""
+    if not room:
+        return {}
+    out = {"room_label": Prim(L, np.array([[robot[0] + 0.3, robot[1] + 0.3]]), text=room_text(room))}
+    side = field(room, "side_range")
+    if side is not None and isinstance(side_angle, float):
+        beam = np.array([[0.0, 0.0, side * math.cos(side_angle), side * math.sin(side_angle)]])
+        colour = style.ROOM_JUMP if field(room, "room") else style.ROOM_SIDE
+        out["room_side"] = Prim(S, transform_segments(beam, robot), np.array([colour], np.uint8))
     return out
 
 

@@ -22,22 +22,9 @@ import numpy as np
 
 from pico_studio.core.config.behaviour_params import CommonParams
 from pico_studio.core.geometry import compose
-from pico_studio.core.io import LaserData, OdometryData
+from pico_studio.core.io import STOP, Command, LaserData, OdometryData
 
 Pose = tuple[float, float, float]
-
-
-@dataclass(frozen=True)
-class Command:
-    """A base reference in the robot frame (m/s, m/s, rad/s) and an optional door request."""
-
-    vx: float = 0.0
-    vy: float = 0.0
-    va: float = 0.0
-    open_door: bool = False
-
-
-STOP = Command()
 
 
 @runtime_checkable

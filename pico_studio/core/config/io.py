@@ -16,6 +16,7 @@ import yaml
 
 from pico_studio.core.config.spec import ParamInfo, SectionInfo, coerce, params, walk
 from pico_studio.errors import ConfigError
+from pico_studio.user_files import parse_yaml, read_text
 
 T = TypeVar("T")
 
@@ -75,22 +76,11 @@ def to_dict(obj: Any) -> dict[str, Any]:
 def load_yaml(cls: type[T], path: str | Path) -> T:
     """Read a (partial) YAML file over the defaults of `cls`."""
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as e:
-        raise ConfigError(f"cannot read: {e.strerror or e}", file=p) from None
-    return loads_yaml(cls, text, file=p)
+    return loads_yaml(cls, read_text(p, ConfigError, "a config YAML"), file=p)
 
 
 def loads_yaml(cls: type[T], text: str, *, file: str | Path | None = None) -> T:
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        problem = getattr(e, "problem", None) or str(e)
-        raise ConfigError(f"not valid YAML{where}: {problem}", file=file) from None
-    return from_dict(cls, data, file=file)
+    return from_dict(cls, parse_yaml(text, ConfigError, file), file=file)
 
 
 def dump_yaml(obj: Any, *, comments: bool = True) -> str:
