@@ -104,8 +104,9 @@ def _doors(
     wi, we = np.nonzero((prop == CONVEX) | (prop == FLOATING))
     if len(wi) < 1:
         return empty, empty, []
-    pts = walls[wi, 0:2] * (we == 0)[:, None] + walls[wi, 2:4] * (we == 1)[:, None]
-    other = walls[wi, 2:4] * (we == 0)[:, None] + walls[wi, 0:2] * (we == 1)[:, None]
+    ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i
+    pts = ends[2 * wi + we]
+    other = ends[2 * wi + 1 - we]
     out_dir = pts - other
     out_dir /= np.maximum(np.hypot(out_dir[:, 0], out_dir[:, 1]), 1e-12)[:, None]
     is_convex = prop[wi, we] == CONVEX
