@@ -37,6 +37,19 @@ def test_run_json_report(capsys: pytest.CaptureFixture[str]) -> None:
     )
     r2 = json.loads(out2)
     assert r2["true_pose"] == r["true_pose"] and r2["odom_pose"] == r["odom_pose"]
+    assert r["perceptor"]["frames"] > 0  # the perceptor ran and was scored
+
+
+def test_run_without_the_perceptor_drives_the_same(capsys: pytest.CaptureFixture[str]) -> None:
+    common = ["--map", "examples/maps/hospital_2019.json", "--seconds", "3", "--behaviour", "drive:0.2,0,0.2", "--json"]
+    code, out, _ = run(capsys, *common)
+    code_bare, out_bare, _ = run(capsys, *common, "--no-perceptor")
+    assert code == code_bare == 0
+    with_p, bare = json.loads(out), json.loads(out_bare)
+    assert bare["perceptor"] is None and with_p["perceptor"]["frames"] > 0
+    assert bare["true_pose"] == with_p["true_pose"] and bare["steps"] == with_p["steps"]
+    code, _, err = run(capsys, *common, "--no-perceptor", "--localise")
+    assert code == 2 and "--localise" in err
 
 
 @pytest.mark.parametrize(

@@ -73,7 +73,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--source", default="sim", help=SOURCE_HELP + " (default sim)")
     p.add_argument("--map", help="a JSON map or heightmap image (for --source sim)")
     p.add_argument("--record", metavar="FILE.bag", help="record the run as a ROS 1 bag (laser, odometry, base references, true pose)")
-    p.add_argument("--no-perceptor", action="store_true", help="recordings and robot: only read (and record), no perception")
+    p.add_argument("--no-perceptor", action="store_true", help="only drive, read and record: no perceptor (and no scores), the simulator at full speed")
     p.add_argument("--sim-config", help="the official simulator's config JSON (start pose, moving objects, ...)")
     p.add_argument("--config", help="a pico_studio config YAML (partial files merge over the defaults)")
     p.add_argument("--seed", type=int, help="random seed (default: sim.seed of the config)")
@@ -109,10 +109,12 @@ def _run(args: argparse.Namespace) -> int:
         if args.localise:
             raise UserError("needs the simulator (--source sim): a map and the true pose", field="--localise")
         return run_source(args, spec, cfg, behaviour)
+    if args.no_perceptor and args.localise:
+        raise UserError("localising needs the perceptor; drop --no-perceptor", field="--localise")
     params = cfg.sim if not args.realtime else replace(cfg.sim, realtime=True)
     sim = Simulator.from_files(args.map, args.sim_config, params, seed=args.seed, map_params=cfg.map.heightmap)
     recorder = open_recorder(args, cfg)
-    perceptor = make_perceptor(cfg)
+    perceptor = None if args.no_perceptor else make_perceptor(cfg)
     localising = _localising(cfg, sim, perceptor) if args.localise and cfg.localisation.enabled else None
     session = Session(sim, perceptor=localising or perceptor, behaviour=behaviour, recorder=recorder, history=1)
     t0 = time.perf_counter()
