@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pico_studio.core.config import Config, with_value
+from pico_studio.config import Config, with_value
 from pico_studio.core.geometry import relative
 from pico_studio.core.perception import Perceptor
 from pico_studio.sources import open_carmen

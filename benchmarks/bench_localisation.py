@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pico_studio.core.config import Config, with_value
+from pico_studio.config import Config, with_value
 from pico_studio.core.geometry import compose, relative, wrap_angle
 from pico_studio.core.localisation import Localiser
 from pico_studio.core.localisation.inputs import laser_points, odometry_pose

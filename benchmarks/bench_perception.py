@@ -29,7 +29,7 @@ import cv2
 import numpy as np
 
 from pico_studio.cli.eval_cmd import random_free_poses
-from pico_studio.core.config import Config, with_value
+from pico_studio.config import Config, with_value
 from pico_studio.core.io import Command
 from pico_studio.core.perception import STAGES, Perceptor
 from pico_studio.core.perception.scan import process_scan

@@ -27,7 +27,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from pico_studio.cli.serve_cmd import build_app  # noqa: E402
-from pico_studio.core.config import Config  # noqa: E402
+from pico_studio.config import Config  # noqa: E402
 from pico_studio.json_map import load_json_map  # noqa: E402
 from pico_studio.ui.runtime import Studio  # noqa: E402
 from pico_studio.ui.scene_data import frame_prims  # noqa: E402

@@ -14,7 +14,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from pico_studio.core.config import Config, with_value
+from pico_studio.config import Config, with_value
 from pico_studio.core.geometry import invert, transform_points, transform_segments
 from pico_studio.core.perception import Perceptor
 from pico_studio.core.world_model import WorldModel

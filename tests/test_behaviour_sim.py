@@ -16,7 +16,7 @@ from pico_studio.core.behaviours.escape_room import EscapeRoom
 from pico_studio.core.behaviours.hospital import HospitalTour, object_spots
 from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.behaviours.room_finder import RoomFinder
-from pico_studio.core.config.tree import Config
+from pico_studio.config.tree import Config
 from pico_studio.errors import UserError
 from pico_studio.json_map import GlobalMap, load_json_map
 from pico_studio.sim import Simulator

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from pico_studio.cli import main
-from pico_studio.core.config import (
+from pico_studio.config import (
     Config,
     dump_yaml,
     load_config,

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from pico_studio.cli import main
-from pico_studio.core.config.map_params import HeightmapParams, RasterParams
+from pico_studio.config.map_params import HeightmapParams, RasterParams
 from pico_studio.errors import MapError
 from pico_studio.json_map import convert, load_map, rasterise, tolerant_iou
 from pico_studio.json_map.convert import round_trip

@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 import pytest
 
-from pico_studio.core.config.map_params import HeightmapParams
+from pico_studio.config.map_params import HeightmapParams
 from pico_studio.errors import MapError
 from pico_studio.json_map import GridFrame, load_map
 from pico_studio.json_map.convert import tolerant_iou

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from pico_studio.core.config import Config
+from pico_studio.config import Config
 from pico_studio.core.geometry import compose, invert, transform_segments
 from pico_studio.core.localisation import Localiser, combine
 from pico_studio.core.localisation.combined import zero_to_global

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from pico_studio.core.config import Config, with_value
+from pico_studio.config import Config, with_value
 from pico_studio.core.geometry import point_segment_distance
 from pico_studio.core.localisation import DistanceField, initial_prior
 from pico_studio.core.localisation.distance_field import map_segments

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from localisation_sim import Driver, follow, kick
 
-from pico_studio.core.config import Config, with_value
+from pico_studio.config import Config, with_value
 from pico_studio.core.localisation import Localiser
 from pico_studio.json_map import load_json_map, load_map
 from pico_studio.sim import Simulator, load_sim_config

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from pico_studio.core.config import Config
+from pico_studio.config import Config
 from pico_studio.core.io import Command
 from pico_studio.core.localisation import Localiser
 from pico_studio.core.localisation.combined import CombinedMap

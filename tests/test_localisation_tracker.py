@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from pico_studio.core.config import Config
+from pico_studio.config import Config
 from pico_studio.core.localisation import Localiser, TrackerState, localise
 from pico_studio.core.localisation.inputs import laser_points
 from pico_studio.core.localisation.matcher import beams_through_walls, quality

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from pico_studio.core.config import Config
+from pico_studio.config import Config
 from pico_studio.core.geometry import compose, relative
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.perception.locate import LocateState, locate

@@ -7,7 +7,7 @@ import math
 import numpy as np
 from perception_scenes import DOOR_ROOM, HALLWAY, SQUARE, odom, poly, scan_of
 
-from pico_studio.core.config import Config
+from pico_studio.config import Config
 from pico_studio.core.geometry import point_segment_distance, segment_lengths
 from pico_studio.core.perception import Perceptor
 from pico_studio.core.world_model import CONCAVE

@@ -8,7 +8,7 @@ import math
 import numpy as np
 from perception_scenes import DOOR_ROOM, SQUARE, odom, poly, scan_of
 
-from pico_studio.core.config import Config, with_value
+from pico_studio.config import Config, with_value
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.perception import STAGES, Perceptor, PerceptorState, perceive
 from pico_studio.core.perception.laser_motion import fit_rigid, laser_motion

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from perception_scenes import DOOR_ROOM, SQUARE, poly, scan_of
 
-from pico_studio.core.config import Config, with_value
+from pico_studio.config import Config, with_value
 from pico_studio.core.geometry import segment_lengths
 from pico_studio.core.io import LaserData
 from pico_studio.core.perception.corners import spike_corners, vector_corners

@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 import yaml
 
-from pico_studio.core.config.sources_params import LiveRosParams, SourcesParams
+from pico_studio.config.sources_params import LiveRosParams, SourcesParams
 from pico_studio.core.io import LaserData
 from pico_studio.errors import SourceError
 from pico_studio.sources import open_bag

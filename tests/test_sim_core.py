@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from sim_helpers import box_map
 
-from pico_studio.core.config import Config, with_value
-from pico_studio.core.config.sim_params import SimParams
+from pico_studio.config import Config, with_value
+from pico_studio.config.sim_params import SimParams
 from pico_studio.core.io import RobotIO
 from pico_studio.errors import ConfigError, MapError, SourceError
 from pico_studio.sim import Simulator, load_any_map, sim_config_from_dict

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pico_studio.core.config.sources_params import SourcesParams, TopicParams
+from pico_studio.config.sources_params import SourcesParams, TopicParams
 from pico_studio.core.io import LaserData, OdometryData, RobotIO
 from pico_studio.errors import SourceError
 from pico_studio.sources import open_bag, open_source

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pico_studio.core.config.sources_params import CarmenParams, SourcesParams
+from pico_studio.config.sources_params import CarmenParams, SourcesParams
 from pico_studio.core.geometry import wrap_angle
 from pico_studio.errors import SourceError
 from pico_studio.sources import open_carmen, open_source

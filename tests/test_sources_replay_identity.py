@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pico_studio.core.config import Config
+from pico_studio.config import Config
 from pico_studio.core.io import Command
 from pico_studio.core.perception import Perceptor
 from pico_studio.session import Session

@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from pico_studio.core.config.sources_params import LiveRosParams, SourcesParams
+from pico_studio.config.sources_params import LiveRosParams, SourcesParams
 from pico_studio.errors import SourceError
 
 
@@ -62,7 +62,7 @@ def test_no_master_is_reported_not_raised() -> None:
 
 
 def test_master_uri_is_checked() -> None:
-    from pico_studio.core.config.io import from_dict
+    from pico_studio.config.io import from_dict
     from pico_studio.errors import ConfigError
 
     with pytest.raises(ConfigError, match="sources.ros.master_uri"):

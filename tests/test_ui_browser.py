@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pico_studio.core.config import loads_config, to_dict
+from pico_studio.config import loads_config, to_dict
 from pico_studio.core.geometry import point_segment_distance
 from pico_studio.ui import style
 from tests.ui_browser_helpers import (

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from pico_studio.core.config import Config, changed_params, dump_yaml, load_config
+from pico_studio.config import Config, changed_params, dump_yaml, load_config
 
 
 def register(sub: argparse._SubParsersAction) -> None:

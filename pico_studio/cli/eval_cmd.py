@@ -18,7 +18,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from pico_studio.core.config import load_config
+from pico_studio.config import load_config
 from pico_studio.core.geometry import compose, invert
 from pico_studio.core.io import Command
 from pico_studio.core.localisation import DistanceField, Localiser

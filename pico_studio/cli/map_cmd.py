@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from pico_studio.core.config import Config, load_config
+from pico_studio.config import Config, load_config
 from pico_studio.json_map import GlobalMap, convert, load_map
 from pico_studio.json_map.draw import draw_map, save_png
 

@@ -14,7 +14,7 @@ import json
 import time
 from typing import Any
 
-from pico_studio.core.config import Config
+from pico_studio.config import Config
 from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
 from pico_studio.progress import Progress

@@ -25,7 +25,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioApp
     """The Studio and its page from parsed arguments (also used by the tests and benchmarks)."""
-    from pico_studio.core.config import load_config
+    from pico_studio.config import load_config
     from pico_studio.ui.app import StudioApp
     from pico_studio.ui.runtime import Studio
     from pico_studio.ui.sources import (

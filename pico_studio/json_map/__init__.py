@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pico_studio.core.config.map_params import HeightmapParams, MapParams
+from pico_studio.config.map_params import HeightmapParams, MapParams
 from pico_studio.errors import MapError
 from pico_studio.json_map.convert import ConvertResult, RoundTrip, convert, tolerant_iou
 from pico_studio.json_map.grid import GridFrame

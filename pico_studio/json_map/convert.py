@@ -28,7 +28,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from pico_studio.core.config.map_params import MapParams
+from pico_studio.config.map_params import MapParams
 from pico_studio.errors import MapError
 from pico_studio.json_map.grid import GridFrame
 from pico_studio.json_map.heightmap import (

@@ -60,7 +60,7 @@ import cv2
 import numpy as np
 import yaml
 
-from pico_studio.core.config.map_params import HeightmapParams
+from pico_studio.config.map_params import HeightmapParams
 from pico_studio.errors import MapError
 from pico_studio.json_map.grid import GridFrame
 from pico_studio.json_map.model import GlobalMap

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from pico_studio.core.config.map_params import RasterParams
+from pico_studio.config.map_params import RasterParams
 from pico_studio.json_map.grid import GridFrame
 from pico_studio.json_map.model import GlobalMap
 

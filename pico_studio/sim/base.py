@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pico_studio.core.config.sim_params import BaseParams
+from pico_studio.config.sim_params import BaseParams
 from pico_studio.sim.world import KIND_NAMES
 
 Pose = tuple[float, float, float]

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pico_studio.core.config.sim_params import (
+from pico_studio.config.sim_params import (
     NO_RETURN_CHOICES,
     HokuyoLaserParams,
     LaserParams,

@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from pico_studio.core.config.map_params import HeightmapParams
-from pico_studio.core.config.sim_params import SimParams
+from pico_studio.config.map_params import HeightmapParams
+from pico_studio.config.sim_params import SimParams
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.errors import MapError, SourceError
 from pico_studio.json_map import GlobalMap, load_map

@@ -13,7 +13,7 @@ import math
 import cv2
 import numpy as np
 
-from pico_studio.core.config.sim_params import SimParams
+from pico_studio.config.sim_params import SimParams
 from pico_studio.json_map import GlobalMap
 from pico_studio.sim.doors import SlidingDoor
 from pico_studio.sim.moving_objects import MovingObject

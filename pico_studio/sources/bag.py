@@ -34,7 +34,7 @@ import numpy as np
 from rosbags.rosbag1 import Reader, ReaderError
 from rosbags.typesys import Stores, get_typestore
 
-from pico_studio.core.config.sources_params import ReplayParams, SourcesParams, TopicParams
+from pico_studio.config.sources_params import ReplayParams, SourcesParams, TopicParams
 from pico_studio.core.io import BaseReference, LaserData, OdometryData
 from pico_studio.errors import SourceError
 from pico_studio.sources.convert import beam_layout_problem, yaw_from_quaternion

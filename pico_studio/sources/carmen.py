@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pico_studio.core.config.sources_params import CarmenParams, SourcesParams
+from pico_studio.config.sources_params import CarmenParams, SourcesParams
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.errors import SourceError
 from pico_studio.sources.replay import Recording, Replay, TimedPose

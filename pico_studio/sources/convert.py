@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from pico_studio.core.config.sources_params import ReplayParams
+from pico_studio.config.sources_params import ReplayParams
 
 
 def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:

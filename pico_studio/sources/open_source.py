@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
-from pico_studio.core.config.sources_params import SourcesParams
+from pico_studio.config.sources_params import SourcesParams
 from pico_studio.errors import SourceError
 
 SourceKind = Literal["sim", "bag", "carmen", "ros"]

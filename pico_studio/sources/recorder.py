@@ -25,7 +25,7 @@ import numpy as np
 from rosbags.rosbag1 import Writer, WriterError
 from rosbags.typesys import Stores, get_typestore
 
-from pico_studio.core.config.sources_params import TopicParams
+from pico_studio.config.sources_params import TopicParams
 from pico_studio.core.geometry import compose
 from pico_studio.core.io import BaseReference, Frame, LaserData, OdometryData
 from pico_studio.errors import SourceError

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.core.config.sources_params import SourcesParams
+from pico_studio.config.sources_params import SourcesParams
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.errors import SourceError
 from pico_studio.sources.convert import beam_layout_problem, yaw_from_quaternion

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 import viser
 
-from pico_studio.core.config import Config, dump_yaml, loads_config
+from pico_studio.config import Config, dump_yaml, loads_config
 from pico_studio.errors import MapError, UserError
 from pico_studio.ui import style
 from pico_studio.ui.colour import line_uniform

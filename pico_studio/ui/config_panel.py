@@ -15,7 +15,7 @@ from typing import Any
 
 import viser
 
-from pico_studio.core.config import Config, ParamInfo, SectionInfo, walk
+from pico_studio.config import Config, ParamInfo, SectionInfo, walk
 
 # When a section's values take effect (the rest apply at once, re-processing the frame shown).
 APPLIES = {

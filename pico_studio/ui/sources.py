@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.core.config import Config
+from pico_studio.config import Config
 from pico_studio.errors import MapError
 from pico_studio.json_map import GlobalMap, load_map
 from pico_studio.ui.runtime import SourceBundle, SourceFactory

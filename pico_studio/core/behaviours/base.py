@@ -20,7 +20,7 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from pico_studio.core.config.behaviour_params import CommonParams
+from pico_studio.config.behaviour_params import CommonParams
 from pico_studio.core.geometry import compose
 from pico_studio.core.io import STOP, Command, LaserData, OdometryData
 

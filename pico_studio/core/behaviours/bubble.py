@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from pico_studio.core.behaviours.base import Command, Pose, Scan
-from pico_studio.core.config.behaviour_params import BubbleParams, CommonParams
+from pico_studio.config.behaviour_params import BubbleParams, CommonParams
 
 
 def box_clearance(points: np.ndarray, length: float, width: float) -> np.ndarray:

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from pico_studio.core.config.behaviour_params import HospitalParams
+from pico_studio.config.behaviour_params import HospitalParams
 from pico_studio.json_map import GlobalMap
 from pico_studio.json_map.raster import OCCUPIED, rasterise
 

@@ -16,7 +16,7 @@ from pico_studio.core.behaviours.base import BehaviourBase, Pose
 from pico_studio.core.behaviours.escape_room import EscapeRoom
 from pico_studio.core.behaviours.hospital import HospitalTour
 from pico_studio.core.behaviours.room_finder import RoomFinder
-from pico_studio.core.config.behaviour_params import BehaviourParams
+from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.errors import UserError
 from pico_studio.json_map import GlobalMap
 

@@ -32,7 +32,7 @@ from pico_studio.core.behaviours.base import (
     wall_angle,
 )
 from pico_studio.core.behaviours.bubble import Bubble
-from pico_studio.core.config.behaviour_params import BehaviourParams
+from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.core.geometry import wrap_angle
 
 

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.core.config.ui_params import WanderParams
+from pico_studio.config.ui_params import WanderParams
 from pico_studio.core.io import BaseReference, LaserData, OdometryData
 
 DRIVE = "drive"

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.core.config.localisation_params import LocalisationParams
+from pico_studio.config.localisation_params import LocalisationParams
 from pico_studio.core.localisation.combined import CombinedMap, combine
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from pico_studio.core.config.localisation_params import FieldParams
+from pico_studio.config.localisation_params import FieldParams
 from pico_studio.json_map.model import GlobalMap
 
 _SUBPIXEL_BITS = 4  # cv2.line's fixed-point shift: end points drawn to 1/16 of a cell

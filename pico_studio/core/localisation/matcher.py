@@ -29,7 +29,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from pico_studio.core.config.localisation_params import MatcherParams, SearchParams
+from pico_studio.config.localisation_params import MatcherParams, SearchParams
 from pico_studio.core.geometry import transform_points, wrap_angle
 from pico_studio.core.localisation.distance_field import DistanceField
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from pico_studio.core.config.localisation_params import PriorParams
+from pico_studio.config.localisation_params import PriorParams
 from pico_studio.json_map.model import GlobalMap
 
 

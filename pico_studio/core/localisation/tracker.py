@@ -32,7 +32,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from pico_studio.core.config.localisation_params import LocalisationParams
+from pico_studio.config.localisation_params import LocalisationParams
 from pico_studio.core.geometry import compose, relative, transform_points, wrap_angle
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import (

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import CornerParams
+from pico_studio.config.perception_params import CornerParams
 from pico_studio.core.perception.scan import ScanPoints
 
 

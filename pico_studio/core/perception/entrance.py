@@ -16,7 +16,7 @@ import statistics
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import EntranceParams
+from pico_studio.config.perception_params import EntranceParams
 
 Estimate = tuple[float, float, bool]  # angle, distance, hallway
 

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import IdentifyParams
+from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall")

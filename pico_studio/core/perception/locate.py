@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from pico_studio.core.config.perception_params import LocateParams
+from pico_studio.config.perception_params import LocateParams
 from pico_studio.core.geometry import compose, invert, relative
 from pico_studio.core.io import OdometryData
 

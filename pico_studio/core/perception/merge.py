@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import MergeParams
+from pico_studio.config.perception_params import MergeParams
 from pico_studio.core.geometry import transform_segments
 from pico_studio.core.perception.scan import ScanPoints
 from pico_studio.core.perception.segment import END_FLOATING, END_SEEN, Segments

@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import PerceptionParams
+from pico_studio.config.perception_params import PerceptionParams
 from pico_studio.core.geometry import compose
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.perception.corners import spike_corners, vector_corners

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import ProximityParams
+from pico_studio.config.perception_params import ProximityParams
 
 
 def in_footprint(xy: np.ndarray, params: ProximityParams) -> np.ndarray:

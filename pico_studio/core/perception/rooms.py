@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import RoomParams
+from pico_studio.config.perception_params import RoomParams
 
 
 def side_range(ranges: np.ndarray, angles: np.ndarray, valid: np.ndarray, params: RoomParams) -> float | None:

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import ProximityParams, ScanParams
+from pico_studio.config.perception_params import ProximityParams, ScanParams
 from pico_studio.core.io import LaserData
 from pico_studio.core.perception.proximity import in_footprint
 

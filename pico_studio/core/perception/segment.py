@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import PerceptionParams
+from pico_studio.config.perception_params import PerceptionParams
 from pico_studio.core.perception import segment_angle, segment_ransac, segment_split_merge
 from pico_studio.core.perception.scan import ScanPoints
 

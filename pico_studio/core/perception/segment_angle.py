@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import AngleClusterParams
+from pico_studio.config.perception_params import AngleClusterParams
 
 
 def cluster(points: np.ndarray, clusters: np.ndarray, params: AngleClusterParams) -> np.ndarray:

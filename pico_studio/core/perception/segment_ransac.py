@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pico_studio.core.config.perception_params import RansacParams
+from pico_studio.config.perception_params import RansacParams
 
 MIN_RUN = 3  # fewer points cannot carry a line hypothesis and its check
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from pico_studio.core.config.perception_params import SplitMergeParams
+from pico_studio.config.perception_params import SplitMergeParams
 
 MAX_LEVELS = 64  # a safety bound: each level at least halves... or splits off one point
 

@@ -1,6 +1,6 @@
 """One typed config tree: every parameter declared once with default, range, unit, meaning.
 
-    from pico_studio.core.config import Config, load_config, dump_yaml, with_value
+    from pico_studio.config import Config, load_config, dump_yaml, with_value
     cfg = load_config("tuned.yaml")          # partial files merge over defaults
     cfg = with_value(cfg, "map.heightmap.resolution", 0.05)
 """
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pico_studio.core.config.io import (
+from pico_studio.config.io import (
     changed_params,
     dump_yaml,
     from_dict,
@@ -20,7 +20,7 @@ from pico_studio.core.config.io import (
     to_dict,
     with_value,
 )
-from pico_studio.core.config.spec import (
+from pico_studio.config.spec import (
     ParamInfo,
     ParamSpec,
     SectionInfo,
@@ -29,7 +29,7 @@ from pico_studio.core.config.spec import (
     section,
     walk,
 )
-from pico_studio.core.config.tree import Config
+from pico_studio.config.tree import Config
 
 __all__ = [
     "Config",

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from pico_studio.core.config.spec import param, section
+from pico_studio.config.spec import param, section
 
 SEGMENTERS = ("split_merge", "angle", "ransac")
 

@@ -8,14 +8,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from pico_studio.core.config.behaviour_params import BehaviourParams
-from pico_studio.core.config.localisation_params import LocalisationParams
-from pico_studio.core.config.map_params import MapParams
-from pico_studio.core.config.perception_params import PerceptionParams
-from pico_studio.core.config.sim_params import SimParams
-from pico_studio.core.config.sources_params import SourcesParams
-from pico_studio.core.config.spec import section
-from pico_studio.core.config.ui_params import UiParams
+from pico_studio.config.behaviour_params import BehaviourParams
+from pico_studio.config.localisation_params import LocalisationParams
+from pico_studio.config.map_params import MapParams
+from pico_studio.config.perception_params import PerceptionParams
+from pico_studio.config.sim_params import SimParams
+from pico_studio.config.sources_params import SourcesParams
+from pico_studio.config.spec import section
+from pico_studio.config.ui_params import UiParams
 
 
 @dataclass(frozen=True)

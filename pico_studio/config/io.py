@@ -14,7 +14,7 @@ from typing import Any, TypeVar
 
 import yaml
 
-from pico_studio.core.config.spec import ParamInfo, SectionInfo, coerce, params, walk
+from pico_studio.config.spec import ParamInfo, SectionInfo, coerce, params, walk
 from pico_studio.errors import ConfigError
 from pico_studio.user_files import parse_yaml, read_text
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from pico_studio.core.config.spec import param, section
+from pico_studio.config.spec import param, section
 
 
 @dataclass(frozen=True)
