@@ -32,10 +32,10 @@ import numpy as np  # noqa: E402
 from worlds import escape_world, room_finder_world  # noqa: E402
 
 from pico_studio.cli.behaviour_run import make_perception, run_behaviour  # noqa: E402
+from pico_studio.config.tree import Config  # noqa: E402
 from pico_studio.core.behaviours.escape_room import EscapeRoom  # noqa: E402
 from pico_studio.core.behaviours.hospital import HospitalTour  # noqa: E402
 from pico_studio.core.behaviours.room_finder import RoomFinder  # noqa: E402
-from pico_studio.config.tree import Config  # noqa: E402
 from pico_studio.core.geometry import point_segment_distance  # noqa: E402
 from pico_studio.json_map import load_json_map  # noqa: E402
 from pico_studio.sim import Simulator  # noqa: E402

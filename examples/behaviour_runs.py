@@ -23,8 +23,8 @@ sys.path.insert(0, str(ROOT / "tests"))
 from worlds import escape_world, room_finder_world  # noqa: E402
 
 from pico_studio.cli.behaviour_run import make_perception, run_behaviour  # noqa: E402
-from pico_studio.core.behaviours.registry import make_behaviour  # noqa: E402
 from pico_studio.config.tree import Config  # noqa: E402
+from pico_studio.core.behaviours.registry import make_behaviour  # noqa: E402
 from pico_studio.json_map import GlobalMap, load_map  # noqa: E402
 from pico_studio.json_map.draw import _TOP as TITLE_PX  # noqa: E402
 from pico_studio.json_map.draw import draw_map  # noqa: E402

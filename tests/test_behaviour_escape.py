@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 
+from pico_studio.config.tree import Config
 from pico_studio.core.behaviours.base import Scan
 from pico_studio.core.behaviours.bubble import Bubble, box_clearance
 from pico_studio.core.behaviours.escape_room import EscapeRoom, find_openings
-from pico_studio.config.tree import Config
 from pico_studio.core.io import LaserData, OdometryData
 
 

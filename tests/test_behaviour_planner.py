@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from pico_studio.core.behaviours.planner import PlanGrid, astar, densify
 from pico_studio.config.behaviour_params import HospitalParams
+from pico_studio.core.behaviours.planner import PlanGrid, astar, densify
 from pico_studio.core.geometry import point_segment_distance
 
 P = HospitalParams()

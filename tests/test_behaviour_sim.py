@@ -12,11 +12,11 @@ from worlds import escape_world, room_finder_world
 
 from pico_studio.cli import main
 from pico_studio.cli.behaviour_run import EscapeJudge, run_behaviour
+from pico_studio.config.tree import Config
 from pico_studio.core.behaviours.escape_room import EscapeRoom
 from pico_studio.core.behaviours.hospital import HospitalTour, object_spots
 from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.behaviours.room_finder import RoomFinder
-from pico_studio.config.tree import Config
 from pico_studio.errors import UserError
 from pico_studio.json_map import GlobalMap, load_json_map
 from pico_studio.sim import Simulator

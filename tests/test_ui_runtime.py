@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from pico_studio.cli import main
-from pico_studio.core.behaviours.wander import Wander
 from pico_studio.config import Config, params, with_value
+from pico_studio.core.behaviours.wander import Wander
 from pico_studio.core.geometry import point_segment_distance
 from pico_studio.errors import ConfigError
 from pico_studio.json_map import load_json_map

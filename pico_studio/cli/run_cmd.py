@@ -22,10 +22,10 @@ from pico_studio.cli.run_sources import (
     recorded,
     run_source,
 )
+from pico_studio.config import load_config
 from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
 from pico_studio.core.behaviours.registry import is_behaviour
 from pico_studio.core.behaviours.registry import make_behaviour as make_core_behaviour
-from pico_studio.config import load_config
 from pico_studio.core.io import Command
 from pico_studio.errors import UserError
 from pico_studio.progress import Progress

@@ -21,10 +21,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import Any
 
+from pico_studio.config import Config, get_value, with_value
 from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
 from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.behaviours.wander import Wander
-from pico_studio.config import Config, get_value, with_value
 from pico_studio.core.geometry import compose, invert, wrap_angle
 from pico_studio.core.io import BaseReference, Frame, LaserData, OdometryData, RobotIO
 from pico_studio.core.localisation import TrackerState, build_localisation_map, localise_world_model

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from pico_studio.core.behaviours.base import Command, Pose, Scan
 from pico_studio.config.behaviour_params import BubbleParams, CommonParams
+from pico_studio.core.behaviours.base import Command, Pose, Scan
 
 
 def box_clearance(points: np.ndarray, length: float, width: float) -> np.ndarray:

@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.core.behaviours.base import (
     BehaviourBase,
     Command,
@@ -38,7 +39,6 @@ from pico_studio.core.behaviours.base import (
     wall_angle,
 )
 from pico_studio.core.behaviours.bubble import Bubble
-from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.core.geometry import transform_points, wrap_angle
 
 

@@ -28,10 +28,10 @@ from typing import Any
 
 import numpy as np
 
+from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.core.behaviours.base import BehaviourBase, Command, Pose, clamp, turn_rate
 from pico_studio.core.behaviours.bubble import Bubble
 from pico_studio.core.behaviours.planner import PlanGrid, astar, densify
-from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.core.geometry import (
     compose,
     point_segment_distance,

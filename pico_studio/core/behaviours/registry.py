@@ -12,11 +12,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.core.behaviours.base import BehaviourBase, Pose
 from pico_studio.core.behaviours.escape_room import EscapeRoom
 from pico_studio.core.behaviours.hospital import HospitalTour
 from pico_studio.core.behaviours.room_finder import RoomFinder
-from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.errors import UserError
 from pico_studio.json_map import GlobalMap
 

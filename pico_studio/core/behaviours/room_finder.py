@@ -24,6 +24,7 @@ import math
 
 import numpy as np
 
+from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.core.behaviours.base import (
     BehaviourBase,
     Command,
@@ -32,7 +33,6 @@ from pico_studio.core.behaviours.base import (
     wall_angle,
 )
 from pico_studio.core.behaviours.bubble import Bubble
-from pico_studio.config.behaviour_params import BehaviourParams
 from pico_studio.core.geometry import wrap_angle
 
 
