@@ -27,7 +27,7 @@ Door openings (`door_openings`), in this order:
    (parallel to J1 J2) at `mouth_probe` either side of the middle, a free width of at most
    |J1 J2| + `mouth_margin` on one side (the passage, walled on both sides) and at least
    |J1 J2| + min_width on the other (the room, or the open outside), and at both corners a
-   wall at least `mouth_probe` long leaving towards the passage side (within 20 degrees of square to J1 J2). An escape room's
+   wall at least `mouth_wall_length` long leaving towards the passage side (within 15 degrees of square to J1 J2). An escape room's
    corridor has one at each end; a corridor joining a wider one has one at the junction.
    A doorway in a wall (free area on both sides) is not a mouth: rules 1-3 find it.
 Openings within `min_width / 2` of an earlier one (e.g. a map door's own gap) are dropped.
@@ -44,7 +44,7 @@ from pico_studio.sim.doors import door_frame
 from pico_studio.sim.raycast import cast_rays
 
 _FACING = math.cos(math.radians(45))  # a gap is "straight ahead" of an end within 45 degrees
-_SQUARE = math.cos(math.radians(20))  # a passage wall leaves its mouth within 20 degrees of square
+_SQUARE = math.cos(math.radians(15))  # a passage wall leaves its mouth within 15 degrees of square
 
 
 @dataclass(frozen=True)
@@ -211,6 +211,7 @@ def door_openings(
     max_thickness: float = 0.3,
     mouth_probe: float = 0.25,
     mouth_margin: float = 0.1,
+    mouth_wall_length: float = 0.5,
     straight_tolerance: float = 0.15,
 ) -> np.ndarray:
     """The map's door openings (D, 4), each from one jamb to the other (see the module doc).
@@ -226,7 +227,9 @@ def door_openings(
         graph = vertex_graph(walls)
         ends, outward = wall_ends(graph, walls, max_thickness)
         out += _paired_gaps(ends, outward, walls, solid, min_width, max_width, out)
-        out += _passage_mouths(graph, solid, min_width, max_width, mouth_probe, mouth_margin, straight_tolerance, out)
+        out += _passage_mouths(
+            graph, solid, min_width, max_width, mouth_probe, mouth_margin, mouth_wall_length, straight_tolerance, out
+        )
     return np.array(out).reshape(-1, 4)
 
 
@@ -237,6 +240,7 @@ def _passage_mouths(
     hi: float,
     probe: float,
     margin: float,
+    wall_length: float,
     straight_tolerance: float,
     found: list[np.ndarray],
 ) -> list[np.ndarray]:
@@ -255,10 +259,10 @@ def _passage_mouths(
         return sector_width(graph.directions[v], math.atan2(toward[1] - p[1], toward[0] - p[0])) > math.pi + straight_tolerance
 
     def along(v: int, direction: np.ndarray) -> bool:
-        """A wall at least `probe` long leaves vertex v along `direction` (within 20 degrees)."""
+        """A wall at least `wall_length` long leaves vertex v along `direction` (within 15 degrees)."""
         d = graph.directions[v]
         seg = solid[list(graph.leaving[v])]
-        long_enough = np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1]) >= probe
+        long_enough = np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1]) >= wall_length
         return bool(np.any((np.cos(d) * direction[0] + np.sin(d) * direction[1] > _SQUARE) & long_enough))
 
     def free_width(origin: np.ndarray, u: np.ndarray) -> float:

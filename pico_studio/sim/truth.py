@@ -168,7 +168,7 @@ class GroundTruth:
         return door_openings(
             w.walls, w.map.door_polygons, obstacles=w.objects,
             min_width=t.door_min_width, max_width=t.door_max_width, max_thickness=t.max_wall_thickness,
-            mouth_probe=t.mouth_probe, mouth_margin=t.mouth_margin, straight_tolerance=t.straight_tolerance,
+            mouth_probe=t.mouth_probe, mouth_margin=t.mouth_margin, mouth_wall_length=t.mouth_wall_length, straight_tolerance=t.straight_tolerance,
         )
 
     def _in_fov(self, points: np.ndarray) -> np.ndarray:
