@@ -130,12 +130,14 @@ class HospitalTour(BehaviourBase):
         g = getattr(wm, "global_pose", None) if wm is not None else None
         if g is not None and not getattr(wm, "lost", False):
             g = (float(g[0]), float(g[1]), float(g[2]))
-            odo_at_wm = tuple(float(v) for v in getattr(wm, "pose", self.pose))
+            at_wm = getattr(wm, "pose", self.pose)
+            odo_at_wm: Pose = (float(at_wm[0]), float(at_wm[1]), float(at_wm[2]))
             # the world model's pose is in the perceptor's zero frame; ours is raw odometry:
             # anchor the global pose to our odometry reading of the same instant
             zero = getattr(wm, "zero_pose", None)
-            odo_raw = compose(tuple(float(v) for v in zero), odo_at_wm) if zero is not None else self.pose
-            self._anchor = (g, odo_raw)  # type: ignore[assignment]
+            odo_raw = (compose((float(zero[0]), float(zero[1]), float(zero[2])), odo_at_wm)
+                       if zero is not None else self.pose)
+            self._anchor = (g, odo_raw)
         elif self._anchor is None and self.initial_pose is not None:
             self._anchor = (self.initial_pose, self.pose)
         if self._anchor is None:

@@ -84,7 +84,7 @@ class DistanceField:
 
     @property
     def shape(self) -> tuple[int, int]:
-        return self.field.shape  # type: ignore[return-value]
+        return self.field.shape
 
     def _grid(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Fractional (column, row) of every point."""
