@@ -34,6 +34,7 @@ from pico_studio.core.behaviours.bubble import Bubble
 from pico_studio.core.behaviours.planner import PlanGrid, astar, densify
 from pico_studio.core.geometry import (
     compose,
+    pairwise_distances,
     point_segment_distance,
     relative,
     transform_points,
@@ -246,7 +247,7 @@ class HospitalTour(BehaviourBase):
         pts = pts[np.hypot(*(pts - xy).T) <= self.p.blocked_distance + self.p.inflation]
         if len(pts) == 0:
             return False
-        gaps = np.hypot(*(pts[:, None, :] - close[None, :, :]).transpose(2, 0, 1))
+        gaps = pairwise_distances(pts, close)
         return bool(gaps.min() < self.p.path_clearance)
 
     def _blocked(self, pose: Pose, now: float) -> Command:
@@ -258,7 +259,7 @@ class HospitalTour(BehaviourBase):
         seen = self._unmapped_points(pose)
         # an obstacle already waited for (a new side of it came into view): replan at once
         known = len(self._obstacles) > 0 and len(seen) > 0 and bool(
-            np.hypot(*(seen[:, None, :] - self._obstacles[None, ::4, :]).transpose(2, 0, 1)).min() < 0.3)
+            pairwise_distances(seen, self._obstacles[::4]).min() < 0.3)
         waited = now - self._blocked_since
         if not known and (waited < self.p.blocked_wait or (door and waited < 3 * self.p.blocked_wait)):
             return Command(open_door=door)
