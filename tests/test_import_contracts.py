@@ -58,3 +58,17 @@ def test_a_forbidden_import_fails_its_contract(tmp_path: Path, module: str, line
     assert result.returncode != 0
     broken = result.stdout.split("Broken contracts", 1)[-1]
     assert contract in broken, result.stdout
+
+
+def test_test_modules_do_not_import_each_other() -> None:
+    """Shared helpers live in helper modules (sim_helpers.py, perception_scenes.py, ...):
+    importing a test module would also collect its tests twice and tie the two together."""
+    tests = {p.stem for p in (ROOT / "tests").glob("test_*.py")}
+    offenders = []
+    for path in sorted((ROOT / "tests").glob("*.py")):
+        for n, line in enumerate(path.read_text().splitlines(), 1):
+            words = line.replace(",", " ").split()
+            if len(words) >= 2 and words[0] in ("from", "import") and (
+                    words[1] in tests or words[1].removeprefix("tests.") in tests):
+                offenders.append(f"{path.name}:{n}: {line.strip()}")
+    assert offenders == []
