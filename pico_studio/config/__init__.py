@@ -3,6 +3,7 @@
     from pico_studio.config import Config, load_config, dump_yaml, with_value
     cfg = load_config("tuned.yaml")          # partial files merge over defaults
     cfg = with_value(cfg, "map.heightmap.resolution", 0.05)
+    merged = merge_config(cfg, text)         # an import over tuned values: .config, .changed
 """
 
 from __future__ import annotations
@@ -10,12 +11,17 @@ from __future__ import annotations
 from pathlib import Path
 
 from pico_studio.config.io import (
+    Change,
+    Merged,
     changed_params,
+    changes,
     dump_yaml,
     from_dict,
     get_value,
     load_yaml,
     loads_yaml,
+    merge,
+    merge_yaml,
     save_yaml,
     to_dict,
     with_value,
@@ -32,16 +38,22 @@ from pico_studio.config.spec import (
 from pico_studio.config.tree import Config
 
 __all__ = [
+    "Change",
     "Config",
+    "Merged",
     "ParamInfo",
     "ParamSpec",
     "SectionInfo",
     "changed_params",
+    "changes",
     "dump_yaml",
     "from_dict",
     "get_value",
     "load_config",
     "loads_config",
+    "merge",
+    "merge_config",
+    "merge_yaml",
     "param",
     "params",
     "save_yaml",
@@ -59,3 +71,9 @@ def load_config(path: str | Path | None = None) -> Config:
 
 def loads_config(text: str, *, file: str | None = None) -> Config:
     return loads_yaml(Config, text, file=file)
+
+
+def merge_config(current: Config, text: str, *, file: str | None = None) -> Merged[Config]:
+    """YAML text merged over the current (tuned) values: the page's import. `.changed` lists
+    the parameters it changed; everything the file leaves out keeps its current value."""
+    return merge_yaml(current, text, file=file)

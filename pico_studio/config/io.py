@@ -2,7 +2,8 @@
 
 All of it is derived from the declarations (`spec.param` / `spec.section`): unknown keys are
 rejected with a "did you mean", out-of-range values name the field and the allowed range,
-and partial files merge over the defaults.
+and partial files merge over the defaults — or, with `merge` / `merge_yaml`, over any current
+values, reporting what changed (the page's import keeps every tuned value the file leaves out).
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 import difflib
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, Generic, TypeVar
 
 import yaml
 
@@ -80,7 +81,8 @@ def load_yaml(cls: type[T], path: str | Path) -> T:
 
 
 def loads_yaml(cls: type[T], text: str, *, file: str | Path | None = None) -> T:
-    return from_dict(cls, parse_yaml(text, ConfigError, file), file=file)
+    """YAML text over the defaults of `cls` (the same merge as an import over tuned values)."""
+    return merge_yaml(cls(), text, file=file).config
 
 
 def dump_yaml(obj: Any, *, comments: bool = True) -> str:
@@ -145,3 +147,54 @@ def _replace_path(obj: Any, parts: list[str], value: Any, prefix: str) -> Any:
 def changed_params(obj: Any) -> list[ParamInfo]:
     """The parameters whose value differs from the declared default."""
     return [p for p in params(obj) if p.value != p.spec.default]
+
+
+@dataclasses.dataclass(frozen=True)
+class Change:
+    """One parameter an import (or any edit) changed: its path, the value before and after."""
+
+    path: str
+    old: Any
+    new: Any
+
+
+@dataclasses.dataclass(frozen=True)
+class Merged(Generic[T]):
+    """A config tree after merging a (partial) file over it, and what that changed."""
+
+    config: T
+    changed: list[Change]
+
+
+def merge(base: T, data: Any, *, file: str | Path | None = None) -> Merged[T]:
+    """`data` (a partial nested dict, as read from YAML) merged over the *current* values of
+    `base`, validated as a whole file is (`from_dict`): the keys it names change, every other
+    value keeps what `base` has — a partial file never resets a tuned value to its default.
+
+    The one merge of the page's import and the CLI's `--config` (over the defaults)."""
+    if data is not None and not isinstance(data, dict):
+        raise ConfigError(f"must be a mapping of keys to values, got {type(data).__name__}",
+                          file=file, field="(top level)")
+    new = from_dict(type(base), _deep_merge(to_dict(base), data or {}), file=file)
+    return Merged(new, changes(base, new))
+
+
+def merge_yaml(base: T, text: str, *, file: str | Path | None = None) -> Merged[T]:
+    """YAML text merged over `base` (see `merge`)."""
+    return merge(base, parse_yaml(text, ConfigError, file), file=file)
+
+
+def _deep_merge(into: dict[str, Any], data: dict[str, Any]) -> dict[str, Any]:
+    """A copy of `into` with `data` laid over it, mapping by mapping. A value that is not a
+    mapping replaces what was there, so a bad one still reaches `from_dict`'s checks."""
+    out = dict(into)
+    for key, value in data.items():
+        here = out.get(key)
+        out[key] = _deep_merge(here, value) if isinstance(here, dict) and isinstance(value, dict) else value
+    return out
+
+
+def changes(before: Any, after: Any) -> list[Change]:
+    """The parameters whose value differs between two trees of the same kind, in declaration order."""
+    old = {p.path: p.value for p in params(before)}
+    return [Change(p.path, old[p.path], p.value) for p in params(after) if old.get(p.path) != p.value]
