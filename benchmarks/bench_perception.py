@@ -30,7 +30,7 @@ import numpy as np
 
 from pico_studio.cli.eval_cmd import random_free_poses
 from pico_studio.config import Config, with_value
-from pico_studio.core.io import Command
+from pico_studio.core.behaviours.registry import Drive
 from pico_studio.core.perception import STAGES, Perceptor
 from pico_studio.core.perception.scan import process_scan
 from pico_studio.core.perception.segment import finish_pieces, segment_scan
@@ -51,7 +51,7 @@ def record(poses: int, frames: int, seed: int) -> list[list[tuple]]:
     runs = []
     for k, pose in enumerate(starts):
         sim = Simulator(gmap, cfg.sim, seed=seed + k, initial_pose=pose)
-        session = Session(sim, behaviour=lambda f, wm: Command(0.05, 0.0, 0.4), history=1)
+        session = Session(sim, behaviour=Drive(0.05, 0.0, 0.4))
         seq = []
         for _ in range(frames):
             session.tick(0.05)

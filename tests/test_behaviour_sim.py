@@ -8,16 +8,17 @@ import math
 
 import numpy as np
 import pytest
-from worlds import escape_world, room_finder_world
 
 from pico_studio.cli import main
-from pico_studio.cli.behaviour_run import EscapeJudge, run_behaviour
 from pico_studio.config.tree import Config
 from pico_studio.core.behaviours.escape_room import EscapeRoom
 from pico_studio.core.behaviours.hospital import HospitalTour, object_spots
 from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.behaviours.room_finder import RoomFinder
 from pico_studio.errors import UserError
+from pico_studio.evaluation.judges import EscapeJudge
+from pico_studio.evaluation.runner import run_behaviour
+from pico_studio.evaluation.worlds import escape_world, room_finder_world
 from pico_studio.json_map import GlobalMap, load_json_map
 from pico_studio.sim import Simulator
 from pico_studio.sim.sim_config import SimConfigFile
@@ -125,6 +126,20 @@ def test_run_command_reports_a_behaviour_as_json(capsys, maps_dir):
     for key in ("escaped", "escape_seconds", "rooms", "cabinets_visited", "collisions", "state"):
         assert key in r
     assert r["cabinets_visited"] == [1] and r["state"] == "done" and r["collisions"] == 0
+    # it localises on the map: the error against the truth, as the median and the maximum
+    loc = r["localisation"]
+    assert loc["frames"] > 0 and loc["pose_error_m"]["max"] < 0.1 and loc["heading_error_rad"]["median"] < 0.02
+    assert set(loc["pose_error_m"]) == {"median", "max"}
+
+
+def test_a_behaviour_that_does_not_localise_reports_no_pose_error_unless_asked(capsys, maps_dir):
+    args = ["run", "--map", str(maps_dir / "emc_example.json"), "--behaviour", "escape-room", "--seconds", "2",
+            "--json"]
+    assert main(args) == 0
+    assert "localisation" not in json.loads(capsys.readouterr().out)
+    assert main([*args, "--localise"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    assert r["localisation"]["frames"] == 40 and r["localisation"]["pose_error_m"]["median"] < 0.05
 
 
 def test_run_command_rejects_a_bad_behaviour(capsys, maps_dir):

@@ -9,7 +9,8 @@ import pytest
 
 from pico_studio.cli import main
 from pico_studio.cli.eval_cmd import evaluate
-from pico_studio.sim.scoring import FrameScore, RunScore, Tolerances, score_arrays
+from pico_studio.evaluation.frame_score import FrameScore, Tolerances, score_arrays
+from pico_studio.evaluation.run_score import RunScore
 
 SQ = np.array([[0, 0, 4, 0], [4, 0, 4, 4], [4, 4, 0, 4], [0, 4, 0, 0]], dtype=float)
 

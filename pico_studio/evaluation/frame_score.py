@@ -1,4 +1,4 @@
-"""Scoring the perceptor against the simulator's ground truth, per scan and over a run.
+"""Scoring one world model against the simulator's ground truth (`score_frame`).
 
 Everything is compared in the map frame. The world model's zero frame is placed there with
 the true pose of the same frame (map_T_zero = truth_pose (x) wm.pose^-1), so wall, corner
@@ -25,14 +25,14 @@ reported on its own.
   be told from a wall's loose end; the perceptor reports it as a possible door at best.
 - **Pose**: the perceptor's pose relative to its zero vs the true motion since that frame.
 
-Counts and lengths are summed over frames (`RunScore`), so a run's figures weigh every
-metre of wall and every door the same.
+Counts and lengths are summed over frames (`run_score.RunScore`), so a run's figures weigh
+every metre of wall and every door the same.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -45,7 +45,6 @@ from pico_studio.core.geometry import (
     transform_segments,
 )
 from pico_studio.core.world_model import FLOATING, WorldModel
-from pico_studio.progress import Progress
 
 Pose = tuple[float, float, float]
 
@@ -65,7 +64,7 @@ class Tolerances:
 
 @dataclass
 class FrameScore:
-    """Sums for one frame; ratios come from `RunScore`."""
+    """Sums for one frame; ratios come from `run_score.RunScore`."""
 
     wall_len: float = 0.0
     wall_len_ok: float = 0.0
@@ -85,47 +84,6 @@ class FrameScore:
     truth_doors_ok: int = 0
     pose_err_m: float = 0.0
     pose_err_rad: float = 0.0
-
-
-@dataclass
-class RunScore:
-    frames: list[FrameScore] = field(default_factory=list)
-    ms_per_scan: list[float] = field(default_factory=list)
-
-    def add(self, frame: FrameScore) -> None:
-        self.frames.append(frame)
-
-    def total(self) -> FrameScore:
-        out = FrameScore()
-        for f in self.frames:
-            for fl in fields(FrameScore):
-                setattr(out, fl.name, getattr(out, fl.name) + getattr(f, fl.name))
-        return out
-
-    def summary(self) -> dict[str, Any]:
-        t = self.total()
-        n = max(len(self.frames), 1)
-        return {
-            "frames": len(self.frames),
-            "wall_precision": _ratio(t.wall_len_ok, t.wall_len),
-            "wall_recall": _ratio(t.truth_len_ok, t.truth_len),
-            "endpoint_error_m": _ratio(t.endpoint_err_sum, t.endpoints, empty=0.0),
-            "corner_precision": _ratio(t.corners_ok, t.corners),
-            "corner_recall": _ratio(t.truth_corners_ok, t.truth_corners),
-            "convexity_accuracy": _ratio(t.convexity_ok, t.corners_paired),
-            "door_precision": _ratio(t.doors_ok, t.doors),
-            "door_recall": _ratio(t.truth_doors_ok, t.truth_doors),
-            "doors_detected": t.doors,
-            "doors_visible": t.truth_doors,
-            "pose_error_m": t.pose_err_m / n,
-            "pose_error_rad": t.pose_err_rad / n,
-            "ms_per_scan": float(np.median(self.ms_per_scan)) if self.ms_per_scan else 0.0,
-        }
-
-
-def _ratio(num: float, den: float, empty: float = 1.0) -> float:
-    """num / den; with nothing to count, `empty` (nothing claimed is nothing wrong)."""
-    return float(num / den) if den > 0 else empty
 
 
 # ----- geometry helpers ----------------------------------------------------------------------
@@ -337,33 +295,8 @@ def true_zero_pose(wm: WorldModel, sim: Any) -> Pose | None:
     return compose(map_from_odom, tuple(wm.zero_pose))
 
 
-def run_scored(session: Any, sim: Any, seconds: float, dt: float, tol: Tolerances | None = None,
-               every: int = 1, progress: Progress | None = None) -> tuple[int, RunScore]:
-    """`session.run` that also scores every `every`-th new world model against `sim.truth`."""
-    tol = tol or Tolerances()
-    run = RunScore()
-    vertices = _static_vertices(sim)
-    ticks = scans = 0
-    last = None
-    start = sim.now()
-    end = start + seconds
-    while sim.ok() and sim.now() < end - 1e-9:
-        session.tick(min(dt, end - sim.now()))
-        ticks += 1
-        if progress is not None:
-            progress.set(sim.now() - start)
-        wm = session.world_model
-        if wm is None or wm is last:
-            continue
-        last = wm
-        run.ms_per_scan.append(wm.timings_ms.get("total", 0.0))
-        if scans % every == 0:
-            run.add(score_frame(wm, sim.truth, tol, true_zero=true_zero_pose(wm, sim), true_vertices=vertices))
-        scans += 1
-    return ticks, run
-
-
-def _static_vertices(sim: Any) -> np.ndarray:
+def static_vertices(sim: Any) -> np.ndarray:
+    """Every corner of the simulated world's static geometry (for the end-point error)."""
     static = sim.world.static
     if len(static) == 0:
         return np.zeros((0, 2))

@@ -1,6 +1,6 @@
 """Seeded generators of the behaviours' test worlds, as `GlobalMap`s with a start pose.
 
-    from worlds import escape_world, room_finder_world   # tests/ on sys.path
+    from pico_studio.evaluation.worlds import escape_world, room_finder_world
     w = escape_world(3)        # w.map: GlobalMap, w.start: (x, y, a), w.rooms: expected contents
 
 Escape rooms (issue 7): a rectangular room 3-6 m a side, an exit hallway 0.6-1.0 m wide and
@@ -154,3 +154,23 @@ def room_finder_world(seed: int) -> World:
         raise RuntimeError(f"room-finder world {seed}: no start that faces no room")
     a = rng.uniform(-math.pi, math.pi)
     return World(map=b.build(), start=(float(x), float(y), float(a)), rooms=rooms, seed=seed)
+
+
+GENERATORS = {"escape": escape_world, "rooms": room_finder_world}
+
+
+def make_world(spec: str) -> World:
+    """`escape:SEED` or `rooms:SEED` as a `World` (the spec is checked by `parse_world`)."""
+    kind, seed = parse_world(spec)
+    return GENERATORS[kind](seed)
+
+
+def parse_world(spec: str) -> tuple[str, int]:
+    """(generator name, seed) of `escape:SEED` / `rooms:SEED`; ValueError saying what is wrong."""
+    kind, _, seed = spec.partition(":")
+    if kind not in GENERATORS:
+        raise ValueError(f"unknown world {kind!r}; use {' or '.join(f'{k}:SEED' for k in GENERATORS)}")
+    try:
+        return kind, int(seed)
+    except ValueError:
+        raise ValueError(f"{kind}: needs an integer seed, e.g. {kind}:3, got {seed!r}") from None
