@@ -28,12 +28,12 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from pico_studio.cli.eval_cmd import random_free_poses
 from pico_studio.config import Config, with_value
 from pico_studio.core.behaviours.registry import Drive
 from pico_studio.core.perception import STAGES, Perceptor
 from pico_studio.core.perception.scan import process_scan
 from pico_studio.core.perception.segment import finish_pieces, segment_scan
+from pico_studio.evaluation.poses import random_free_poses
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sim.simulator import load_any_map

@@ -48,9 +48,9 @@ class Recorder:
         else:
             setattr(self.b, name, value)
 
-    def __call__(self, frame, wm):
+    def step(self, wm, laser, odometry, now, *, ok=True):  # the behaviour protocol
         self.xy.append(self.sim.truth.pose[:2])
-        return self.b(frame, wm)
+        return self.b.step(wm, laser, odometry, now, ok=ok)
 
 
 def panel(m: GlobalMap, xy: list, title: str) -> np.ndarray:

@@ -245,9 +245,14 @@ def _ray_free(origin: np.ndarray, angles: np.ndarray, segments: np.ndarray) -> n
     return np.where(ok, t, np.inf).min(axis=1)
 
 
+def as_pose(v: Any) -> Pose:
+    """Any (x, y, a) sequence as a pose tuple of floats."""
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
 def zero_to_map(wm: WorldModel, true_pose: Pose) -> Pose:
     """The pose of the world model's zero frame in the map frame, placed by the true pose."""
-    return compose(true_pose, invert(tuple(wm.pose)))
+    return compose(true_pose, invert(as_pose(wm.pose)))
 
 
 def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
@@ -257,7 +262,7 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     `true_zero`: the true pose at the frame the perceptor took as zero (for the pose error);
     `true_vertices`: every corner of the static geometry (for the end-point error; default
     the corners in view)."""
-    true_pose = tuple(truth.pose)
+    true_pose = as_pose(truth.pose)
     z = zero_to_map(wm, true_pose)
     walls = transform_segments(np.asarray(wm.local_map.walls, dtype=float), z)
     corners = transform_points(np.asarray(wm.corners, dtype=float).reshape(-1, 2), z)
@@ -281,7 +286,7 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     )
     if true_zero is not None:
         true_rel = relative(true_zero, true_pose)
-        err = relative(true_rel, tuple(wm.pose))
+        err = relative(true_rel, as_pose(wm.pose))
         s.pose_err_m, s.pose_err_rad = math.hypot(err[0], err[1]), abs(err[2])
     return s
 
@@ -291,8 +296,8 @@ def true_zero_pose(wm: WorldModel, sim: Any) -> Pose | None:
     map_T_odom = truth (x) odom^-1 now, applied to the zero pose's odometry reading."""
     if wm.zero_pose is None or sim.params.odometry.form != "absolute":
         return None
-    map_from_odom = compose(tuple(sim.truth.pose), invert(tuple(sim.truth.odometry_pose)))
-    return compose(map_from_odom, tuple(wm.zero_pose))
+    map_from_odom = compose(as_pose(sim.truth.pose), invert(as_pose(sim.truth.odometry_pose)))
+    return compose(map_from_odom, as_pose(wm.zero_pose))
 
 
 def static_vertices(sim: Any) -> np.ndarray:

@@ -152,10 +152,10 @@ def _scenario(d: dict[str, Any], base: Path, file: Path | None, where: str) -> S
             raise fail("world", str(e)) from None
         kw["world"] = str(d["world"])
     if d.get("recording") is not None:
-        kind, sep, rest = str(d["recording"]).partition(":")
-        if not sep or kind not in ("bag", "carmen") or not rest:
+        source, sep, rest = str(d["recording"]).partition(":")
+        if not sep or source not in ("bag", "carmen") or not rest:
             raise fail("recording", f"must be bag:FILE or carmen:FILE, got {d['recording']!r}")
-        kw["recording"] = f"{kind}:{_existing(rest, base, fail, 'recording')}"
+        kw["recording"] = f"{source}:{_existing(rest, base, fail, 'recording')}"
     if d.get("behaviour") is not None:
         spec = str(d["behaviour"])
         if not is_behaviour(spec):
@@ -164,12 +164,13 @@ def _scenario(d: dict[str, Any], base: Path, file: Path | None, where: str) -> S
             raise fail("behaviour", f"unknown behaviour {behaviour_name(spec)!r}"
                        f"{_did_you_mean(behaviour_name(spec), list(BEHAVIOURS))}")
         kw["behaviour"] = spec
-    for key, kind, lo in (("seed", int, None), ("poses", int, 1), ("frames", int, 1)):
+    numbers: list[tuple[str, type, float | None]] = [
+        ("seed", int, None), ("poses", int, 1), ("frames", int, 1),
+        ("seconds", float, 0.0), ("dt", float, 1e-6), ("turn", float, None), ("clearance", float, 0.0),
+    ]
+    for key, number, lo in numbers:
         if d.get(key) is not None:
-            kw[key] = _number(d[key], kind, lo, fail, key)
-    for key, lo in (("seconds", 0.0), ("dt", 1e-6), ("turn", None), ("clearance", 0.0)):
-        if d.get(key) is not None:
-            kw[key] = _number(d[key], float, lo, fail, key)
+            kw[key] = _number(d[key], number, lo, fail, key)
     if d.get("localise") is not None:
         if not isinstance(d["localise"], bool):
             raise fail("localise", f"must be true or false, got {d['localise']!r}")

@@ -91,8 +91,8 @@ def escape_world(seed: int) -> World:
     margin = 0.5
     x = rng.uniform(margin, w - margin)
     y = rng.uniform(margin, h - margin)
-    a = rng.uniform(-math.pi, math.pi)
-    return World(map=b.build(), start=(float(x), float(y), float(a)), seed=seed)
+    heading = rng.uniform(-math.pi, math.pi)
+    return World(map=b.build(), start=(float(x), float(y), float(heading)), seed=seed)
 
 
 def _box(b: _Builder, cx: float, cy: float, sx: float, sy: float) -> None:
@@ -131,10 +131,11 @@ def room_finder_world(seed: int) -> World:
                 # two feet, toes towards the entrance, 0.25 m apart
                 for side in (-1, 1):
                     f = centre + d * side * 0.125
-                    _box(b, *f, *np.abs(d * 0.09 + n * 0.26) + 0.0)
+                    sx, sy = np.abs(d * 0.09 + n * 0.26)
+                    _box(b, float(f[0]), float(f[1]), float(sx), float(sy))
             else:
                 size = rng.uniform(0.2, 0.4)
-                _box(b, *centre, size, size)
+                _box(b, float(centre[0]), float(centre[1]), size, size)
             rooms.append({"wall": k, "centre": [float(centre[0]), float(centre[1])],
                           "content": "person" if person else "object",
                           "objects": 2 if person else 1})
@@ -152,8 +153,8 @@ def room_finder_world(seed: int) -> World:
             break
     else:
         raise RuntimeError(f"room-finder world {seed}: no start that faces no room")
-    a = rng.uniform(-math.pi, math.pi)
-    return World(map=b.build(), start=(float(x), float(y), float(a)), rooms=rooms, seed=seed)
+    heading = rng.uniform(-math.pi, math.pi)
+    return World(map=b.build(), start=(float(x), float(y), float(heading)), rooms=rooms, seed=seed)
 
 
 GENERATORS = {"escape": escape_world, "rooms": room_finder_world}
