@@ -99,3 +99,14 @@ def test_scenarios_in_worker_processes_give_the_same_figures(tmp_path: Path) -> 
         assert a == b
     assert one.frames == two.frames == 20
     assert evaluate_scenario(ss.scenarios[0], Config()).metrics["walls.f1"] == one.per_scenario["a"].metrics["walls.f1"]
+
+
+def test_a_recording_scenario_replays_through_the_perceptor(tmp_path: Path) -> None:
+    log = ROOT / "tests" / "data" / "recordings" / "intel-corrected.log.gz"
+    p = write(tmp_path, f"scenarios:\n  - {{name: intel, recording: 'carmen:{log}', seconds: 30}}\n")
+    s = load_scenarios(p).scenarios[0]
+    assert s.method == "recording" and s.recording == f"carmen:{log.resolve()}"
+    r = evaluate_scenario(s, Config())
+    assert r.frames == r.summary["frames_read"] > 5 and r.summary["perceptor"]["frames_perceived"] == r.frames
+    assert r.summary["perceptor"]["truth_path_m"] >= 0.0
+    assert r.metrics == {}  # no map truth: counts only, nothing scored

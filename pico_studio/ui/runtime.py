@@ -122,10 +122,13 @@ class Studio:
     def _make_scorer(self) -> TruthScorer | None:
         """Scores against the simulator's truth (the live frames, at `ui.score_rate_hz`)."""
         truth = self.bundle.truth
-        if truth is None or self.cfg.ui.score_rate_hz <= 0:
+        if truth is None:
             return None
+        return TruthScorer(lambda: truth, every=self._score_every())
+
+    def _score_every(self) -> int:
         ui = self.cfg.ui
-        return TruthScorer(lambda: truth, every=max(1, round(ui.rate_hz / ui.score_rate_hz)))
+        return max(1, round(ui.rate_hz / ui.score_rate_hz)) if ui.score_rate_hz > 0 else 1
 
     def _localisation_map(self) -> Any:
         """The global map's distance field and prior (built once per map and field params)."""
@@ -200,7 +203,7 @@ class Studio:
             frame.behaviour_state = "teleop"
         elif self.behaviour is not None:
             self._note_behaviour(frame, self.behaviour)
-        if self.scorer is not None and frame.wm is not None:
+        if self.scorer is not None and frame.wm is not None and self.cfg.ui.score_rate_hz > 0:
             n = self.scorer.run.count
             try:
                 self.scorer.on_frame(sf)
@@ -284,6 +287,8 @@ class Studio:
     def set_config(self, cfg: Config) -> None:
         with self.lock:
             self.cfg = cfg
+            if self.scorer is not None:
+                self.scorer.every = self._score_every()
             lmap = self._localisation_map()
             if lmap is not self.lmap:  # a new field: every kept frame localises afresh in it
                 self.lmap = lmap
