@@ -19,6 +19,7 @@ recorded scans (all three segmenters) to F, and `--same-as F` checks them agains
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import pickle
 import statistics
@@ -52,10 +53,8 @@ def record(poses: int, frames: int, seed: int) -> list[list[tuple]]:
     for k, pose in enumerate(starts):
         sim = Simulator(gmap, cfg.sim, seed=seed + k, initial_pose=pose)
         session = Session(sim, behaviour=Drive(0.05, 0.0, 0.4))
-        seq = []
-        for _ in range(frames):
-            session.tick(0.05)
-            seq.append((session.last_laser, session.last_odometry))
+        seq = [(session.last_laser, session.last_odometry)
+               for _ in itertools.islice(session.frames(dt=0.05), frames)]
         runs.append(seq)
     return runs
 

@@ -188,3 +188,37 @@ def test_hospital_asks_the_door_on_its_plan_to_open_and_goes_through():
     r = run_behaviour(sim, HospitalTour(CFG.behaviour, m, [0], initial_pose=(1.0, 1.5, 0.0)), seconds=120)
     assert r["cabinets_visited"] == [0] and r["collisions"] == 0 and r["state"] == "done"
     assert sim.truth.pose[0] > 4.5
+
+
+def test_one_registry_makes_every_behaviour_with_the_step_protocol():
+    from pico_studio.core.behaviours.registry import BEHAVIOURS, Drive, register_behaviour
+    from pico_studio.core.behaviours.wander import Wander
+    from pico_studio.core.io import STOP, Command
+
+    m = load_json_map("pico_studio/data/maps/hospital_2019.json")
+    for name in BEHAVIOURS:
+        spec = "drive:0.1,0,0.2" if name == "drive" else name
+        b = make_behaviour(spec, CFG, m, (1.0, 1.0, 0.0))
+        cmd = b.step(None, None, None, 0.0, ok=True)
+        assert cmd is None or isinstance(cmd, Command), name
+        assert isinstance(b.result(), dict) and b.name == name
+    assert make_behaviour("drive:0.1,0,0.2", CFG).step(None, None, None, 0.0) == Command(0.1, 0.0, 0.2)
+    assert make_behaviour("drive:0.1,0,0.2", CFG).step(None, None, None, 0.0, ok=False) == STOP
+    assert make_behaviour("idle", CFG).step(None, None, None, 0.0) is None
+    assert make_behaviour("stop", CFG).step(None, None, None, 0.0) == STOP
+    # the whole config gives wander its section; bare behaviour params give it the defaults
+    tuned = CFG.ui.wander.__class__(speed=0.11)
+    from dataclasses import replace
+
+    cfg = replace(CFG, ui=replace(CFG.ui, wander=tuned))
+    assert make_behaviour("wander", cfg).params.speed == 0.11
+    assert isinstance(make_behaviour("wander", CFG.behaviour), Wander)
+    for bad, words in (("drive:1,2", "three numbers"), ("drive:1,nan,0", "finite"), ("idle:3", "no argument")):
+        with pytest.raises(UserError, match=words) as e:
+            make_behaviour(bad, CFG)
+        assert e.value.field == "--behaviour"
+    register_behaviour("creep", lambda arg, s, m, pose: Drive(0.05, 0, 0), help="slowly ahead")
+    try:
+        assert make_behaviour("creep", CFG).step(None, None, None, 0.0) == Command(0.05, 0.0, 0.0)
+    finally:
+        del BEHAVIOURS["creep"]

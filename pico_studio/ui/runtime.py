@@ -55,13 +55,14 @@ SourceFactory = Callable[[Config, GlobalMap | None], SourceBundle]
 
 def _check_behaviour(spec: str, field: str) -> str:
     name = spec.partition(":")[0].strip()
-    if name not in BEHAVIOURS:
+    if name not in REGISTRY and name != "teleop":
         raise UserError(f"unknown behaviour {name!r}; choose one of {', '.join(BEHAVIOURS)}", field=field)
     return name
 
 
-# what the behaviour dropdown offers: the registry's behaviours, and driving by hand
-BEHAVIOURS: tuple[str, ...] = (*REGISTRY, "teleop")
+# what the behaviour dropdown offers: the registry's behaviours (those a bare name makes),
+# and driving by hand; `set_behaviour` takes any registry spec (`drive:0.2,0,0`)
+BEHAVIOURS: tuple[str, ...] = (*(n for n, e in REGISTRY.items() if not e.needs_argument), "teleop")
 
 
 class Studio:

@@ -78,6 +78,8 @@ Factory = Callable[[str, Settings, "GlobalMap | None", "Pose | None"], Any]
 class Entry:
     factory: Factory
     help: str
+    needs_argument: bool = False  # only `name:ARGS` makes one (a menu without a text field skips it)
+    usage: str = ""  # how to spell it with its arguments, e.g. "drive:VX,VY,VA" (default: the name)
 
 
 def _no_arg(name: str, arg: str) -> None:
@@ -136,22 +138,23 @@ def _stop(arg: str, s: Settings, m: GlobalMap | None, pose: Pose | None) -> Any:
 
 
 BEHAVIOURS: dict[str, Entry] = {
-    "idle": Entry(_idle, "send nothing (the robot stands still)"),
-    "stop": Entry(_stop, "send zero velocity every tick"),
-    "drive": Entry(_drive, "drive:VX,VY,VA: the same base reference every tick"),
     "wander": Entry(_wander, "reactive wall-avoiding wander on the raw laser"),
     "escape-room": Entry(_escape_room, "find the exit of a room and drive out (issue 7)"),
     "room-finder": Entry(_room_finder, "visit the side rooms and count their objects"),
-    "hospital": Entry(_hospital, "hospital[:I,J,K]: visit the map's cabinets in that order (needs --map)"),
+    "hospital": Entry(_hospital, "visit the map's cabinets in that order (needs --map)", usage="hospital[:I,J,K]"),
+    "drive": Entry(_drive, "the same base reference every tick", needs_argument=True, usage="drive:VX,VY,VA"),
+    "idle": Entry(_idle, "send nothing (the robot stands still)"),
+    "stop": Entry(_stop, "send zero velocity every tick"),
 }
 
 # how long a run of each is given when the caller does not say (simulated seconds)
 DEFAULT_SECONDS = {"escape-room": 120.0, "room-finder": 300.0, "hospital": 400.0}
 
 
-def register_behaviour(name: str, factory: Factory, help: str = "") -> None:  # noqa: A002
+def register_behaviour(name: str, factory: Factory, help: str = "", *,  # noqa: A002
+                       needs_argument: bool = False, usage: str = "") -> None:
     """Add (or replace) a behaviour: `factory(arg, settings, global_map, pose)`."""
-    BEHAVIOURS[name] = Entry(factory, help)
+    BEHAVIOURS[name] = Entry(factory, help, needs_argument, usage)
 
 
 def behaviour_name(spec: str) -> str:
@@ -163,8 +166,8 @@ def is_behaviour(spec: str) -> bool:
 
 
 def behaviour_help() -> str:
-    """One line for `--behaviour`'s help: every name."""
-    return " | ".join(BEHAVIOURS)
+    """One line for `--behaviour`'s help: every name (with its argument when it takes one)."""
+    return " | ".join(e.usage or n for n, e in BEHAVIOURS.items())
 
 
 def settings(params: Any) -> Settings:
