@@ -7,7 +7,7 @@ or score a whole scenario set.
 At each of K random free poses (reachable from the simulator's start pose with `--clearance`
 from everything) a fresh perceptor watches the simulated robot turn slowly on the spot for
 `--frames` scans (so its local map can form); the last frame is scored and the scores are
-summed over all poses (`pico_studio.evaluation.runner.evaluate_poses`). A scenario set runs
+summed over all poses (`pico_studio.evaluation.runner.evaluate_map`). A scenario set runs
 each scenario (`evaluation.runner.evaluate_scenarios`) and prints each one's metrics and
 their mean. This module only parses and prints.
 """
@@ -16,17 +16,14 @@ from __future__ import annotations
 
 import argparse
 import json
-from typing import Any
 
 from pico_studio.config import load_config
 from pico_studio.errors import UserError
-from pico_studio.evaluation.frame_score import Tolerances
 from pico_studio.evaluation.metrics import DEFAULT_OBJECTIVE, METRICS
 from pico_studio.evaluation.run_score import summary_line
-from pico_studio.evaluation.runner import evaluate_poses, evaluate_scenarios, load_map
+from pico_studio.evaluation.runner import evaluate_map, evaluate_scenarios
 from pico_studio.evaluation.scenarios import load_scenarios
 from pico_studio.progress import Progress
-from pico_studio.sim.sim_config import load_sim_config
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -46,26 +43,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_eval)
 
 
-def evaluate(map_path: str, *, sim_config: str | None = None, config: str | None = None, seed: int = 0,
-             poses: int = 50, frames: int = 20, turn: float = 0.4, clearance: float = 0.4,
-             tol: Tolerances | None = None) -> dict[str, Any]:
-    """`eval --map`: the summary dict (see `RunScore.summary`), with the map and seed."""
-    cfg = load_config(config)
-    gmap = load_map(map_path, cfg)
-    sc = load_sim_config(sim_config) if sim_config is not None else None
-    with Progress(poses, "eval", "poses") as progress:
-        r = evaluate_poses(gmap, cfg, sc, seed=seed, poses=poses, frames=frames, turn=turn, clearance=clearance,
-                           localise=True, tol=tol, progress=progress, file=map_path)
-    return {"map": map_path, "seed": seed, **r}
-
-
 def _eval(args: argparse.Namespace) -> int:
     if args.scenarios is not None:
         return _eval_set(args)
     if args.map is None:
         raise UserError("give a map (--map FILE) or a scenario set (--scenarios FILE.yaml)", field="--map")
-    result = evaluate(args.map, sim_config=args.sim_config, config=args.config, seed=args.seed,
-                      poses=args.poses, frames=args.frames, turn=args.turn, clearance=args.clearance)
+    with Progress(args.poses, "eval", "poses") as progress:
+        result = evaluate_map(args.map, load_config(args.config), sim_config=args.sim_config, seed=args.seed,
+                              poses=args.poses, frames=args.frames, turn=args.turn, clearance=args.clearance,
+                              progress=progress)
     if args.json:
         print(json.dumps(result))
         return 0

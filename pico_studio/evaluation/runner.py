@@ -21,7 +21,12 @@ from typing import Any
 import numpy as np
 
 from pico_studio.config import Config
-from pico_studio.core.behaviours.registry import DEFAULT_SECONDS, behaviour_name, make_behaviour
+from pico_studio.core.behaviours.registry import (
+    DEFAULT_SECONDS,
+    Drive,
+    behaviour_name,
+    make_behaviour,
+)
 from pico_studio.core.localisation import DistanceField, Localiser
 from pico_studio.core.localisation.stage import LocalisingPerceptor
 from pico_studio.core.perception import Perceptor
@@ -91,8 +96,6 @@ def evaluate_poses(gmap: GlobalMap, cfg: Config, sim_config: SimConfigFile | Non
     localisation = PoseScore()
     localising = localise and cfg.localisation.enabled
     dfield = DistanceField.from_map(gmap, cfg.localisation.field) if localising else None
-    from pico_studio.core.behaviours.registry import Drive
-
     for k, pose in enumerate(starts):
         if progress is not None:
             progress.set(k)
@@ -112,6 +115,19 @@ def evaluate_poses(gmap: GlobalMap, cfg: Config, sim_config: SimConfigFile | Non
     if localising:
         out["localisation"] = localisation.summary()
     return out
+
+
+def evaluate_map(map_path: str, cfg: Config | None = None, *, sim_config: str | None = None, seed: int = 0,
+                 poses: int = 50, frames: int = 20, turn: float = 0.4, clearance: float = 0.4,
+                 tol: Tolerances | None = None, progress: Progress | None = None) -> dict[str, Any]:
+    """`pico-studio eval --map`: the eval method on a map file (read with `cfg.map`), localised
+    when `cfg.localisation.enabled`; the summary (see `evaluate_poses`) with the map and seed."""
+    cfg = cfg or Config()
+    gmap = load_map(map_path, cfg)
+    sc = load_sim_config(sim_config) if sim_config is not None else None
+    r = evaluate_poses(gmap, cfg, sc, seed=seed, poses=poses, frames=frames, turn=turn, clearance=clearance,
+                       localise=True, tol=tol, progress=progress, file=map_path)
+    return {"map": map_path, "seed": seed, **r}
 
 
 # ----- behaviour runs -------------------------------------------------------------------------
@@ -249,7 +265,7 @@ def evaluate_scenario(s: Scenario, cfg: Config, *, progress: Progress | None = N
             frames = s.poses * s.frames
         else:
             sim = Simulator(gmap, cfg.sim, sc, seed=s.seed, initial_pose=start)
-            if s.behaviour is not None and behaviour_name(s.behaviour) not in ("idle", "stop", "drive", "wander"):
+            if s.behaviour is not None and behaviour_name(s.behaviour) in DEFAULT_SECONDS:  # judged by outcome
                 summary = behaviour_run(s.behaviour, sim, cfg, seconds=s.seconds, dt=s.dt,
                                         localise=s.localise or None, progress=progress, expected_rooms=expected)
                 frames = int(summary["ticks"])
