@@ -188,3 +188,29 @@ def test_cabinet_and_room_judges_read_the_behaviour_and_compare() -> None:
     assert RoomsCounted(b, expected=[1, 2]).summary()["rooms_right"]  # the same rooms, another start
     assert not RoomsCounted(b, expected=[2, 2]).summary()["rooms_right"]
     assert "rooms_right" not in RoomsCounted(b).summary()
+
+
+def test_kept_truth_scores_the_replayed_frames_as_the_live_run_was_scored(maps_dir) -> None:
+    from pico_studio.config import with_value
+    from pico_studio.evaluation.kept_truth import TruthKeeper
+
+    gmap = load_json_map(maps_dir / "hospital_2019.json")
+    sim = Simulator(gmap, CFG.sim, seed=2, initial_pose=(3.5, 0.6, math.pi / 2))
+    keep, keeper, live_score = Keep(), TruthKeeper(sim), TruthScorer(sim)
+    Session(sim, perceptor=Perceptor(CFG.perception), behaviour=Drive(0.15, 0.0, 0.25),
+            observers=[keep, keeper, live_score]).run(2.0, 0.05)
+
+    def rejudge(perception) -> dict:  # noqa: ANN001
+        replay = FramesReplay([sf.frame for sf in keep.frames])
+        scorer = TruthScorer(lambda: keeper.at(replay.index), vertices=keeper.vertices)
+        Session(replay, perceptor=Perceptor(perception), observers=[scorer]).run(math.inf)
+        return scorer.summary()
+
+    def figures(s: dict) -> dict:
+        return {k: v for k, v in s.items() if k != "ms_per_scan"}
+
+    live = figures(live_score.summary())
+    assert live["frames"] == 40 and keeper.summary() == {"frames": 40}
+    assert figures(rejudge(CFG.perception)) == live
+    coarse = with_value(CFG, "perception.scan.min_length", 1.5).perception
+    assert figures(rejudge(coarse))["wall_recall"] < live["wall_recall"] - 0.05

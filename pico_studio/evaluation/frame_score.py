@@ -292,11 +292,16 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
 
 
 def true_zero_pose(wm: WorldModel, sim: Any) -> Pose | None:
-    """The true map pose of the frame the perceptor took as zero (absolute odometry only):
-    map_T_odom = truth (x) odom^-1 now, applied to the zero pose's odometry reading."""
-    if wm.zero_pose is None or sim.params.odometry.form != "absolute":
+    """The true map pose of the frame the perceptor took as zero (absolute odometry only)."""
+    return true_zero_from(wm, sim.truth, sim.params.odometry.form)
+
+
+def true_zero_from(wm: WorldModel, truth: Any, odometry_form: str) -> Pose | None:
+    """`true_zero_pose` from a truth with `pose` and `odometry_pose` (the simulator's or a kept
+    one): map_T_odom = truth (x) odom^-1 now, applied to the zero pose's odometry reading."""
+    if wm.zero_pose is None or odometry_form != "absolute":
         return None
-    map_from_odom = compose(as_pose(sim.truth.pose), invert(as_pose(sim.truth.odometry_pose)))
+    map_from_odom = compose(as_pose(truth.pose), invert(as_pose(truth.odometry_pose)))
     return compose(map_from_odom, as_pose(wm.zero_pose))
 
 

@@ -29,6 +29,7 @@ from pico_studio.evaluation.frame_score import (
     Tolerances,
     score_frame,
     static_vertices,
+    true_zero_from,
     true_zero_pose,
 )
 
@@ -123,8 +124,9 @@ class TruthScorer:
     """Scores every `every`-th new world model against the simulator's truth.
 
     `source`: the `Simulator` (its `truth`; the perceptor's zero frame is placed by the
-    odometry, `true_zero_pose`), or a callable giving the truth object now (the zero frame
-    is then the true pose of the first scored frame). `vertices`: the static corners for the
+    odometry, `true_zero_pose`), or a callable giving the truth object now: a kept one
+    (`kept_truth.TruthSnapshot`, placed by the odometry likewise) or any other (the zero
+    frame is then the true pose of the first scored frame). `vertices`: the static corners for the
     end-point error (default: the simulator's, or the corners in view). `run`: a `RunScore`
     to add to (several scorers may share one). `last_only`: score only the last world model,
     when `finish()` (or `summary()`) is called — the eval method's way."""
@@ -165,6 +167,8 @@ class TruthScorer:
         truth = self.truth()
         if self.sim is not None:
             zero = true_zero_pose(wm, self.sim)
+        elif hasattr(truth, "odometry_form"):
+            zero = true_zero_from(wm, truth, truth.odometry_form)
         else:
             if self.true_zero is None:
                 self.true_zero = tuple(truth.pose)  # type: ignore[assignment]
