@@ -18,11 +18,10 @@ reported on its own.
 - **Doors**: a detected door matches a true opening (`truth.door_openings()`: the map's doors
   and the gaps between wall ends of a door's width) when their middles are within
   `door_distance` and their directions within `door_angle`. Precision over detected doors
-  (against every opening), recall over the openings in view: `truth.visible_doors()` (middle
-  in view, both jambs in the field of view) whose two jambs are in view as well: the jamb's
-  point or one `jamb_reach` either side across the opening (a jamb is the middle of a thick
-  wall's end cap; those are the cap's corners) unoccluded. A door whose jamb is hidden cannot
-  be told from a wall's loose end; the perceptor reports it as a possible door at best.
+  (against every opening), recall over the openings in view: `truth.visible_doors()` (the
+  middle in view, and the scan's beams hit the wall at each jamb over a minimum length: see
+  `sim/truth.py`). A door whose jamb is not seen cannot be told from a wall's loose end; the
+  perceptor reports it as a possible door at best.
 - **Pose**: the perceptor's pose relative to its zero vs the true motion since that frame.
 
 Counts and lengths are summed over frames (`run_score.RunScore`), so a run's figures weigh
@@ -59,7 +58,6 @@ class Tolerances:
     corner_distance: float = 0.15  # m
     door_distance: float = 0.3  # m
     door_angle: float = 0.3  # rad
-    jamb_reach: float = 0.1  # m: a jamb is in view when a point this far across it is (a cap's corner)
 
 
 @dataclass
@@ -213,38 +211,6 @@ def score_arrays(
     return s
 
 
-def _jambs_in_view(doors: np.ndarray, pose: Pose, segments: np.ndarray, reach: float) -> np.ndarray:
-    """The doors whose two jambs are both in view: some point of each jamb — its middle or a
-    point up to `reach` either side across the opening (the corners of a thick wall's end
-    cap) — has a free ray from the robot up to 0.05 m before it."""
-    if len(doors) == 0 or len(segments) == 0:
-        return doors
-    d = doors[:, 2:4] - doors[:, 0:2]
-    normal = np.column_stack([-d[:, 1], d[:, 0]]) / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)[:, None]
-    offsets = np.array([-reach, 0.0, reach])
-    ok = np.ones(len(doors), dtype=bool)
-    for end in (doors[:, 0:2], doors[:, 2:4]):
-        pts = end[:, None, :] + offsets[None, :, None] * normal[:, None, :]
-        rel = pts.reshape(-1, 2) - np.array(pose[:2])
-        dist = np.hypot(rel[:, 0], rel[:, 1])
-        free = _ray_free(np.array(pose[:2]), np.arctan2(rel[:, 1], rel[:, 0]), segments)
-        ok &= (free >= dist - 0.05).reshape(len(doors), -1).any(axis=1)
-    return doors[ok]
-
-
-def _ray_free(origin: np.ndarray, angles: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """Distance along each ray to the nearest segment (inf for none)."""
-    c, s = np.cos(angles)[:, None], np.sin(angles)[:, None]
-    p = segments[None, :, 0:2] - origin
-    e = segments[None, :, 2:4] - segments[None, :, 0:2]
-    den = c * e[..., 1] - s * e[..., 0]
-    safe = np.where(np.abs(den) > 1e-12, den, 1.0)
-    t = (p[..., 0] * e[..., 1] - p[..., 1] * e[..., 0]) / safe
-    u = (p[..., 0] * s - p[..., 1] * c) / safe
-    ok = (np.abs(den) > 1e-12) & (t > 0) & (u >= 0) & (u <= 1)
-    return np.where(ok, t, np.inf).min(axis=1)
-
-
 def as_pose(v: Any) -> Pose:
     """Any (x, y, a) sequence as a pose tuple of floats."""
     return (float(v[0]), float(v[1]), float(v[2]))
@@ -268,7 +234,7 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     corners = transform_points(np.asarray(wm.corners, dtype=float).reshape(-1, 2), z)
     doors = transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4), z)
     vc = truth.visible_corners()
-    visible_doors = _jambs_in_view(truth.visible_doors(), true_pose, truth.segments(), tol.jamb_reach)
+    visible_doors = truth.visible_doors()
     s = score_arrays(
         walls=walls,
         endpoint_property=np.asarray(wm.local_map.endpoint_property),

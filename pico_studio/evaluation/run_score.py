@@ -27,6 +27,7 @@ from pico_studio.evaluation.frame_score import (
     FrameScore,
     Pose,
     Tolerances,
+    as_pose,
     score_frame,
     static_vertices,
     true_zero_from,
@@ -171,7 +172,7 @@ class TruthScorer:
             zero = true_zero_from(wm, truth, truth.odometry_form)
         else:
             if self.true_zero is None:
-                self.true_zero = tuple(truth.pose)  # type: ignore[assignment]
+                self.true_zero = as_pose(truth.pose)
             zero = self.true_zero
         return score_frame(wm, truth, self.tol, true_zero=zero, true_vertices=self.vertices)
 
@@ -197,7 +198,7 @@ class PoseErrorScorer:
         true = self.truth() if self.truth is not None else (sf.frame.truth or {}).get("pose")
         if true is None:
             return
-        self.score.add(wm.global_pose, tuple(true), wm.lost)  # type: ignore[arg-type]
+        self.score.add(wm.global_pose, as_pose(true), wm.lost)
 
     def summary(self) -> dict[str, Any]:
         return self.score.summary()

@@ -38,20 +38,14 @@ from pico_studio.evaluation.poses import random_free_poses
 from pico_studio.evaluation.run_score import PoseErrorScorer, PoseScore, RunScore, TruthScorer
 from pico_studio.evaluation.scenarios import Scenario, ScenarioSet
 from pico_studio.evaluation.worlds import make_world
-from pico_studio.json_map import GlobalMap
+from pico_studio.json_map import GlobalMap, load_map
 from pico_studio.progress import Progress, ProgressObserver
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sim.map_features import vertex_graph
 from pico_studio.sim.sim_config import SimConfigFile, load_sim_config
-from pico_studio.sim.simulator import load_any_map
 
 Pose = tuple[float, float, float]
-
-
-def load_map(path: str, cfg: Config) -> GlobalMap:
-    """The one way a run loads its map: JSON, or a heightmap read with `cfg.map.heightmap`."""
-    return load_any_map(path, cfg.map.heightmap)
 
 
 def make_perceptor(cfg: Config, global_map: GlobalMap | None = None, pose: Pose | None = None, *,
@@ -123,7 +117,7 @@ def evaluate_map(map_path: str, cfg: Config | None = None, *, sim_config: str | 
     """`pico-studio eval --map`: the eval method on a map file (read with `cfg.map`), localised
     when `cfg.localisation.enabled`; the summary (see `evaluate_poses`) with the map and seed."""
     cfg = cfg or Config()
-    gmap = load_map(map_path, cfg)
+    gmap = load_map(map_path, cfg.map)
     sc = load_sim_config(sim_config) if sim_config is not None else None
     r = evaluate_poses(gmap, cfg, sc, seed=seed, poses=poses, frames=frames, turn=turn, clearance=clearance,
                        localise=True, tol=tol, progress=progress, file=map_path)
@@ -286,7 +280,7 @@ def _world(s: Scenario, cfg: Config) -> tuple[GlobalMap, Pose | None, list[int] 
         expected = [int(r["objects"]) for r in w.rooms] if w.rooms else None  # type: ignore[call-overload]
         return w.map, w.start, expected
     assert s.map is not None
-    return load_map(s.map, cfg), None, None
+    return load_map(s.map, cfg.map), None, None
 
 
 def _recording(s: Scenario, cfg: Config, progress: Progress | None) -> dict[str, Any]:
@@ -297,7 +291,7 @@ def _recording(s: Scenario, cfg: Config, progress: Progress | None) -> dict[str,
 
     assert s.recording is not None
     replay = open_source(s.recording, cfg.sources)
-    gmap = load_map(s.map, cfg) if s.map is not None else None
+    gmap = load_map(s.map, cfg.map) if s.map is not None else None
     pose = replay.truth_pose() if s.localise else None
     perceptor = make_perceptor(cfg, gmap, pose, localise=s.localise and cfg.localisation.enabled)
     pose_error = PoseErrorScorer() if is_localising(perceptor) else None

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import difflib
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
@@ -73,7 +74,7 @@ class ScenarioSet:
     path: Path | None
     scenarios: list[Scenario] = field(default_factory=list)
 
-    def __iter__(self):  # noqa: ANN204
+    def __iter__(self) -> Iterator[Scenario]:
         return iter(self.scenarios)
 
     def __len__(self) -> int:
