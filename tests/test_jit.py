@@ -1,0 +1,100 @@
+"""The compiled loops: where their cache lives, that every one is warmed up, and that each
+gives the answers of its own Python (`.py_func`) on real scans of hospital_2019."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pico_studio import jit
+from pico_studio.config import Config
+from pico_studio.core.perception import (
+    segment_angle,
+    segment_ransac,
+    segment_refit,
+    segment_split_merge,
+)
+from pico_studio.core.perception.scan import process_scan
+from tests.jit_scenes import hospital_scans
+
+PACKAGE = Path(jit.__file__).resolve().parent
+P = Config().perception
+
+
+def test_every_module_with_a_kernel_is_warmed_up():
+    users = {
+        ".".join(f.relative_to(PACKAGE.parent).with_suffix("").parts)
+        for f in PACKAGE.rglob("*.py")
+        if f.name != "jit.py" and re.search(r"^from pico_studio\.jit import .*\bkernel\b", f.read_text(), re.M)
+    }
+    assert users == set(jit.KERNEL_MODULES)
+    assert len(jit.kernels()) >= len(users)
+
+
+def test_cache_folder_rules(tmp_path: Path):
+    writable = tmp_path / "pkg"
+    assert jit.choose_cache_dir({"NUMBA_CACHE_DIR": "/x"}, writable) == "/x"
+    assert jit.choose_cache_dir({"PICO_STUDIO_CACHE": "/y"}, writable) == str(Path("/y") / "numba")
+    assert jit.choose_cache_dir({}, writable) is None  # numba's own __pycache__ beside the sources
+    # a package folder nothing can be written in (below a file: fails even for root)
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    got = jit.choose_cache_dir({"XDG_CACHE_HOME": str(tmp_path / "xdg")}, blocker / "pkg")
+    assert got == str(tmp_path / "xdg" / "pico_studio" / "numba")
+    # and no writable user cache either: a per-user folder in the temp directory
+    got = jit.choose_cache_dir({"XDG_CACHE_HOME": str(blocker / "xdg")}, blocker / "pkg")
+    assert got is not None and got.endswith("numba") and Path(got).is_dir()
+
+
+@pytest.fixture(scope="module")
+def scans() -> list:
+    return [process_scan(laser, P.scan, P.proximity)[0] for laser in hospital_scans(12)]
+
+
+def _same(a: tuple | np.ndarray, b: tuple | np.ndarray) -> None:
+    for x, y in zip(a if isinstance(a, tuple) else (a,), b if isinstance(b, tuple) else (b,), strict=True):
+        assert x.dtype == y.dtype and x.shape == y.shape
+        np.testing.assert_allclose(x, y, rtol=0, atol=1e-12)
+
+
+def test_segmenters_compiled_equal_their_python(scans: list):
+    for s in scans:
+        pts, cl = np.ascontiguousarray(s.points), s.clusters.astype(np.int64)
+        pts32 = pts.astype(np.float32)
+        eps = P.split_merge.split_distance
+        _same(segment_split_merge._douglas_peucker(pts32, cl, eps), jit.py_func(segment_split_merge._douglas_peucker)(pts32, cl, eps))
+        a = P.angle
+        _same(segment_angle._walk(pts, cl, a.lookahead, a.angle_tolerance),
+              jit.py_func(segment_angle._walk)(pts, cl, a.lookahead, a.angle_tolerance))
+        r = P.ransac
+        args = (r.iterations, r.inlier_distance, r.max_gap_points)
+        _same(segment_ransac._extract(pts, cl, np.random.default_rng(r.seed), *args),
+              jit.py_func(segment_ransac._extract)(pts, cl, np.random.default_rng(r.seed), *args))
+
+
+def test_split_is_opencvs_douglas_peucker(scans: list):
+    """The compiled split returns exactly the vertices cv2.approxPolyDP finds (the earlier
+    production path), on real scans and on random noisy polylines."""
+    for s in scans:
+        np.testing.assert_array_equal(segment_split_merge.split(s.points, s.clusters, P.split_merge),
+                                      segment_split_merge.split_opencv(s.points, s.clusters, P.split_merge))
+    rng = np.random.default_rng(1)
+    for _ in range(100):
+        pts = np.cumsum(rng.normal(size=(int(rng.integers(3, 150)), 2)) * 0.05, axis=0)
+        cl = np.array([[0, len(pts)]])
+        np.testing.assert_array_equal(segment_split_merge.split(pts, cl, P.split_merge),
+                                      segment_split_merge.split_opencv(pts, cl, P.split_merge))
+
+
+def test_finish_compiled_equals_its_python(scans: list):
+    sp = P.scan
+    for s in scans:
+        pieces = segment_split_merge.split(s.points, s.clusters, P.split_merge)
+        args = (np.ascontiguousarray(s.points), pieces, s.clusters.astype(np.int64), s.end_seen,
+                sp.merge_angle, sp.min_points, sp.min_length, sp.max_rms, sp.seen_margin, sp.seen_points)
+        got = segment_refit.finish_kernel(*args)
+        assert len(got[0]) >= 3  # real walls came out
+        _same(got, jit.py_func(segment_refit.finish_kernel)(*args))
