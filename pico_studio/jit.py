@@ -42,6 +42,8 @@ KERNEL_MODULES = (
     "pico_studio.core.perception.segment_split_merge",
     "pico_studio.core.perception.segment_angle",
     "pico_studio.core.perception.segment_ransac",
+    "pico_studio.core.perception.corners",
+    "pico_studio.core.perception.laser_motion",
 )
 
 

@@ -98,3 +98,27 @@ def test_finish_compiled_equals_its_python(scans: list):
         got = segment_refit.finish_kernel(*args)
         assert len(got[0]) >= 3  # real walls came out
         _same(got, jit.py_func(segment_refit.finish_kernel)(*args))
+
+
+def test_corners_and_laser_motion_compiled_equal_their_python(scans: list):
+    from pico_studio.core.perception import corners, laser_motion
+
+    c = P.corners
+    k = max(1, int(round(c.vector_step / max(P.scan.min_spacing, 1e-3))))
+    found = 0
+    previous = None
+    for s in scans:
+        pts = np.ascontiguousarray(s.points)
+        _same(corners._spikes(pts, c.spike_gap, c.spike_max_range), jit.py_func(corners._spikes)(pts, c.spike_gap, c.spike_max_range))
+        args = (pts, s.clusters.astype(np.int64), k, c.vector_tolerance)
+        got = corners._vectors(*args)
+        _same(got, jit.py_func(corners._vectors)(*args))
+        found += len(got[0])
+        now = pts[got[0]]
+        if previous is not None and len(previous) and len(now):
+            # the same corners seen from a little further on: a real match and fit
+            margs = (previous, previous @ np.array([[0.999, 0.04], [-0.04, 0.999]]) + 0.02, 0.0, 0.0, 0.0, 0.3, 5)
+            assert laser_motion._match_and_fit(*margs) == jit.py_func(laser_motion._match_and_fit)(*margs)
+            assert laser_motion._match_and_fit(*margs)[3] == len(previous)
+        previous = now
+    assert found > 10
