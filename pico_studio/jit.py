@@ -45,6 +45,7 @@ KERNEL_MODULES = (
     "pico_studio.core.perception.corners",
     "pico_studio.core.perception.laser_motion",
     "pico_studio.core.localisation.match_kernels",
+    "pico_studio.core.behaviours.planner",
 )
 
 
