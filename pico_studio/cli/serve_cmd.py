@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import threading
 import time
 from pathlib import Path
 
@@ -49,13 +50,33 @@ def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioAp
 
 
 def _serve(args: argparse.Namespace) -> int:
+    from pico_studio import jit
+
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     logging.getLogger("websockets").setLevel(logging.WARNING)  # not a line per tab
+    # compiled loops: loaded from numba's cache (warm: about a second) or compiled (cold)
+    # in the background while the page comes up
+    warm = jit.warm_up_in_background()
     app = build_app(args, verbose=False)
+    cold = warm.is_alive()
+    if cold:  # hold the loop until compiled: a tick would wait for the compiler, holding the page
+        play, app.studio.playing = app.studio.playing, False
     app.start()
     print(f"pico-studio: serving {app.studio.map_name} at {app.url}  (Ctrl-C stops)", flush=True)
+    if cold:
+        print("pico-studio: compiling the fast paths (first start after an install or update; cached "
+              "afterwards): the robot starts when that is done", flush=True)
+        threading.Thread(target=_play_when_warm, args=(app, warm, play), daemon=True).start()
     try:
         while True:
             time.sleep(3600)
     finally:
         app.stop()
+
+
+def _play_when_warm(app, warm: threading.Thread, play: bool) -> None:  # noqa: ANN001 (a StudioApp)
+    warm.join()
+    print("pico-studio: fast paths compiled", flush=True)
+    if play and not app.studio.playing:
+        app.studio.playing = True
+        app._sync_play_button()
