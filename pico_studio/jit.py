@@ -23,7 +23,6 @@ real calls use: `./dev setup` runs it once, the tests once per session (tests/co
 
 from __future__ import annotations
 
-import functools
 import importlib
 import os
 import sys
@@ -32,7 +31,7 @@ import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar, cast
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 
@@ -89,18 +88,27 @@ if _chosen is not None and numba.config.CACHE_DIR != _chosen:  # numba was impor
 _KERNELS: list[tuple[Any, Callable[[], tuple]]] = []
 
 
-def kernel(example: Callable[[], tuple]) -> Callable[[Callable], Any]:
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def kernel(example: Callable[[], tuple]) -> Callable[[F], F]:
     """Compile a function with numba (cached, nopython) and register it for `warm_up`.
 
     `example()` returns tiny arguments of the same types (dtype, dimensions, contiguity) as
-    the real calls, so warming up compiles the very specialisation the real calls use."""
+    the real calls, so warming up compiles the very specialisation the real calls use. (Typed
+    as the function itself: a kernel is called like it; `py_func(k)` is its Python.)"""
 
-    def wrap(fn: Callable) -> Any:
+    def wrap(fn: F) -> F:
         compiled = numba.njit(cache=True, nogil=True)(fn)
         _KERNELS.append((compiled, example))
-        return compiled
+        return cast(F, compiled)
 
     return wrap
+
+
+def njit(fn: F) -> F:
+    """Compile a helper that kernels call (cached, nopython); warmed up through its callers."""
+    return cast(F, numba.njit(cache=True, nogil=True)(fn))
 
 
 def kernels() -> list[Any]:
@@ -140,7 +148,6 @@ def py_func(f: Any) -> Callable:
     return getattr(f, "py_func", f)
 
 
-njit = functools.partial(numba.njit, cache=True, nogil=True)  # for helpers called by kernels
 
 
 def main() -> None:

@@ -85,7 +85,7 @@ class DistanceField:
 
     @property
     def shape(self) -> tuple[int, int]:
-        return self.field.shape  # type: ignore[return-value]
+        return self.field.shape
 
     def _grid(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Fractional (column, row) of every point."""
@@ -96,14 +96,6 @@ class DistanceField:
         pts = np.ascontiguousarray(points, dtype=np.float64)
         d = field_distance(self.field, self.x0, self.y0, self.resolution, pts.reshape(-1, 2))
         return d.reshape(pts.shape[:-1])
-
-    def distance_nearest_cell(self, points: np.ndarray) -> np.ndarray:
-        """Distance of the nearest grid node: cheaper than `distance`, for coarse search."""
-        h, w = self.field.shape
-        c, r = self._grid(points)
-        ci = np.clip(np.rint(c).astype(np.int64), 0, w - 1)
-        ri = np.clip(np.rint(r).astype(np.int64), 0, h - 1)
-        return self.field[ri, ci]
 
     def coarse(self, stride: int, truncation: float, pad: int) -> np.ndarray:
         """Every `stride`-th node's distance, truncated, padded by `pad` nodes of `truncation`
