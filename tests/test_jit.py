@@ -129,7 +129,6 @@ def test_matcher_compiled_equals_its_python():
     pose: the compiled loops give their Python's answers, and the refinement finds the pose."""
     from pico_studio.core.localisation import match_kernels as mk
     from pico_studio.core.localisation.distance_field import DistanceField
-    from pico_studio.core.localisation.inputs import laser_points
     from pico_studio.core.localisation.matcher import usable_points
     from tests.jit_scenes import hospital_frames
 
@@ -139,7 +138,7 @@ def test_matcher_compiled_equals_its_python():
     m = cfg.matcher
     grid = (f.field, f.segment_index, f.x0, f.y0, f.resolution, f.segments, f.normals)
     for sim, laser, _ in frames:
-        pts = np.ascontiguousarray(usable_points(laser_points(laser), m.max_range))
+        pts = np.ascontiguousarray(usable_points(laser.points, m.max_range))
         x, y, a = sim.truth.pose
         start = (x + 0.08, y - 0.05, a + 0.04)
         args = (*grid, np.ascontiguousarray(pts[:: m.beam_stride]), *start, m.iterations, m.outlier_distance,
