@@ -23,13 +23,14 @@ real calls use: `./dev setup` runs it once, the tests once per session (tests/co
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import os
 import sys
 import tempfile
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any, TypeVar, cast
 
@@ -86,6 +87,7 @@ if _chosen is not None and numba.config.CACHE_DIR != _chosen:  # numba was impor
 
 # (compiled function, example-arguments factory) of every kernel, in definition order
 _KERNELS: list[tuple[Any, Callable[[], tuple]]] = []
+_HELPERS: list[Any] = []  # compiled helpers kernels call (swapped by `uncompiled` too)
 
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -108,7 +110,30 @@ def kernel(example: Callable[[], tuple]) -> Callable[[F], F]:
 
 def njit(fn: F) -> F:
     """Compile a helper that kernels call (cached, nopython); warmed up through its callers."""
-    return cast(F, numba.njit(cache=True, nogil=True)(fn))
+    compiled = numba.njit(cache=True, nogil=True)(fn)
+    _HELPERS.append(compiled)
+    return cast(F, compiled)
+
+
+@contextlib.contextmanager
+def uncompiled() -> Iterator[None]:
+    """Within: every kernel and helper is its plain Python (`py_func`), wherever a module of
+    the package holds it — the same-process peer the benchmarks time the compiled code
+    against. Not thread-safe: for benchmarks and tests only."""
+    kernels()
+    compiled = {id(k): k for k in [k for k, _ in _KERNELS] + _HELPERS}
+    swaps = []
+    for mod in list(sys.modules.values()):
+        if getattr(mod, "__name__", "").startswith("pico_studio"):
+            for name, value in list(vars(mod).items()):
+                if id(value) in compiled and hasattr(value, "py_func"):
+                    swaps.append((mod, name, value))
+                    setattr(mod, name, value.py_func)
+    try:
+        yield
+    finally:
+        for mod, name, value in swaps:
+            setattr(mod, name, value)
 
 
 def kernels() -> list[Any]:

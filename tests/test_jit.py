@@ -157,3 +157,35 @@ def test_matcher_compiled_equals_its_python():
               jit.py_func(mk.field_distance)(f.field, f.x0, f.y0, f.resolution, xy))
         _same(mk.field_nearest(f.segment_index, f.x0, f.y0, f.resolution, xy),
               jit.py_func(mk.field_nearest)(f.segment_index, f.x0, f.y0, f.resolution, xy))
+
+
+def test_whole_perceptor_and_localiser_give_the_same_answers_uncompiled():
+    """The perceptor and the localiser on real scans, once compiled and once with every
+    kernel swapped for its Python (`jit.uncompiled`): the same world models and poses."""
+    from benchmarks.bench_perception import first_difference
+    from pico_studio.core.localisation import Localiser
+    from pico_studio.core.perception import Perceptor
+    from tests.jit_scenes import hospital_frames
+
+    cfg = Config()
+    frames = hospital_frames(3)
+    gmap = frames[0][0].world.map
+
+    def run() -> list:
+        out = []
+        for sim, laser, odom in frames:
+            wm = Perceptor(cfg.perception).step(laser, odom).to_dict()
+            wm.pop("timings_ms")
+            loc = Localiser(cfg.localisation, gmap, initial_pose=sim.truth.pose)
+            out.append((wm, loc.step(laser.points, (0.0, 0.0, 0.0)).pose))
+        return out
+
+    fast = run()
+    with jit.uncompiled():
+        assert segment_refit.finish_kernel is jit.py_func(segment_refit.finish_kernel)
+        slow = run()
+    assert segment_refit.finish_kernel is not jit.py_func(segment_refit.finish_kernel)
+    assert first_difference([w for w, _ in fast], [w for w, _ in slow], tol=1e-12) is None
+    assert all(len(w["current_map"]) >= 3 for w, _ in fast)
+    for (_, a), (_, b) in zip(fast, slow, strict=True):
+        assert a is not None and np.allclose(a, b, rtol=0, atol=1e-12)
