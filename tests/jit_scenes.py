@@ -10,8 +10,8 @@ import numpy as np
 from pico_studio.cli.eval_cmd import random_free_poses
 from pico_studio.config import Config
 from pico_studio.core.io import LaserData, OdometryData
+from pico_studio.json_map import load_map
 from pico_studio.sim import Simulator
-from pico_studio.sim.simulator import load_any_map
 from tests.conftest import MAPS
 
 
@@ -19,7 +19,7 @@ from tests.conftest import MAPS
 def hospital_frames(k: int, seed: int = 0) -> tuple[tuple[Simulator, LaserData, OdometryData | None], ...]:
     """K (simulator, its first scan, its odometry) of hospital_2019, each at its own free pose."""
     cfg = Config()
-    gmap = load_any_map(MAPS / "hospital_2019.json")
+    gmap = load_map(MAPS / "hospital_2019.json")
     first = Simulator(gmap, cfg.sim, seed=seed)
     poses = random_free_poses(first.world.segments(), first.truth.pose[:2], k, 0.4,
                               np.random.default_rng(seed), gmap.bounds)
