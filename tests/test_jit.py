@@ -3,6 +3,7 @@ gives the answers of its own Python (`.py_func`) on real scans of hospital_2019.
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -188,3 +189,29 @@ def test_whole_perceptor_and_localiser_give_the_same_answers_uncompiled():
     assert all(len(w["current_map"]) >= 3 for w, _ in fast)
     for (_, a), (_, b) in zip(fast, slow, strict=True):
         assert a is not None and np.allclose(a, b, rtol=0, atol=1e-12)
+
+
+def test_wall_coverage_is_the_sampled_coverage_of_the_scoring():
+    """The compiled wall coverage against the scoring's numpy sampling + `covered`, on the
+    simulator's visible walls and a perceived local map of real hospital frames."""
+    from pico_studio.core.geometry import transform_segments
+    from pico_studio.core.perception import Perceptor
+    from pico_studio.evaluation import score_kernels as sk
+    from pico_studio.sim import scoring
+    from tests.jit_scenes import hospital_frames
+
+    tol = scoring.Tolerances()
+    checked = 0
+    for sim, laser, odom in hospital_frames(6):
+        wm = Perceptor(Config().perception).step(laser, odom)
+        walls = transform_segments(np.asarray(wm.local_map.walls, dtype=float), scoring.zero_to_map(wm, sim.truth.pose))
+        for segs, targets in ((walls, sim.truth.segments()), (sim.truth.visible_walls(), walls)):
+            segs, targets = np.ascontiguousarray(segs), np.ascontiguousarray(targets)
+            pts, owner, weight = scoring._samples(segs, tol.sample_step)
+            ok = scoring.covered(pts, scoring._dirs(segs)[owner], targets, tol)
+            args = (segs, tol.sample_step, targets, tol.wall_distance, math.cos(tol.wall_angle))
+            got = sk.wall_coverage(*args)
+            assert got == jit.py_func(sk.wall_coverage)(*args)
+            np.testing.assert_allclose(got, (weight.sum(), weight[ok].sum()), rtol=1e-12)
+            checked += ok.sum() > 0
+    assert checked >= 6
