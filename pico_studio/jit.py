@@ -3,7 +3,9 @@
 Every hot loop of the core (segmenters, refit, corners, the localisation matcher, the
 planner, truth scoring, the simulator's raycast) is a plain Python function decorated with
 `kernel(example)`: numba compiles it on first call (`nopython`, `cache=True`, no fast-math,
-so it gives the same floats as the Python it was written as), and the uncompiled function
+so it gives the same floats as the Python it was written as; numpy's error model, so a
+division by zero gives inf or NaN as numpy's float64 does instead of raising), and the
+uncompiled function
 stays reachable as `f.py_func` — the reference the tests and benchmarks compare against.
 
 The cache. numba keeps compiled code next to the source (`__pycache__`) when that folder is
@@ -47,6 +49,7 @@ KERNEL_MODULES = (
     "pico_studio.core.localisation.match_kernels",
     "pico_studio.core.behaviours.planner",
     "pico_studio.evaluation.score_kernels",
+    "pico_studio.sim.raycast",
 )
 
 
@@ -87,6 +90,7 @@ if _chosen is not None and numba.config.CACHE_DIR != _chosen:  # numba was impor
     numba.config.reload_config()
 
 # (compiled function, example-arguments factory) of every kernel, in definition order
+_OPTIONS: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy"}
 _KERNELS: list[tuple[Any, Callable[[], tuple]]] = []
 _HELPERS: list[Any] = []  # compiled helpers kernels call (swapped by `uncompiled` too)
 
@@ -102,7 +106,7 @@ def kernel(example: Callable[[], tuple]) -> Callable[[F], F]:
     as the function itself: a kernel is called like it; `py_func(k)` is its Python.)"""
 
     def wrap(fn: F) -> F:
-        compiled = numba.njit(cache=True, nogil=True)(fn)
+        compiled = numba.njit(**_OPTIONS)(fn)
         _KERNELS.append((compiled, example))
         return cast(F, compiled)
 
@@ -111,7 +115,7 @@ def kernel(example: Callable[[], tuple]) -> Callable[[F], F]:
 
 def njit(fn: F) -> F:
     """Compile a helper that kernels call (cached, nopython); warmed up through its callers."""
-    compiled = numba.njit(cache=True, nogil=True)(fn)
+    compiled = numba.njit(**_OPTIONS)(fn)
     _HELPERS.append(compiled)
     return cast(F, compiled)
 

@@ -215,3 +215,22 @@ def test_wall_coverage_is_the_sampled_coverage_of_the_scoring():
             np.testing.assert_allclose(got, (weight.sum(), weight[ok].sum()), rtol=1e-12)
             checked += ok.sum() > 0
     assert checked >= 6
+
+
+def test_raycast_compiled_equals_its_python_and_the_plain_ray_test():
+    from pico_studio.sim import raycast
+    from tests.jit_scenes import hospital_frames
+
+    frames = hospital_frames(4)
+    segs = np.ascontiguousarray(frames[0][0].world.segments())
+    fan = raycast.Fan(-2.0, 4.0 / 999, 1000)
+    for sim, _, _ in frames:
+        x, y, a = sim.truth.pose
+        args = (segs, x, y, math.cos(a), math.sin(a), fan.turn, fan.angle_min, fan.increment,
+                fan._top, fan._bottom, fan._half_turn)
+        ranges, hits = raycast._cast(*args)
+        _same((ranges, hits), jit.py_func(raycast._cast)(*args))
+        # the plain (rays x segments) test agrees on every tenth beam
+        angles = a + fan.angle_min + np.arange(0, 1000, 10) * fan.increment
+        np.testing.assert_allclose(ranges[::10], raycast.cast_rays((x, y), angles, segs), rtol=1e-9)
+        assert (hits[np.isfinite(ranges)] >= 0).all()
