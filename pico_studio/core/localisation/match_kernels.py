@@ -260,3 +260,26 @@ def through_kernel(index: np.ndarray, x0: float, y0: float, res: float, segments
                     break
             prev_k, prev_side, prev_x, prev_y = k, side, qx, qy
     return crossed / nb
+
+
+def _coarse_example() -> tuple:
+    grid = np.ones((6, 6), dtype=np.float32)
+    return grid, np.zeros((2, 3, 2), dtype=np.int64), 2, 2, 2, 2
+
+
+@kernel(_coarse_example)
+def coarse_scores(grid: np.ndarray, offsets: np.ndarray, r0: int, c0: int, ny: int, nx: int) -> np.ndarray:
+    """(H, ny, nx) float32: per heading h and grid position (i, j), the sum over the points of
+    the padded coarse field at the point's node, grid[r0 + di + i, c0 + dj + j] with
+    (dj, di) = offsets[h, point] — matcher.coarse_candidates' shifted-slice sums, in the
+    same order (float32, point by point)."""
+    n_h, n_p = offsets.shape[0], offsets.shape[1]
+    scores = np.zeros((n_h, ny, nx), dtype=np.float32)
+    for h in range(n_h):
+        for k in range(n_p):
+            r = r0 + offsets[h, k, 1]
+            q = c0 + offsets[h, k, 0]
+            for i in range(ny):
+                for j in range(nx):
+                    scores[h, i, j] += grid[r + i, q + j]
+    return scores

@@ -33,6 +33,7 @@ from pico_studio.config.localisation_params import MatcherParams, SearchParams
 from pico_studio.core.geometry import wrap_angle
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.match_kernels import (
+    coarse_scores,
     quality_kernel,
     refine_kernel,
     through_kernel,
@@ -192,16 +193,13 @@ def coarse_candidates(
         return []
     ny, nx = i1 - i0 + 1, j1 - j0 + 1
 
-    scores = np.empty((len(hs), ny, nx), dtype=np.float32)
+    # per heading, every point's offset in whole nodes; the scores: one compiled loop
+    offsets = np.empty((len(hs), len(pts), 2), dtype=np.int64)
     for h, dh in enumerate(hs):
         a = heading + dh
         c, s = math.cos(a), math.sin(a)
-        offsets = np.rint(pts @ np.array([[c, s], [-s, c]]) / step).astype(np.int64)
-        acc = np.zeros((ny, nx), dtype=np.float32)
-        for dj, di in offsets:
-            r, q = pad + i0 + di, pad + j0 + dj
-            acc += grid[r : r + ny, q : q + nx]
-        scores[h] = acc
+        offsets[h] = np.rint(pts @ np.array([[c, s], [-s, c]]) / step)
+    scores = coarse_scores(np.ascontiguousarray(grid, dtype=np.float32), offsets, pad + i0, pad + j0, ny, nx)
 
     # best first; skip candidates close to one already taken (non-maximum suppression)
     order = np.argsort(scores, axis=None)
