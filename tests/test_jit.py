@@ -153,9 +153,9 @@ def test_matcher_compiled_equals_its_python():
         t = (f.segment_index, f.x0, f.y0, f.resolution, f.segments, f.normals, passable, pts[::8],
              m.ray_step, m.ray_clearance, x + 0.4, y, a + 0.3)
         assert mk.through_kernel(*t) == jit.py_func(mk.through_kernel)(*t)
-        grid = f.coarse(4, 0.3, 40)
+        coarse = f.coarse(4, 0.3, 40)
         offs = np.random.default_rng(0).integers(-30, 30, size=(3, 40, 2))
-        _same(mk.coarse_scores(grid, offs, 40, 40, 20, 25), jit.py_func(mk.coarse_scores)(grid, offs, 40, 40, 20, 25))
+        _same(mk.coarse_scores(coarse, offs, 40, 40, 20, 25), jit.py_func(mk.coarse_scores)(coarse, offs, 40, 40, 20, 25))
         xy = np.ascontiguousarray(pts[:50] + (x, y))
         _same(mk.field_distance(f.field, f.x0, f.y0, f.resolution, xy),
               jit.py_func(mk.field_distance)(f.field, f.x0, f.y0, f.resolution, xy))
