@@ -98,27 +98,19 @@ def rejudge(runs: list[list[dict[str, Any]]], limit: int | None = None) -> tuple
     return cpu, out
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--poses", type=int, default=12)
-    ap.add_argument("--frames", type=int, default=200)
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--python-frames", type=int, default=100)
-    args = ap.parse_args()
+def measure(poses: int, frames: int, repeats: int, python_frames: int) -> dict[str, Any]:
+    """Scoring a frame (compiled / uncompiled ms), re-judging the run (CPU s), same answers."""
     warm_up()
-    runs = record(args.poses, args.frames)
-    n = sum(len(s) for s in runs)
-    print(f"hospital_2019: {n} recorded frames; {load()}")
-    # world models once, then the scoring alone
+    runs = record(poses, frames)
     params = Config().perception
-    pairs = []
+    pairs = []  # world models once, then the scoring alone
     for seq in runs:
         p = Perceptor(params)
         pairs += [(p.step(f["laser"], f["odom"]), f) for f in seq]
 
     def per_frame(items: list) -> float:
         times = []
-        for _ in range(args.repeats):
+        for _ in range(repeats):
             for wm, f in items:
                 c0 = time.process_time()
                 score(wm, f)
@@ -127,17 +119,33 @@ def main() -> None:
 
     fast = per_frame(pairs)
     with uncompiled():
-        slow = per_frame(pairs[: args.python_frames])
-    print(f"  scoring a frame     {fast:8.3f} ms compiled  {slow:8.3f} ms .py_func  ({slow / fast:.1f}x)")
-    cpu, summary = rejudge(runs)
-    print(f"  re-judging the run  {cpu:8.2f} s CPU for {n} frames ({cpu / n * 1000:.3f} ms a frame: perceive + score)")
-    _, a = rejudge(runs, args.python_frames)
+        slow = per_frame(pairs[:python_frames])
+    cpu, _ = rejudge(runs)
+    _, a = rejudge(runs, python_frames)
     with uncompiled():
-        _, b = rejudge(runs, args.python_frames)
+        _, b = rejudge(runs, python_frames)
     same = all(math.isclose(a[k], b[k], rel_tol=1e-9, abs_tol=1e-12) for k in a)
-    print(f"  same answers compiled and uncompiled ({args.python_frames} frames, every eval figure): {same}")
-    if not same:
-        raise SystemExit(f"differ: {a} vs {b}")
+    return {"frames": len(pairs), "score_ms": fast, "score_ms_python": slow, "rejudge_s": cpu,
+            "same": same, "compiled": a, "uncompiled": b}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--poses", type=int, default=12)
+    ap.add_argument("--frames", type=int, default=200)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--python-frames", type=int, default=100)
+    args = ap.parse_args()
+    r = measure(args.poses, args.frames, args.repeats, args.python_frames)
+    n = r["frames"]
+    print(f"hospital_2019: {n} recorded frames; {load()}")
+    print(f"  scoring a frame     {r['score_ms']:8.3f} ms compiled  {r['score_ms_python']:8.3f} ms .py_func  "
+          f"({r['score_ms_python'] / r['score_ms']:.1f}x)")
+    print(f"  re-judging the run  {r['rejudge_s']:8.2f} s CPU for {n} frames "
+          f"({r['rejudge_s'] / n * 1000:.3f} ms a frame: perceive + score)")
+    print(f"  same answers compiled and uncompiled ({args.python_frames} frames, every eval figure): {r['same']}")
+    if not r["same"]:
+        raise SystemExit(f"differ: {r['compiled']} vs {r['uncompiled']}")
 
 
 if __name__ == "__main__":
