@@ -42,6 +42,8 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator,
         stack[top, 0], stack[top, 1] = clusters[c, 0], clusters[c, 1] - 1
         top += 1
     hits = np.empty(m_all, dtype=np.int64)  # inlier indices of the best hypothesis
+    xs = np.ascontiguousarray(points[:, 0])
+    ys = np.ascontiguousarray(points[:, 1])
     while top > 0:
         top -= 1
         s, e = stack[top, 0], stack[top, 1]
@@ -56,15 +58,15 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator,
         for h in range(iterations + 1):
             i = s + (0 if h == 0 else i_draw[h - 1])
             j = s + (m - 1 if h == 0 else j_draw[h - 1])
-            ax, ay = points[i, 0], points[i, 1]
-            abx, aby = points[j, 0] - ax, points[j, 1] - ay
+            ax, ay = xs[i], ys[i]
+            abx, aby = xs[j] - ax, ys[j] - ay
             norm = np.hypot(abx, aby)
             if not norm > 1e-9:
                 continue
+            thr = inlier_distance * norm
             count = 0
-            for q in range(s, e + 1):
-                d = abs(abx * (points[q, 1] - ay) - aby * (points[q, 0] - ax))
-                count += d <= inlier_distance * norm
+            for q in range(s, e + 1):  # x and y apart: a loop the compiler vectorises
+                count += abs(abx * (ys[q] - ay) - aby * (xs[q] - ax)) <= thr
             if count > best_count:
                 best_count = count
                 best_h = h
