@@ -54,19 +54,17 @@ def _serve(args: argparse.Namespace) -> int:
 
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     logging.getLogger("websockets").setLevel(logging.WARNING)  # not a line per tab
-    # compiled loops: loaded from numba's cache (warm: about a second) or compiled (cold)
-    # in the background while the page comes up
-    warm = jit.warm_up_in_background()
     app = build_app(args, verbose=False)
-    cold = warm.is_alive()
-    if cold:  # hold the loop until compiled: a tick would wait for the compiler, holding the page
-        play, app.studio.playing = app.studio.playing, False
+    # the compiled loops load from numba's cache (warm: about a second) or compile (cold: the
+    # first start after an install or update) in a background thread started once the page is
+    # up (every module is imported by then: no import races); the loop is held until they are
+    # ready, so no tick holds the page while the compiler runs. (A cold simulator compiles its
+    # raycast for its first scan inside build_app: a few seconds more before the URL.)
+    play, app.studio.playing = app.studio.playing, False
     app.start()
     print(f"pico-studio: serving {app.studio.map_name} at {app.url}  (Ctrl-C stops)", flush=True)
-    if cold:
-        print("pico-studio: compiling the fast paths (first start after an install or update; cached "
-              "afterwards): the robot starts when that is done", flush=True)
-        threading.Thread(target=_play_when_warm, args=(app, warm, play), daemon=True).start()
+    warm = jit.warm_up_in_background()
+    threading.Thread(target=_play_when_warm, args=(app, warm, play), daemon=True).start()
     try:
         while True:
             time.sleep(3600)
@@ -75,8 +73,12 @@ def _serve(args: argparse.Namespace) -> int:
 
 
 def _play_when_warm(app, warm: threading.Thread, play: bool) -> None:  # noqa: ANN001 (a StudioApp)
-    warm.join()
-    print("pico-studio: fast paths compiled", flush=True)
+    warm.join(timeout=1.5)
+    if warm.is_alive():
+        print("pico-studio: compiling the fast paths (first start after an install or update; cached "
+              "afterwards): the robot starts when that is done", flush=True)
+        warm.join()
+        print("pico-studio: fast paths compiled", flush=True)
     if play and not app.studio.playing:
         app.studio.playing = True
         app._sync_play_button()
