@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from pico_studio.cli import limits
 from pico_studio.config import Config, load_config
 from pico_studio.json_map import GlobalMap, convert, load_map
 from pico_studio.json_map.draw import draw_map, save_png
@@ -43,7 +44,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _common(p: argparse.ArgumentParser, resolution_help: str) -> None:
-    p.add_argument("--resolution", type=float, metavar="R", help=resolution_help)
+    p.add_argument("--resolution", type=limits.RESOLUTION, metavar="R", help=resolution_help)
     p.add_argument("--config", metavar="YAML", help="config file (map.heightmap / map.raster values)")
 
 

@@ -1,9 +1,11 @@
 """Reading and writing the challenge's JSON map format, with validation that names the path.
 
 Errors (MapError, naming file and JSON path): unreadable or non-JSON file, missing or empty
-`walls`, missing/non-numeric/NaN coordinates, an index out of range, a zero-length wall, a
-polygon that does not close. Warnings (listed on the map, never silently fixed): duplicate
-points, unused points, duplicate walls.
+`walls`, missing/non-numeric/NaN coordinates or one beyond `MAX_COORDINATE_M` (10 km), an
+index out of range, a zero-length wall, a polygon that does not close. Warnings (listed on
+the map, never silently fixed): duplicate points, unused points, duplicate walls, a
+self-intersecting wall loop or polygon (it still loads: the simulator draws the segments as
+they are, but a rasteriser's even-odd fill of such a loop is not what was meant).
 """
 
 from __future__ import annotations
@@ -16,7 +18,13 @@ from typing import Any
 import numpy as np
 
 from pico_studio.errors import MapError
-from pico_studio.json_map.model import GlobalMap, cycle_vertices
+from pico_studio.json_map.model import (
+    MAX_COORDINATE_M,
+    GlobalMap,
+    cycle_vertices,
+    first_crossing,
+    wall_loops,
+)
 from pico_studio.user_files import read_json
 
 OBJECT_KEYS = ("cabinets", "tables")
@@ -87,6 +95,11 @@ def _points(data: dict[str, Any], file: str | Path | None) -> tuple[np.ndarray, 
                 raise MapError(f"must be a number, got {v!r}", file=file, field=f"points[{i}].{key}")
             if not math.isfinite(v):
                 raise MapError(f"must be finite, got {v!r}", file=file, field=f"points[{i}].{key}")
+            if abs(v) > MAX_COORDINATE_M:
+                raise MapError(
+                    f"{v:g} m is beyond the {MAX_COORDINATE_M / 1000:g} km a map may extend from the origin",
+                    file=file, field=f"points[{i}].{key}",
+                )
             pts[i, j] = float(v)
         extras.append({k: v for k, v in p.items() if k not in ("x", "y")})
     return pts, extras
@@ -170,6 +183,28 @@ def map_warnings(m: GlobalMap) -> list[str]:
             out.append(f"walls[{k}] duplicates walls[{wall_seen[key]}]")
         else:
             wall_seen[key] = k
+    out += _crossing_warnings(m)
+    return out
+
+
+def _crossing_warnings(m: GlobalMap) -> list[str]:
+    """A loop of walls, or a polygon, whose segments cross each other."""
+    out: list[str] = []
+    for loop in wall_loops(m.walls):
+        hit = first_crossing(m.points, m.walls[loop])
+        if hit is not None:
+            k, j, x, y = hit
+            out.append(
+                f"walls[{int(loop[k])}] and walls[{int(loop[j])}] of a closed wall loop cross at "
+                f"({x:.3f}, {y:.3f}): the loop intersects itself"
+            )
+    groups = [(m.object_key, m.objects), ("doors", m.doors), ("start_area", m.start_area)]
+    for key, polys in groups:
+        for n, pairs in enumerate(polys):
+            hit = first_crossing(m.points, pairs)
+            if hit is not None:
+                k, j, x, y = hit
+                out.append(f"{key}[{n}]: segments {k} and {j} cross at ({x:.3f}, {y:.3f}): the polygon intersects itself")
     return out
 
 
