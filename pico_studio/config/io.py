@@ -15,7 +15,7 @@ from typing import Any, TypeVar
 import yaml
 
 from pico_studio.config.spec import ParamInfo, ParamSpec, SectionInfo, coerce, params, walk
-from pico_studio.errors import ConfigError
+from pico_studio.errors import ConfigError, short
 from pico_studio.user_files import parse_yaml, read_text
 
 T = TypeVar("T")
@@ -32,7 +32,7 @@ def from_dict(cls: type[T], data: Any, *, file: str | Path | None = None, prefix
     if data is None:
         data = {}
     if not isinstance(data, dict):
-        raise ConfigError(f"must be a mapping of keys to values, got {data!r}", file=file, field=here)
+        raise ConfigError(f"must be a mapping of keys to values, got {short(data)}", file=file, field=here)
     fields = {f.name: f for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
     kwargs: dict[str, Any] = {}
     for key, value in data.items():
@@ -62,6 +62,12 @@ def _coerce(spec: ParamSpec, value: Any, *, file: str | Path | None, field: str)
             if spec.lo is not None and spec.hi is not None else f"a {digits}-digit number is too large",
             file=file, field=field,
         )
+    if isinstance(value, (list, dict, set, tuple)) or (
+        isinstance(value, str) and len(value) > 200 and spec.kind != "str"
+    ):  # spec.coerce prints the value in full: a YAML alias bomb would never finish printing
+        wanted = {"bool": "true or false", "choice": "one of " + ", ".join(spec.choices or ()),
+                  "str": "a string"}.get(spec.kind, "a number")
+        raise ConfigError(f"must be {wanted}, got {short(value)}", file=file, field=field)
     try:
         return coerce(spec, value)
     except (ValueError, OverflowError) as e:

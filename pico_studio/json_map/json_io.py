@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.errors import MapError
+from pico_studio.errors import MapError, short
 from pico_studio.json_map.model import (
     MAX_COORDINATE_M,
     GlobalMap,
@@ -86,18 +86,19 @@ def _points(data: dict[str, Any], file: str | Path | None) -> tuple[np.ndarray, 
     extras: list[dict[str, Any]] = []
     for i, p in enumerate(raw):
         if not isinstance(p, dict):
-            raise MapError(f"must be an object {{x, y}}, got {p!r}", file=file, field=f"points[{i}]")
+            raise MapError(f"must be an object {{x, y}}, got {short(p)}", file=file, field=f"points[{i}]")
         for j, key in enumerate(("x", "y")):
             if key not in p:
                 raise MapError("missing coordinate", file=file, field=f"points[{i}].{key}")
             v = p[key]
             if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise MapError(f"must be a number, got {v!r}", file=file, field=f"points[{i}].{key}")
-            if not math.isfinite(v):
+                raise MapError(f"must be a number, got {short(v)}", file=file, field=f"points[{i}].{key}")
+            if isinstance(v, float) and not math.isfinite(v):
                 raise MapError(f"must be finite, got {v!r}", file=file, field=f"points[{i}].{key}")
-            if abs(v) > MAX_COORDINATE_M:
+            if abs(v) > MAX_COORDINATE_M:  # before float(): a 400-digit integer overflows it
                 raise MapError(
-                    f"{v:g} m is beyond the {MAX_COORDINATE_M / 1000:g} km a map may extend from the origin",
+                    f"{short(v) if isinstance(v, int) else f'{v:g}'} m is beyond the "
+                    f"{MAX_COORDINATE_M / 1000:g} km a map may extend from the origin",
                     file=file, field=f"points[{i}].{key}",
                 )
             pts[i, j] = float(v)
@@ -111,13 +112,13 @@ def _pairs(raw: Any, where: str, n_points: int, file: str | Path | None) -> np.n
     out = np.zeros((len(raw), 2), dtype=np.int64)
     for k, pair in enumerate(raw):
         if not isinstance(pair, list) or len(pair) != 2:
-            raise MapError(f"must be a pair [i, j], got {pair!r}", file=file, field=f"{where}[{k}]")
+            raise MapError(f"must be a pair [i, j], got {short(pair)}", file=file, field=f"{where}[{k}]")
         for j, idx in enumerate(pair):
             if isinstance(idx, bool) or not isinstance(idx, int):
-                raise MapError(f"must be a point index, got {idx!r}", file=file, field=f"{where}[{k}][{j}]")
+                raise MapError(f"must be a point index, got {short(idx)}", file=file, field=f"{where}[{k}][{j}]")
             if not 0 <= idx < n_points:
                 raise MapError(
-                    f"point index {idx} out of range (the map has {n_points} points)",
+                    f"point index {short(idx)} out of range (the map has {n_points} points)",
                     file=file,
                     field=f"{where}[{k}][{j}]",
                 )

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from pico_studio.errors import SourceError
+from pico_studio.errors import SourceError, short
 from pico_studio.json_map.model import MAX_COORDINATE_M
 from pico_studio.user_files import read_json
 
@@ -76,7 +76,7 @@ def sim_config_from_dict(data: Any, *, file: str | Path | None = None) -> SimCon
     pose = _pose(data[pose_key], pose_key, file) if pose_key in data else None
     objects = data.get("objects", [])
     if not isinstance(objects, list):
-        raise SourceError(f"must be a list of objects, got {objects!r}", file=file, field="objects")
+        raise SourceError(f"must be a list of objects, got {short(objects)}", file=file, field="objects")
     return SimConfigFile(
         initial_pose=pose,
         uncertain_odom=_bool(data, "uncertain_odom", file),
@@ -93,7 +93,7 @@ def _bool(data: dict[str, Any], key: str, file: str | Path | None) -> bool | Non
         return None
     v = data[key]
     if not isinstance(v, bool):
-        raise SourceError(f"must be true or false, got {v!r}", file=file, field=key)
+        raise SourceError(f"must be true or false, got {short(v)}", file=file, field=key)
     return v
 
 
@@ -102,15 +102,15 @@ def _number(
     hi: float | None = None, unit: str = "m",
 ) -> float:
     if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise SourceError(f"must be a finite number, got {v!r}", file=file, field=where)
+        raise SourceError(f"must be a finite number, got {short(v)}", file=file, field=where)
     try:
         v = float(v)
     except OverflowError:  # a JSON integer of hundreds of digits
         raise SourceError("must be a finite number, got an integer too large for one", file=file, field=where) from None
     if not math.isfinite(v):
-        raise SourceError(f"must be a finite number, got {v!r}", file=file, field=where)
+        raise SourceError(f"must be a finite number, got {short(v)}", file=file, field=where)
     if lo is not None and (v <= lo if strict else v < lo):
-        raise SourceError(f"must be {'>' if strict else '>='} {lo:g}, got {v!r}", file=file, field=where)
+        raise SourceError(f"must be {'>' if strict else '>='} {lo:g}, got {short(v)}", file=file, field=where)
     if hi is not None and v > hi:
         raise SourceError(f"must be at most {hi:g} {unit}, got {v:g}", file=file, field=where)
     return v
@@ -118,7 +118,7 @@ def _number(
 
 def _pose(v: Any, where: str, file: str | Path | None) -> Pose:
     if not isinstance(v, list) or len(v) != 3:
-        raise SourceError(f"must be a list [x, y, a], got {v!r}", file=file, field=where)
+        raise SourceError(f"must be a list [x, y, a], got {short(v)}", file=file, field=where)
     x, y = (_number(c, f"{where}[{i}]", file, lo=-MAX_COORDINATE_M, hi=MAX_COORDINATE_M) for i, c in enumerate(v[:2]))
     a = _number(v[2], f"{where}[2]", file, lo=-MAX_ANGLE, hi=MAX_ANGLE, unit="rad")
     return (x, y, a)
@@ -126,14 +126,14 @@ def _pose(v: Any, where: str, file: str | Path | None) -> Pose:
 
 def _object(o: Any, where: str, file: str | Path | None) -> MovingObjectSpec:
     if not isinstance(o, dict):
-        raise SourceError(f"must be an object, got {o!r}", file=file, field=where)
+        raise SourceError(f"must be an object, got {short(o)}", file=file, field=where)
     required = ("length", "width", "init_pose", "final_pose", "velocity", "trigger_radius")
     for key in required:
         if key not in o:
             raise SourceError("missing key", file=file, field=f"{where}.{key}")
     repeat = o.get("repeat", False)
     if not isinstance(repeat, bool):
-        raise SourceError(f"must be true or false, got {repeat!r}", file=file, field=f"{where}.repeat")
+        raise SourceError(f"must be true or false, got {short(repeat)}", file=file, field=f"{where}.repeat")
     return MovingObjectSpec(
         length=_number(o["length"], f"{where}.length", file, lo=0.0, strict=True, hi=MAX_OBJECT_SIZE),
         width=_number(o["width"], f"{where}.width", file, lo=0.0, strict=True, hi=MAX_OBJECT_SIZE),
