@@ -33,7 +33,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-    except SystemExit as e:  # --help, or argparse refused an argument (ranges: cli/limits.py)
+    except SystemExit as e:  # argparse refused an argument (ranges: cli/limits.py); --help exits as usual
+        if e.code in (0, None):
+            raise
         return e.code if isinstance(e.code, int) else 2
     try:
         return int(args.func(args) or 0)
