@@ -135,6 +135,20 @@ def check_file(path: str | Path, error: type[UserError], kind: str | None = None
     return int(st.st_size)
 
 
+def check_output(path: str | Path, error: type[UserError]) -> None:
+    """`error` when `path` exists and is not a regular file: writing to a FIFO blocks until
+    a reader comes, to a device is never what was meant. Checked by `os.stat`, unopened."""
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        return
+    except OSError as e:
+        raise error(f"cannot write: {e.strerror or e}", file=Path(path)) from None
+    what = _not_regular(st.st_mode)
+    if what is not None:
+        raise error(f"cannot write: is {what}, not a regular file", file=Path(path))
+
+
 def open_file(path: str | Path, error: type[UserError], kind: str | None = None) -> IO[bytes]:
     """The regular file at `path` opened for binary reading, checked as `check_file` does;
     opened non-blocking and re-checked, so a path swapped for a FIFO cannot block."""

@@ -104,6 +104,8 @@ def make_files(d: Path) -> None:
     os.mkfifo(d / "fifo.png")
     os.mkfifo(d / "fifo.bag")
     os.mkfifo(d / "fifo.log")
+    os.mkfifo(d / "out_fifo.png")
+    os.mkfifo(d / "sibling.yaml")
     (d / "dir.json").mkdir()
     (d / "dir.yaml").mkdir()
     (d / "dir.png").mkdir()
@@ -421,6 +423,15 @@ def _map_cases() -> list[Case]:
         warn("json-self-intersecting-loop", info("bowtie.json"), "the loop intersects itself"),
         warn("json-self-intersecting-cabinet", info("bowtie_cabinet.json"), "cabinets[0]: segments"),
         refuse("json-unknown-suffix", ["map", "info", "{d}/junk.bag"], "unknown map format"),
+        # where the results go: writing to a FIFO blocks for ever, to a directory fails late
+        refuse("out-convert-fifo", ["map", "convert", HOSPITAL, "{d}/out_fifo.png"], "cannot write: is a FIFO"),
+        refuse("out-convert-yaml-sibling-fifo", ["map", "convert", HOSPITAL, "{d}/sibling.png"],
+               "sibling.yaml: cannot write: is a FIFO"),
+        refuse("out-convert-directory", ["map", "convert", HOSPITAL, "{d}/dir.png"], "cannot write: is a directory"),
+        refuse("out-convert-json-directory", ["map", "convert", "{d}/ok.png", "{d}/dir.json"], "is a directory"),
+        refuse("out-info-png-fifo", ["map", "info", HOSPITAL, "--png", "{d}/out_fifo.png"], "cannot write: is a FIFO"),
+        refuse("out-convert-suffix", ["map", "convert", HOSPITAL, "{d}/out.txt"], "unknown output format"),
+        refuse("out-convert-onto-input", ["map", "convert", "{d}/ok.png", "{d}/ok.png"], "would overwrite the input"),
         # heightmaps
         refuse("png-20000", info("png_20000.png"), "20000 x 20000 px = 400 Mpx, over the 25 Mpx limit"),
         refuse("png-20000-convert", ["map", "convert", "{d}/png_20000.png", "{d}/out.json"], "over the 25 Mpx limit"),
