@@ -101,6 +101,8 @@ def report(name: str, samples: list[tuple[float, float]], unit: str) -> None:
     print(f"{name}: {len(samples)} samples over {samples[-1][0] / 60:.1f} {unit} minutes; RSS start {start:.0f} MB, "
           f"after warm-up {warm_mb:.0f} MB, peak {peak:.0f} MB, end {end:.0f} MB "
           f"(end / warm-up {end / warm_mb:.3f}); growth after warm-up {slope_mb_per_hour(after):+.1f} MB per {unit} hour")
+    step = max(1, len(samples) // 12)
+    print("  RSS MB at " + ", ".join(f"{t / 60:.1f} min {m:.0f}" for t, m in samples[::step]))
 
 
 def headless(minutes: float, every_s: float = 10.0) -> list[tuple[float, float]]:

@@ -32,7 +32,7 @@ import struct
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import IO, Any
 
 import numpy as np
 from rosbags.rosbag1 import Reader
@@ -240,7 +240,7 @@ def _field(header: dict[str, bytes], name: str, size: int | None = None) -> byte
     return value
 
 
-def _find_chunk(f: BinaryIO, start: int, end: int) -> int | None:
+def _find_chunk(f: IO[bytes], start: int, end: int) -> int | None:
     """Byte offset of the next well-formed chunk record header at or after `start`."""
     pos = start
     while pos < end:
@@ -265,7 +265,7 @@ def _find_chunk(f: BinaryIO, start: int, end: int) -> int | None:
     return None
 
 
-def _read_record(f: BinaryIO, remaining: int) -> tuple[dict[str, bytes], bytes]:
+def _read_record(f: IO[bytes], remaining: int) -> tuple[dict[str, bytes], bytes]:
     """One record: (header fields, data). EOFError when the file ends inside it, `_Damaged`
     when a length cannot be right (beyond what is left, or a header that does not parse)."""
     head = _read_sized(f, remaining)
@@ -273,7 +273,7 @@ def _read_record(f: BinaryIO, remaining: int) -> tuple[dict[str, bytes], bytes]:
     return header, _read_sized(f, remaining - 4 - len(head))
 
 
-def _read_sized(f: BinaryIO, remaining: int) -> bytes:
+def _read_sized(f: IO[bytes], remaining: int) -> bytes:
     size_bytes = f.read(4)
     if len(size_bytes) < 4:
         raise EOFError
