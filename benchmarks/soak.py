@@ -8,10 +8,11 @@
    server (this process, RSS) and the browser's processes (the sum of their PSS: shared
    pages split between them) are sampled.
 
-For each: RSS at the start, after warm-up (the first tenth), the peak and the end, and the
-growth after warm-up as MB per hour (a least-squares slope over the samples after warm-up)
-— a leak shows as a steady slope; a bounded cache as a step that then stays flat. The peer
-is the run's own warm-up figure: end / warm-up RSS.
+For each: RSS at the start, after warm-up (a quarter of the run: the session keeps its last
+2000 frames, 100 s at 20 Hz, so memory first rises by design), the peak and the end, and
+the growth over the second half as MB per hour (a least-squares slope) — a leak shows as a
+steady slope; a bounded cache as a step that then stays flat. The peer is the run's own
+warm-up figure: end / warm-up RSS.
 
     .venv/bin/python benchmarks/soak.py                       # the full soak: ~1 h + 30 min
     .venv/bin/python benchmarks/soak.py --sim-minutes 10 --page-minutes 3   # a quick check
@@ -94,13 +95,13 @@ def slope_mb_per_hour(samples: list[tuple[float, float]]) -> float:
 
 
 def report(name: str, samples: list[tuple[float, float]], unit: str) -> None:
-    warm = max(1, len(samples) // 10)
-    after = samples[warm:]
+    warm = max(1, len(samples) // 4)
+    second_half = samples[len(samples) // 2 :]
     start, warm_mb, end = samples[0][1], samples[warm][1], samples[-1][1]
     peak = max(m for _, m in samples)
     print(f"{name}: {len(samples)} samples over {samples[-1][0] / 60:.1f} {unit} minutes; RSS start {start:.0f} MB, "
           f"after warm-up {warm_mb:.0f} MB, peak {peak:.0f} MB, end {end:.0f} MB "
-          f"(end / warm-up {end / warm_mb:.3f}); growth after warm-up {slope_mb_per_hour(after):+.1f} MB per {unit} hour")
+          f"(end / warm-up {end / warm_mb:.3f}); growth over the second half {slope_mb_per_hour(second_half):+.1f} MB per {unit} hour")
     step = max(1, len(samples) // 12)
     print("  RSS MB at " + ", ".join(f"{t / 60:.1f} min {m:.0f}" for t, m in samples[::step]))
 

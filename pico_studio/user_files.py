@@ -196,8 +196,9 @@ def _too_deep(text: str, opens: bytes, closes: bytes, limit: int) -> int | None:
     """The 1-based line where bracket nesting first exceeds `limit`, or None. `text` has its
     strings removed already; newlines are kept, so line numbers are the original's."""
     b = np.frombuffer(text.encode("utf-8", errors="replace"), dtype=np.uint8)
-    step = np.isin(b, list(opens)).astype(np.int32) - np.isin(b, list(closes)).astype(np.int32)
-    depth = np.cumsum(step)
+    table = np.zeros(256, dtype=np.int32)
+    table[list(opens)], table[list(closes)] = 1, -1
+    depth = np.cumsum(table[b])
     over = np.flatnonzero(depth > limit)
     if len(over) == 0:
         return None

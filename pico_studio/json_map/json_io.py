@@ -161,31 +161,45 @@ def _polygons(
     return polys
 
 
+MAX_LISTED = 20  # a generated map can hold 10^5 duplicates: list these, count the rest
+
+
 def map_warnings(m: GlobalMap) -> list[str]:
-    """Problems worth listing but not fatal: duplicate points, unused points, duplicate walls."""
+    """Problems worth listing but not fatal: duplicate points, unused points, duplicate
+    walls, self-intersecting loops. Vectorised: linear-ish in the map's size."""
     out: list[str] = []
-    seen: dict[tuple[float, float], int] = {}
-    for i, (x, y) in enumerate(np.round(m.points, 9)):
-        key = (float(x), float(y))
-        if key in seen:
-            out.append(f"points[{i}] duplicates points[{seen[key]}] at ({x:g}, {y:g})")
-        else:
-            seen[key] = i
-    used = set(m.used_point_indices().tolist())
-    unused = [i for i in range(len(m.points)) if i not in used]
-    if unused:
-        out.append(f"unused points: {', '.join(f'points[{i}]' for i in unused)}")
+    dup, first = _repeats(np.round(m.points, 9))
+    for i in dup[:MAX_LISTED]:
+        x, y = np.round(m.points[i], 9)
+        out.append(f"points[{i}] duplicates points[{first[i]}] at ({x:g}, {y:g})")
+    if len(dup) > MAX_LISTED:
+        out.append(f"{len(dup) - MAX_LISTED} more duplicate points")
+    unused = np.setdiff1d(np.arange(len(m.points)), m.used_point_indices())
+    if len(unused):
+        listed = ", ".join(f"points[{i}]" for i in unused[:MAX_LISTED])
+        more = f" and {len(unused) - MAX_LISTED} more" if len(unused) > MAX_LISTED else ""
+        out.append(f"unused points: {listed}{more}")
     # duplicate walls: same end coordinates in either direction
-    wall_seen: dict[tuple[float, ...], int] = {}
-    for k, seg in enumerate(np.round(m.wall_segments, 9)):
-        a, b = (float(seg[0]), float(seg[1])), (float(seg[2]), float(seg[3]))
-        key = (*min(a, b), *max(a, b))
-        if key in wall_seen:
-            out.append(f"walls[{k}] duplicates walls[{wall_seen[key]}]")
-        else:
-            wall_seen[key] = k
+    seg = np.round(m.wall_segments, 9)
+    a, b = seg[:, :2], seg[:, 2:]
+    swap = (a[:, 0] > b[:, 0]) | ((a[:, 0] == b[:, 0]) & (a[:, 1] > b[:, 1]))
+    key = np.hstack([np.where(swap[:, None], b, a), np.where(swap[:, None], a, b)])
+    dup, first = _repeats(key)
+    out += [f"walls[{k}] duplicates walls[{first[k]}]" for k in dup[:MAX_LISTED]]
+    if len(dup) > MAX_LISTED:
+        out.append(f"{len(dup) - MAX_LISTED} more duplicate walls")
     out += _crossing_warnings(m)
     return out
+
+
+def _repeats(rows: np.ndarray) -> tuple[list[int], np.ndarray]:
+    """Indices of the rows equal to an earlier row, in order, and for every row the index of
+    the first row equal to it."""
+    if len(rows) == 0:
+        return [], np.zeros(0, dtype=np.int64)
+    _, first, inverse = np.unique(rows, axis=0, return_index=True, return_inverse=True)
+    first_of = first[inverse.reshape(-1)]
+    return np.flatnonzero(first_of != np.arange(len(rows))).tolist(), first_of
 
 
 def _crossing_warnings(m: GlobalMap) -> list[str]:
