@@ -26,6 +26,14 @@ class LocateParams:
     laser_motion_without_odometry: bool = param(
         True, help="Without odometry, move the pose by the motion estimated from the laser",
     )
+    jump_speed: float = param(
+        2.0, lo=0.0, hi=50.0, step=0.1, unit="m/s",
+        help="The jump distance grows by this per second between odometry readings (slow logs)",
+    )
+    jump_turn_rate: float = param(
+        3.0, lo=0.0, hi=50.0, step=0.1, unit="rad/s",
+        help="The jump angle grows by this per second between odometry readings",
+    )
 
 
 @dataclass(frozen=True)
@@ -302,6 +310,75 @@ class LaserMotionParams:
 
 
 @dataclass(frozen=True)
+class ScanMatchParams:
+    enabled: bool = param(
+        True, help="Before merging, correct the pose by matching the scan to the local map (point to line)",
+    )
+    max_points: int = param(
+        200, lo=10, hi=5000, step=10, help="At most this many scan points are matched (evenly spread)",
+    )
+    iterations: int = param(
+        8, lo=1, hi=50, step=1, help="Gauss-Newton iterations (re-associating each time)",
+    )
+    gate: float = param(
+        0.4, lo=0.02, hi=3.0, step=0.01, unit="m",
+        help="A point farther than this from every local wall is not matched (shrinks to inlier_distance)",
+    )
+    inlier_distance: float = param(
+        0.05, lo=0.005, hi=1.0, step=0.005, unit="m",
+        help="A point this close to a local wall is explained by it (the quality figure)",
+    )
+    min_matches: int = param(
+        30, lo=3, hi=1000, step=1, help="Fewer matched points than this: the pose is not corrected",
+    )
+    min_quality: float = param(
+        0.3, lo=0.0, hi=1.0, step=0.01,
+        help="A correction is kept when at least this share of the matched points are inliers after it",
+    )
+    min_gain: float = param(
+        0.05, lo=0.0, hi=1.0, step=0.01,
+        help="A correction is kept only when it explains this much more of the scan than the "
+        "odometry pose did (good odometry is left alone)",
+    )
+    max_correction: float = param(
+        0.5, lo=0.0, hi=10.0, step=0.01, unit="m",
+        help="A correction moving the pose farther than this is distrusted (kept as odometry)",
+    )
+    max_correction_angle: float = param(
+        0.35, lo=0.0, hi=3.14159, step=0.01, unit="rad",
+        help="A correction turning the pose more than this is distrusted",
+    )
+    point_sigma: float = param(
+        0.03, lo=0.001, hi=1.0, step=0.001, unit="m",
+        help="Noise of one scan point against its wall: weighs the points against the odometry",
+    )
+    odometry_sigma: float = param(
+        0.02, lo=0.0001, hi=10.0, step=0.001, unit="m",
+        help="Position noise of odometry over one step, plus odometry_sigma_per_m per metre moved",
+    )
+    odometry_sigma_per_m: float = param(
+        0.1, lo=0.0, hi=10.0, step=0.01, unit="m/m", help="Odometry position noise per metre moved",
+    )
+    odometry_sigma_angle: float = param(
+        0.01, lo=0.0001, hi=3.0, step=0.001, unit="rad",
+        help="Heading noise of odometry over one step, plus odometry_sigma_per_rad per radian turned",
+    )
+    odometry_sigma_per_rad: float = param(
+        0.1, lo=0.0, hi=10.0, step=0.01, unit="rad/rad", help="Odometry heading noise per radian turned",
+    )
+    search_angle: float = param(
+        0.3, lo=0.0, hi=3.14159, step=0.01, unit="rad",
+        help="Before refining, headings within this of the odometry's are tried (the best start wins)",
+    )
+    search_step: float = param(
+        0.02, lo=0.001, hi=1.0, step=0.001, unit="rad", help="...in steps of this",
+    )
+    min_wall_hits: int = param(
+        2, lo=1, hi=100, step=1, help="Only local walls seen in at least this many scans are matched against",
+    )
+
+
+@dataclass(frozen=True)
 class PerceptionParams:
     locate: LocateParams = section(LocateParams, "Init / Locate: zero pose and pose from odometry")
     proximity: ProximityParams = section(ProximityParams, "Close proximity circle and footprint")
@@ -315,3 +392,4 @@ class PerceptionParams:
     entrance: EntranceParams = section(EntranceParams, "Entrance and hallway detection (seed 003)")
     rooms: RoomParams = section(RoomParams, "Side rooms and their content (seed 000)")
     laser_motion: LaserMotionParams = section(LaserMotionParams, "Motion from matched corners (seed 002)")
+    scan_match: ScanMatchParams = section(ScanMatchParams, "Pose correction: scan to local map, point to line")

@@ -61,6 +61,8 @@ class WorldModel:
     room: dict[str, Any] = field(default_factory=dict)  # seed 000: side jump, edges, objects
     laser_motion: Pose | None = None  # robot motion since the previous scan, from the laser
     laser_motion_matches: int = 0
+    pose_correction_quality: float = 0.0  # share of the scan explained by the local map after matching
+    pose_corrected: bool = False  # the pose was corrected by matching the scan to the local map
     # filled by localisation, not by the perceptor
     global_pose: Pose | None = None
     localisation_quality: float = 0.0

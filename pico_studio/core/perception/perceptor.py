@@ -6,7 +6,7 @@
 
 Stages, in order (each its own module): locate -> scan (filter, resample, cluster) ->
 proximity -> segment (+ least-squares refit) -> corners (spike, vector) -> laser motion ->
-merge (local map) -> identify (corners, doors) -> entrance -> rooms. Per-stage wall-clock
+scan match (the pose corrected against the local map) -> merge (local map) -> identify (corners, doors) -> entrance -> rooms. Per-stage wall-clock
 times land in `WorldModel.timings_ms`.
 
 Bad input (empty, all-NaN or all-inf scans, mismatched angle fields, odometry jumps) yields a
@@ -33,10 +33,11 @@ from pico_studio.core.perception.merge import LocalMapState, merge
 from pico_studio.core.perception.proximity import proximity_flags
 from pico_studio.core.perception.rooms import rooms
 from pico_studio.core.perception.scan import process_scan
+from pico_studio.core.perception.scan_match import match_scan
 from pico_studio.core.perception.segment import segment_scan
 from pico_studio.core.world_model import LocalMap, WorldModel
 
-STAGES = ("locate", "scan", "proximity", "segment", "corners", "laser_motion", "merge",
+STAGES = ("locate", "scan", "proximity", "segment", "corners", "laser_motion", "scan_match", "merge",
           "identify", "entrance", "rooms")
 
 
@@ -108,6 +109,13 @@ def _perceive(
     if odom is None and motion is not None and params.locate.laser_motion_without_odometry:
         loc = replace(loc, pose=compose(loc.pose, motion))
     lap("laser_motion")
+    fit = None
+    if params.scan_match.enabled and len(state.local_map.walls):
+        firm = state.local_map.hits >= params.scan_match.min_wall_hits
+        fit = match_scan(scan.points, state.local_map.walls[firm], loc.pose, step, params.scan_match)
+        if fit.accepted:
+            loc = loc.corrected(fit.pose)
+    lap("scan_match")
     local = merge(state.local_map, segs, loc.pose, scan, params.merge)
     lap("merge")
     shown = local.shown(params.merge)
@@ -147,6 +155,9 @@ def _perceive(
     wm.room = room
     wm.laser_motion = motion
     wm.laser_motion_matches = matches
+    if fit is not None:
+        wm.pose_correction_quality = fit.quality
+        wm.pose_corrected = fit.accepted
     timings["total"] = sum(timings.values())
     return wm, new_state
 
