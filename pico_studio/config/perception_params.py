@@ -241,6 +241,38 @@ class IdentifyParams:
         1.3, lo=0.1, hi=5.0, step=0.01, unit="m",
         help="A loose end facing a wall: the wall is hit within this along the loose wall's direction",
     )
+    door_depth: float = param(
+        1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
+        help="A door is an opening you can see through: a beam (or the local map) through the gap "
+        "must reach at least this far past the gap line, else the gap is a bay (e.g. between two tables)",
+    )
+    door_backed_share: float = param(
+        0.5, lo=0.0, hi=1.0, step=0.05,
+        help="A gap is backed (no door) when at least this share of the informative rays through it stop "
+        "within door_depth behind it",
+    )
+    door_back_angle: float = param(
+        0.6, lo=0.0, hi=1.57, step=0.01, unit="rad",
+        help="Only a wall behind the gap within this of the gap's direction backs it (a bay's back); a wall "
+        "running away from the gap (a corridor seen through a door) does not",
+    )
+    door_occlusion: float = param(
+        0.1, lo=0.0, hi=2.0, step=0.01, unit="m",
+        help="A ray stopping this far before the gap was blocked in front of it: it says nothing about the gap",
+    )
+    end_face_doors: bool = param(
+        True, help="A convex wall end facing another wall's face across a door's width is a door (a T-opening)",
+    )
+    object_max_size: float = param(
+        1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
+        help="Connected local walls spanning at most this (bounding-box diagonal) are an object (a cabinet, "
+        "a person), not a building: no door jamb",
+    )
+    object_min_depth: float = param(
+        0.25, lo=0.0, hi=5.0, step=0.01, unit="m",
+        help="...when they span at least this across their main direction too (a piece of a thick wall "
+        "with its end cap is long and thin)",
+    )
 
     def check(self) -> list[tuple[str, str]]:
         if self.door_min_width >= self.door_max_width:

@@ -53,6 +53,8 @@ class WorldModel:
     corners: np.ndarray = field(default_factory=lambda: _empty(2))  # (C, 2)
     corner_convex: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (C,)
     doors: np.ndarray = field(default_factory=lambda: _empty(4))  # (D, 4)
+    door_kind: list[str] = field(default_factory=list)  # (D,) "jambs" (two convex ends) or "end_face" (T-opening)
+    object_walls: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (W,) local wall is a small object's
     possible_doors: np.ndarray = field(default_factory=lambda: _empty(4))  # (E, 4)
     possible_door_kind: list[str] = field(default_factory=list)  # (E,) one of POSSIBLE_DOOR_KINDS
     # higher-level estimates

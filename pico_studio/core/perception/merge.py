@@ -407,8 +407,11 @@ def _see_through(w: _Work, pose: Pose, scan: ScanPoints, params: MergeParams) ->
     through = in_view & (measured > dist + params.see_through)
     blocked = in_view & ~through
     passed = through.sum(axis=1) > blocked.sum(axis=1) + through.shape[1] // 2
+    # beams ending on the wall (not in front of it: an occluder says nothing) confirm it, so
+    # the count of see-through scans is one "in a row"
+    on_wall = (in_view & (np.abs(measured - dist) <= params.see_through)).sum(axis=1) > through.shape[1] // 2
     idx = np.flatnonzero(unseen)
-    w.missed[idx] = np.where(passed, w.missed[idx] + 1, np.where(blocked.any(axis=1), w.missed[idx], w.missed[idx]))
+    w.missed[idx] = np.where(passed, w.missed[idx] + 1, np.where(on_wall, 0, w.missed[idx]))
 
 
 def _within(walls: np.ndarray, pose: Pose, radius: float) -> np.ndarray:

@@ -26,7 +26,7 @@ from pico_studio.core.geometry import compose
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.perception.corners import spike_corners, vector_corners
 from pico_studio.core.perception.entrance import Estimate, entrance_in_scan, median_entrance
-from pico_studio.core.perception.identify import identify
+from pico_studio.core.perception.identify import View, identify
 from pico_studio.core.perception.laser_motion import laser_motion
 from pico_studio.core.perception.locate import LocateState, locate
 from pico_studio.core.perception.merge import LocalMapState, merge
@@ -123,7 +123,8 @@ def _perceive(
     remap = np.full(len(shown) + 1, -1, dtype=np.int64)
     remap[idx] = np.arange(len(idx))
     conn = remap[np.where(local.connected >= 0, local.connected, len(shown))][idx]
-    ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify)
+    view = View(scan.ranges, scan.angles, scan.valid, loc.pose)
+    ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view)
     lap("identify")
     est = entrance_in_scan(segs.segments, params.entrance)
     history = state.entrance_history
@@ -148,6 +149,8 @@ def _perceive(
     wm.corners = ident.corners
     wm.corner_convex = ident.corner_convex
     wm.doors = ident.doors
+    wm.door_kind = ident.door_kind
+    wm.object_walls = ident.object_wall
     wm.possible_doors = ident.possible_doors
     wm.possible_door_kind = ident.possible_door_kind
     wm.entrance = entrance
