@@ -241,6 +241,11 @@ class IdentifyParams:
         1.3, lo=0.1, hi=5.0, step=0.01, unit="m",
         help="A loose end facing a wall: the wall is hit within this along the loose wall's direction",
     )
+    jamb_cap_max: float = param(
+        0.35, lo=0.0, hi=5.0, step=0.01, unit="m",
+        help="A door jamb is a wall's end: the wall joined there (its end cap) is at most this long (a wall's "
+        "thickness); a corner with a longer wall is a block's corner (a table against a wall), no jamb",
+    )
     door_depth: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="A door is an opening you can see through: a beam (or the local map) through the gap "
@@ -248,13 +253,8 @@ class IdentifyParams:
     )
     door_backed_share: float = param(
         0.5, lo=0.0, hi=1.0, step=0.05,
-        help="A gap is backed (no door) when at least this share of the informative rays through it stop "
-        "within door_depth behind it",
-    )
-    door_back_angle: float = param(
-        0.6, lo=0.0, hi=1.57, step=0.01, unit="rad",
-        help="Only a wall behind the gap within this of the gap's direction backs it (a bay's back); a wall "
-        "running away from the gap (a corridor seen through a door) does not",
+        help="A gap is backed (no door) when at least this share of the informative rays through it end "
+        "in its shadow (within door_depth behind it, between its jambs)",
     )
     door_occlusion: float = param(
         0.1, lo=0.0, hi=2.0, step=0.01, unit="m",

@@ -157,7 +157,11 @@ def _doors(
     if len(walls) < 2:
         return empty, [], empty, []
     # door-point candidates: (wall, end) with a convex or floating property, not on an object
-    wi, we = np.nonzero(((prop == CONVEX) | (prop == FLOATING)) & ~objects[:, None])
+    lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
+    # a jamb is a wall's end: what joins it there is no longer than an end cap
+    cap = np.where(connected >= 0, lengths[np.maximum(connected, 0)], 0.0)
+    jamb_ok = ~objects[:, None] & (cap <= params.jamb_cap_max)
+    wi, we = np.nonzero(((prop == CONVEX) | (prop == FLOATING)) & jamb_ok)
     if len(wi) < 1:
         return empty, [], empty, []
     ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i
@@ -169,7 +173,6 @@ def _doors(
     # the wall a door continues is long, or a short stub whose far end joins a long wall
     # (a cabinet's side is short and joins another short side)
     # (then the gap must continue it closely: `door_offset_short`)
-    lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
     far = connected[wi, 1 - we]
     long = lengths[wi] >= params.door_wall_min_length
     stub = ~long & (far >= 0) & (lengths[np.maximum(far, 0)] >= params.door_wall_min_length)
@@ -296,45 +299,56 @@ def _backed(
 ) -> np.ndarray:
     """(G,) bool: is there no seeing through the gap? Rays from the robot through five points of
     the middle of each gap: the current scan's beam when the point is in view, else the local
-    map's first wall along the ray (the gap's own two walls left out). A ray is *backed* when
-    it stops within `door_depth` behind the gap on a surface facing the gap (within
-    `door_back_angle` of its direction: a bay's back, a panel in the gap; a wall running away
-    from the gap, as a corridor seen through a door at an angle, does not back it), *free*
-    when it goes on (or the beam returned nothing), and says nothing when it stopped more
-    than `door_occlusion` before the gap. Backed when at least `door_backed_share` of the
-    informative rays are."""
+    map's first wall along the ray (the gap's own two walls left out). A ray stopping more
+    than `door_occlusion` before the gap says nothing. One that stops behind the gap is
+    *closed* when its end lies in the gap's shadow — within `door_depth` of the gap line and
+    between the jambs' normals: the back of a bay between two tables, a panel in the gap. A
+    ray ending within `door_occlusion` of a jamb's normal says nothing (a bay's side looks like
+    the face a T-opening ends on). A ray that goes on, returns nothing, or ends beside the gap
+    (the free space behind a door opens sideways, e.g. a corridor seen through a door at an
+    angle) is free. Backed when at least `door_backed_share` of the informative
+    rays are closed."""
     g = len(segs)
     if g == 0:
         return np.zeros(0, dtype=bool)
     fr = np.array([0.2, 0.35, 0.5, 0.65, 0.8])
     sample = segs[:, None, 0:2] + fr[None, :, None] * (segs[:, None, 2:4] - segs[:, None, 0:2])  # (G, 5, 2)
-    rel = sample - np.array(robot)
+    origin = np.array(robot, dtype=float)
+    rel = sample - origin
     dist = np.hypot(rel[..., 0], rel[..., 1])
     direction = rel / np.maximum(dist, 1e-12)[..., None]
-    gap_dir = segs[:, 2:4] - segs[:, 0:2]
-    gap_dir = gap_dir / np.maximum(np.hypot(gap_dir[:, 0], gap_dir[:, 1]), 1e-12)[:, None]
-    cos_back = math.cos(params.door_back_angle)
-    # local map: first wall along each ray (excluding the gap's own walls)
-    t, k = _ray_hits(np.broadcast_to(np.array(robot, dtype=float), (g * 5, 2)), direction.reshape(-1, 2), walls,
+    # local map: the first wall along each ray (excluding the gap's own walls)
+    t, _ = _ray_hits(np.broadcast_to(origin, (g * 5, 2)), direction.reshape(-1, 2), walls,
                      exclude=(np.repeat(own_a, 5), np.repeat(own_b, 5)))
-    t, k = t.reshape(g, 5), k.reshape(g, 5)
-    wd = walls[np.maximum(k, 0), 2:4] - walls[np.maximum(k, 0), 0:2]
-    facing = np.abs((wd * gap_dir[:, None, :]).sum(-1)) >= cos_back * np.maximum(np.hypot(wd[..., 0], wd[..., 1]), 1e-12)
-    state = np.where(t < dist - params.door_occlusion, 0,
-                     np.where((t < dist + params.door_depth) & facing, 1, 2))
+    reach = t.reshape(g, 5)
+    known = np.ones((g, 5), dtype=bool)
     if view is not None and len(view.ranges) > 1:  # the scan, where it looks through the gap
-        scan_state = _scan_state(sample, dist, gap_dir, view, params)
-        state = np.where(scan_state >= 0, scan_state, state)
-    backed = (state == 1).sum(axis=1)
-    informative = (state > 0).sum(axis=1)
-    return (informative > 0) & (backed >= params.door_backed_share * informative)
+        in_view, scan_reach = _scan_reach(sample, dist, view)
+        reach = np.where(in_view, scan_reach, reach)
+        known = np.where(in_view, ~np.isnan(scan_reach), known)
+    with np.errstate(invalid="ignore"):
+        informative = known & (reach >= dist - params.door_occlusion)
+    # where each ray ends, in the gap's frame: along the gap (s) and behind it (n)
+    length = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
+    along = (segs[:, 2:4] - segs[:, 0:2]) / np.maximum(length, 1e-12)[:, None]
+    end = origin + np.where(np.isfinite(reach), reach, 0.0)[..., None] * direction
+    rel_end = end - segs[:, None, 0:2]
+    s_ = (rel_end * along[:, None, :]).sum(-1)
+    n_ = np.abs(rel_end[..., 0] * along[:, None, 1] - rel_end[..., 1] * along[:, None, 0])
+    m = params.door_occlusion
+    ended = informative & np.isfinite(reach)
+    # a ray ending at a jamb's side (|s| or |s - L| within m) cannot tell a bay's side from the
+    # face a T-opening ends on: it says nothing
+    side = ended & ((np.abs(s_) < m) | (np.abs(s_ - length[:, None]) < m))
+    informative &= ~side
+    closed = ended & ~side & (n_ < params.door_depth) & (s_ > 0) & (s_ < length[:, None])
+    inf_n = informative.sum(axis=1)
+    return (inf_n > 0) & (closed.sum(axis=1) >= params.door_backed_share * inf_n)
 
 
-def _scan_state(sample: np.ndarray, dist: np.ndarray, gap_dir: np.ndarray, view: View,
-                params: IdentifyParams) -> np.ndarray:
-    """Per sample: -1 not in view, 0 occluded, 1 backed, 2 free (see `_backed`). The surface a
-    beam ends on runs along the chord of the beams two either side of it (either way when
-    those are not on the same surface)."""
+def _scan_reach(sample: np.ndarray, dist: np.ndarray, view: View) -> tuple[np.ndarray, np.ndarray]:
+    """Per sample: is its beam in view, and how far that beam reached (inf: no return or a
+    return beyond the sample; nan: an invalid beam that says nothing, e.g. too short)."""
     x, y, a = view.pose
     c, s_ = math.cos(a), math.sin(a)
     rel = sample - np.array([x, y])
@@ -344,7 +358,7 @@ def _scan_state(sample: np.ndarray, dist: np.ndarray, gap_dir: np.ndarray, view:
     a0 = float(view.angles[0])
     inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
     if inc == 0 or not math.isfinite(inc):
-        return np.full(dist.shape, -1)
+        return np.zeros(dist.shape, dtype=bool), np.full(dist.shape, np.nan)
     n = len(view.ranges)
     beam = np.rint((bearing - a0) / inc).astype(np.int64)
     wrap = 2 * math.pi / abs(inc)  # a full-circle scan: bearings just past the last beam
@@ -353,26 +367,10 @@ def _scan_state(sample: np.ndarray, dist: np.ndarray, gap_dir: np.ndarray, view:
     bc = np.clip(beam, 0, n - 1)
     raw = view.ranges[bc]
     valid = view.valid[bc]
-    # an invalid beam is free when it returned nothing or beyond the gap, else unknown
+    # an invalid beam reached far when it returned nothing or beyond the sample, else unknown
     far_invalid = ~valid & ~(np.isfinite(raw) & (raw > 0) & (raw < dist))
-    r = np.where(valid, raw, np.inf)
-    # direction of the surface hit, robot frame, from the beams two either side
-    lo, hi = np.clip(bc - 2, 0, n - 1), np.clip(bc + 2, 0, n - 1)
-    r_lo = np.where(view.valid[lo], view.ranges[lo], np.nan)
-    r_hi = np.where(view.valid[hi], view.ranges[hi], np.nan)
-    ang = view.angles
-    sx = r_hi * np.cos(ang[hi]) - r_lo * np.cos(ang[lo])
-    sy = r_hi * np.sin(ang[hi]) - r_lo * np.sin(ang[lo])
-    same = (np.abs(r_lo - r) < 0.2) & (np.abs(r_hi - r) < 0.2)
-    gx = c * gap_dir[:, 0] + s_ * gap_dir[:, 1]
-    gy = -s_ * gap_dir[:, 0] + c * gap_dir[:, 1]
-    cos = np.abs(sx * gx[:, None] + sy * gy[:, None]) / np.maximum(np.hypot(sx, sy), 1e-12)
-    facing = ~same | (cos >= math.cos(params.door_back_angle))
-    at_gap = r < dist + params.door_occlusion  # something in the gap itself
-    state = np.where(r < dist - params.door_occlusion, 0,
-                     np.where(at_gap | ((r < dist + params.door_depth) & facing), 1, 2))
-    state = np.where(valid | far_invalid, state, -1)
-    return np.where(in_view, state, -1)
+    reach = np.where(valid, raw, np.where(far_invalid, np.inf, np.nan))
+    return in_view, reach
 
 
 def _same_opening(a: list[float], b: list[float], max_angle: float = 0.5, tol: float = 1e-6) -> bool:
