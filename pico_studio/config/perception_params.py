@@ -342,6 +342,31 @@ class LaserMotionParams:
 
 
 @dataclass(frozen=True)
+class ObjectParams:
+    enabled: bool = param(True, help="Track small free-standing clusters as objects; keep moving ones out of the map")
+    max_size: float = param(
+        1.0, lo=0.05, hi=5.0, step=0.05, unit="m",
+        help="A cluster whose points span at most this, with both ends seen past, is an object candidate",
+    )
+    min_points: int = param(3, lo=1, hi=100, step=1, help="...with at least this many points")
+    match_radius: float = param(
+        0.4, lo=0.01, hi=5.0, step=0.01, unit="m",
+        help="A candidate within this of a track's last centroid is that track again",
+    )
+    min_motion: float = param(
+        0.15, lo=0.01, hi=5.0, step=0.01, unit="m",
+        help="A track that moved this far from where it was first seen is a dynamic obstacle",
+    )
+    confirm_scans: int = param(
+        8, lo=1, hi=1000, step=1,
+        help="An object is merged into the local map only once seen in this many scans without moving",
+    )
+    forget_scans: int = param(
+        20, lo=1, hi=10000, step=1, help="A track not seen for this many scans is forgotten",
+    )
+
+
+@dataclass(frozen=True)
 class ScanMatchParams:
     enabled: bool = param(
         True, help="Before merging, correct the pose by matching the scan to the local map (point to line)",
@@ -424,4 +449,5 @@ class PerceptionParams:
     entrance: EntranceParams = section(EntranceParams, "Entrance and hallway detection (seed 003)")
     rooms: RoomParams = section(RoomParams, "Side rooms and their content (seed 000)")
     laser_motion: LaserMotionParams = section(LaserMotionParams, "Motion from matched corners (seed 002)")
+    objects: ObjectParams = section(ObjectParams, "Objects and people: small free-standing clusters, tracked")
     scan_match: ScanMatchParams = section(ScanMatchParams, "Pose correction: scan to local map, point to line")

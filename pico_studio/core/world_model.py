@@ -55,6 +55,9 @@ class WorldModel:
     doors: np.ndarray = field(default_factory=lambda: _empty(4))  # (D, 4)
     door_kind: list[str] = field(default_factory=list)  # (D,) "jambs" (two convex ends) or "end_face" (T-opening)
     object_walls: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (W,) local wall is a small object's
+    objects: np.ndarray = field(default_factory=lambda: _empty(4))  # (O, 4) static objects' boxes xmin, ymin, xmax, ymax
+    dynamic_obstacles: np.ndarray = field(default_factory=lambda: _empty(4))  # (K, 4) moving objects' boxes
+    dynamic_points: np.ndarray = field(default_factory=lambda: _empty(2))  # (M, 2) their points, robot frame
     possible_doors: np.ndarray = field(default_factory=lambda: _empty(4))  # (E, 4)
     possible_door_kind: list[str] = field(default_factory=list)  # (E,) one of POSSIBLE_DOOR_KINDS
     # higher-level estimates

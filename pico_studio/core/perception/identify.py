@@ -253,7 +253,8 @@ def _doors(
             if gaps:
                 g = np.array(gaps)
                 oa, ob = np.array(own), np.array(other_k)
-                bad = _blocked_many(g, walls, oa, ob) | _backed(g, walls, oa, ob, robot, view, params)
+                bad = _blocked_many(g, walls, oa, ob)
+                bad |= _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))
                 for m in np.flatnonzero(~bad).tolist():
                     gl = g[m].tolist()
                     if not any(_same_place(gl, d, params) for d in doors):
@@ -295,7 +296,7 @@ def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:
 
 def _backed(
     segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, robot: tuple[float, float],
-    view: View | None, params: IdentifyParams,
+    view: View | None, params: IdentifyParams, face_end: np.ndarray | None = None,
 ) -> np.ndarray:
     """(G,) bool: is there no seeing through the gap? Rays from the robot through five points of
     the middle of each gap: the current scan's beam when the point is in view, else the local
@@ -304,13 +305,15 @@ def _backed(
     *closed* when its end lies in the gap's shadow — within `door_depth` of the gap line and
     between the jambs' normals: the back of a bay between two tables, a panel in the gap. A
     ray ending within `door_occlusion` of a jamb's normal says nothing (a bay's side looks like
-    the face a T-opening ends on). A ray that goes on, returns nothing, or ends beside the gap
+    the face a T-opening ends on) unless deeper than `jamb_cap_max` behind a jamb that is a
+    wall's end (`face_end` (G,): the gap's second point lies on a wall's face instead). A ray that goes on, returns nothing, or ends beside the gap
     (the free space behind a door opens sideways, e.g. a corridor seen through a door at an
     angle) is free. Backed when at least `door_backed_share` of the informative
     rays are closed."""
     g = len(segs)
     if g == 0:
         return np.zeros(0, dtype=bool)
+    face_end = np.zeros(g, dtype=bool) if face_end is None else face_end
     fr = np.array([0.2, 0.35, 0.5, 0.65, 0.8])
     sample = segs[:, None, 0:2] + fr[None, :, None] * (segs[:, None, 2:4] - segs[:, None, 0:2])  # (G, 5, 2)
     origin = np.array(robot, dtype=float)
@@ -339,9 +342,15 @@ def _backed(
     ended = informative & np.isfinite(reach)
     # a ray ending at a jamb's side (|s| or |s - L| within m) cannot tell a bay's side from the
     # face a T-opening ends on: it says nothing
-    side = ended & ((np.abs(s_) < m) | (np.abs(s_ - length[:, None]) < m))
-    informative &= ~side
-    closed = ended & ~side & (n_ < params.door_depth) & (s_ > 0) & (s_ < length[:, None])
+    near_first = np.abs(s_) < m
+    near_last = np.abs(s_ - length[:, None]) < m
+    side = ended & (near_first | near_last)
+    # ...unless it ends deeper behind the gap than a wall is thick, at a jamb that is a wall's
+    # end: then the jamb's side runs back from the gap, as a bay's does (the face a T-opening
+    # ends on runs across the gap line: its side says nothing at any depth)
+    deep_side = side & (n_ > params.jamb_cap_max) & (near_first | ~face_end[:, None])
+    informative &= ~side | deep_side
+    closed = ended & (n_ < params.door_depth) & ((~side & (s_ > 0) & (s_ < length[:, None])) | deep_side)
     inf_n = informative.sum(axis=1)
     return (inf_n > 0) & (closed.sum(axis=1) >= params.door_backed_share * inf_n)
 
