@@ -7,13 +7,15 @@ import logging
 import time
 from pathlib import Path
 
+from pico_studio.core.behaviours.registry import behaviour_help
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("serve", help="open the interactive web UI (default: the hospital example, simulated)")
     p.add_argument("--map", help="a JSON map or heightmap image (default: the built-in hospital_2019.json)")
     p.add_argument("--sim-config", help="simulator config JSON (initial pose, moving objects, ...)")
     p.add_argument("--config", help="a (partial) config YAML to start from")
-    p.add_argument("--behaviour", default="wander", help="what drives the robot: wander (default), escape-room, room-finder, hospital[:I,J,K] (cabinet order), teleop, stop")
+    p.add_argument("--behaviour", default="wander", help="what drives the robot: " + behaviour_help() + " | teleop (default wander)")
     p.add_argument("--source", default="sim", help="sim (default), bag:FILE, carmen:FILE or ros (a replay drives nothing: behaviours are ignored)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
     p.add_argument("--port", type=int, default=8080, help="port (default 8080)")
@@ -26,20 +28,16 @@ def register(sub: argparse._SubParsersAction) -> None:
 def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioApp
     """The Studio and its page from parsed arguments (also used by the tests and benchmarks)."""
     from pico_studio.config import load_config
+    from pico_studio.json_map import load_map
     from pico_studio.ui.app import StudioApp
     from pico_studio.ui.runtime import Studio
-    from pico_studio.ui.sources import (
-        DEFAULT_MAP,
-        load_any_map,
-        make_source_factory,
-        sim_config_for,
-    )
+    from pico_studio.ui.sources import DEFAULT_MAP, make_source_factory, sim_config_for
 
     cfg = load_config(args.config)
     simulated = args.source == "sim"
     # a recording has no map of its own: only the one asked for (the example is the sim's)
     map_path = Path(args.map) if args.map else (DEFAULT_MAP if simulated else None)
-    global_map = load_any_map(map_path, cfg) if map_path is not None else None
+    global_map = load_map(map_path, cfg.map) if map_path is not None else None
     sim_config = args.sim_config if args.sim_config else (sim_config_for(map_path) if simulated and not args.map else None)
     factory = make_source_factory(args.source, sim_config, args.seed)
     name = map_path.name if map_path is not None else args.source
