@@ -1,0 +1,513 @@
+"""Re-judging a kept run with another config: the whole timeline re-perceived, re-localised
+and re-scored, frame by frame, through the one loop.
+
+    run = record_sim(sim, cfg, behaviour, seconds=120)          # the sensor stream, kept once
+    run = record_replay(open_source("bag:x.bag", cfg.sources))  # ... or a whole recording
+    judged = rejudge(run, cfg)                                  # Judged: per-frame series, totals
+    judged.series["doors.recall"]                               # (N,) one value per scan, NaN
+    judged.totals["perception_score"]                           #   where there is nothing to count
+
+    worker = Rejudger(run, on_result=show, on_progress=bar)     # in the background:
+    worker.submit(cfg_b)     # cancels a re-judge under way; results carry their generation
+
+The sensor data of a `KeptRun` is fixed (the drive was recorded once), so two configs judged
+on it differ only by what the perceptor and localisation make of the same scans. The run goes
+through `Session` over a `sources.frames.FramesReplay` of the kept frames, with the truth of
+each frame (a simulator's `kept_truth.TruthSnapshot`, or a recording's true pose) given to the
+scorers as the frame comes.
+
+**Series** (one value per frame with a new scan, `SERIES` lists them with their meaning):
+wall / corner / door precision and recall of that frame (NaN when the frame has nothing to
+count), the perceptor's pose error (when the simulator's truth is kept), the localised pose
+error against the true pose (when there is one and a map to localise on),
+`local_map.agreement` (runs with true poses: `evaluation.agreement`),
+counts (local walls, corners, doors, possible doors), per-stage ms, localisation quality and
+lost. **Totals**: the run's figures (`metrics.flatten` names: ratios of sums over the run, as
+`eval` reports them) and the mean counts.
+
+**Bad input**: a config that fails validation is refused (`ConfigError` naming the field)
+before anything is re-judged. A change arriving mid-re-judge cancels it: the worker checks
+its generation between frames and a result is delivered only for the newest one, so old
+and new results never mix.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from pico_studio.config import Config, from_dict, to_dict
+from pico_studio.core.io import Frame
+from pico_studio.evaluation.agreement import AgreementObserver
+from pico_studio.evaluation.diff import features
+from pico_studio.evaluation.frame_score import FrameScore, Tolerances
+from pico_studio.evaluation.metrics import METRICS, flatten
+from pico_studio.evaluation.run_score import PoseScore, TruthScorer
+from pico_studio.session import Session, SessionFrame
+from pico_studio.sources.frames import FramesReplay
+
+Pose = tuple[float, float, float]
+
+
+
+
+@dataclass(frozen=True)
+class Series:
+    name: str
+    help: str
+    unit: str = ""
+    needs: str = ""  # "truth" (the simulator's), "pose" (a true pose), "map" (localising), "" always
+
+
+SERIES: dict[str, Series] = {s.name: s for s in (
+    Series("walls.precision", "share of this frame's local-map wall length on a true wall", "", "truth"),
+    Series("walls.recall", "share of the wall length in view the local map covers", "", "truth"),
+    Series("corners.precision", "share of this frame's corners at a true corner", "", "truth"),
+    Series("corners.recall", "share of the true corners in view detected", "", "truth"),
+    Series("doors.precision", "share of this frame's doors at a true opening", "", "truth"),
+    Series("doors.recall", "share of the openings in view detected", "", "truth"),
+    Series("pose.error_m", "the perceptor's pose error since its zero frame", "m", "truth"),
+    Series("localisation.error_m", "localised position error against the true pose", "m", "pose"),
+    Series("local_map.agreement", "share of the local map near the reference map of the true poses", "", "pose"),
+    Series("count.walls", "walls in the local map"),
+    Series("count.corners", "corners"),
+    Series("count.doors", "doors"),
+    Series("count.possible_doors", "possible doors"),
+    Series("localisation.quality", "localisation quality (0..1)", "", "map"),
+    Series("localisation.lost", "1 while the localisation is lost", "", "map"),
+    # "ms.<stage>" series are added per stage the perceptor reports (perception.STAGES, total)
+)}
+
+
+@dataclass
+class KeptRun:
+    """A run's sensor stream and truth, kept to be judged again with other configs.
+
+    `frames`: every tick's `Frame` (laser / odometry None when nothing new came that tick);
+    `truth`: per frame index with a scan, the simulator's truth then (`TruthSnapshot`), or
+    None for a recording (its frames carry the true pose, if known, in `frame.truth`);
+    `vertices`: the static corners (end-point error); `global_map` / `initial_pose`: what
+    localisation starts from (None: no localisation)."""
+
+    frames: list[Frame]
+    truth: dict[int, Any] | None = None
+    vertices: np.ndarray | None = None
+    global_map: Any = None
+    initial_pose: Pose | None = None
+    name: str = ""
+    _dfield: Any = field(default=None, repr=False)  # the map's distance field, built once per field params
+    _dfield_key: Any = field(default=None, repr=False)
+
+    @property
+    def scans(self) -> int:
+        return sum(1 for f in self.frames if f.laser is not None)
+
+    @property
+    def has_truth(self) -> bool:
+        return bool(self.truth)
+
+    @property
+    def has_true_pose(self) -> bool:
+        return any((f.truth or {}).get("pose") is not None for f in self.frames)
+
+    def distance_field(self, cfg: Config) -> Any:
+        """The global map's distance field for `cfg.localisation.field` (kept between re-judges)."""
+        from pico_studio.core.localisation import DistanceField
+
+        key = cfg.localisation.field
+        if self._dfield is None or self._dfield_key != key:
+            self._dfield = DistanceField.from_map(self.global_map, cfg.localisation.field)
+            self._dfield_key = key
+        return self._dfield
+
+
+@dataclass
+class Judged:
+    """One config's re-judged run: per-frame series, the run's totals, and why some are absent."""
+
+    generation: int
+    times: np.ndarray  # (N,) s, one per frame with a scan
+    frame_index: np.ndarray  # (N,) the kept frame (tick) each row is
+    series: dict[str, np.ndarray]  # name -> (N,)
+    totals: dict[str, float]
+    features: list[dict[str, np.ndarray]]  # per row: walls, corners, doors (zero frame) and pose, for diffs
+    notes: list[str]  # e.g. "no truth: scores absent"
+    seconds: float  # wall time the re-judge took
+    config: Config | None = None
+
+
+def validated(cfg: Config) -> Config:
+    """`cfg` checked as a whole file would be (ranges, choices, cross-field rules): a tree
+    built in code (`dataclasses.replace`) has had no checks. ConfigError names the field."""
+    return from_dict(Config, to_dict(cfg))
+
+
+# ----- keeping a run ---------------------------------------------------------------------------
+
+
+class RunKeeper:
+    """A session observer keeping what a re-judge needs of a run as it goes: every frame and,
+    with a simulator, the truth of every scan (`kept_truth.TruthSnapshot`); the newest
+    `max_frames` of them when bounded (the page's timeline length).
+
+        keeper = RunKeeper(sim)
+        Session(sim, perceptor=p, behaviour=b, observers=[keeper]).run(60)
+        run = keeper.kept(global_map, start)     # a KeptRun of what is kept now"""
+
+    name = "kept_run"
+
+    def __init__(self, sim: Any = None, max_frames: int | None = None):
+        from pico_studio.evaluation.frame_score import static_vertices
+
+        self.sim = sim
+        self.vertices = static_vertices(sim) if sim is not None else None
+        self._form = sim.params.odometry.form if sim is not None else ""
+        self._kept: deque[tuple[Frame, Any]] = deque(maxlen=max_frames)
+
+    def on_frame(self, sf: SessionFrame) -> None:
+        from pico_studio.evaluation.kept_truth import TruthSnapshot
+
+        truth = TruthSnapshot(self.sim.truth, self._form) if self.sim is not None and sf.frame.laser is not None else None
+        self._kept.append((sf.frame, truth))
+
+    def __len__(self) -> int:
+        return len(self._kept)
+
+    def clear(self) -> None:
+        self._kept.clear()
+
+    def kept(self, global_map: Any = None, initial_pose: Pose | None = None, name: str = "") -> KeptRun:
+        """The frames kept now as a `KeptRun` (localised on `global_map` from `initial_pose`,
+        default the first kept true pose, when a map is given)."""
+        kept = list(self._kept)
+        frames = [f for f, _ in kept]
+        truth = {i: t for i, (_, t) in enumerate(kept) if t is not None} if self.sim is not None else None
+        if global_map is not None and initial_pose is None:
+            initial_pose = next((_pose(f.truth["pose"]) for f in frames if (f.truth or {}).get("pose") is not None),
+                                None)
+        return KeptRun(frames, truth, self.vertices, global_map, initial_pose if global_map is not None else None,
+                       name=name)
+
+    def summary(self) -> dict[str, Any]:
+        return {"frames": len(self._kept)}
+
+
+def record_sim(sim: Any, cfg: Config, behaviour: Any, *, seconds: float, dt: float = 0.05,
+               localise: bool = False, initial_pose: Pose | None = None, perceptor: Any = None,
+               name: str = "simulation") -> KeptRun:
+    """Drive `sim` with `behaviour` for `seconds` keeping every frame and the truth of every
+    scan. Without a `perceptor` the drive does not depend on any config judged later; a
+    behaviour that steers by the world model needs one (the drive then is that config's)."""
+    keeper = RunKeeper(sim)
+    start = _pose(sim.truth.pose) if initial_pose is None else initial_pose
+    session = Session(sim, perceptor=perceptor, behaviour=behaviour, observers=[keeper])
+    for _ in session.frames(until=sim.now() + seconds, dt=dt):
+        if getattr(behaviour, "done", False):
+            break
+    return keeper.kept(sim.world.map if localise else None, start, name=name)
+
+
+def record_replay(replay: Any, *, seconds: float | None = None, global_map: Any = None,
+                  name: str = "") -> KeptRun:
+    """Every frame of a recording (`sources.Replay`: a bag, a CARMEN log), up to `seconds`
+    after its first; localised on `global_map` from the first true pose when both are there."""
+    frames: list[Frame] = []
+    t0 = None
+    for i in range(replay.frame_count):
+        f = replay.frame(i)
+        t0 = f.time if t0 is None else t0
+        if seconds is not None and f.time - t0 > seconds + 1e-9:
+            break
+        frames.append(f)
+    start = next((_pose(f.truth["pose"]) for f in frames if (f.truth or {}).get("pose") is not None), None)
+    return KeptRun(frames, None, None, global_map if start is not None else None,
+                   start if global_map is not None else None, name=name)
+
+
+def _pose(v: Any) -> Pose:
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
+# ----- judging ----------------------------------------------------------------------------------
+
+
+class Cancelled(Exception):
+    """The re-judge was overtaken by a newer change."""
+
+
+class _Series:
+    """The session observer filling one row of every series per frame with a new scan."""
+
+    name = "series"
+
+    def __init__(self, run: KeptRun, replay: FramesReplay, scorer: TruthScorer | None,
+                 localising: bool, agreement: Any) -> None:
+        self.run, self.replay, self.scorer = run, replay, scorer
+        self.localising, self.agreement = localising, agreement
+        self.rows: dict[str, list[float]] = {}
+        self.times: list[float] = []
+        self.index: list[int] = []
+        self.features: list[dict[str, np.ndarray]] = []
+        self.pose = PoseScore()
+        self._last: Any = None
+
+    def _put(self, name: str, value: float) -> None:
+        col = self.rows.setdefault(name, [math.nan] * (len(self.times) - 1))
+        col.append(value)
+
+    def on_frame(self, sf: SessionFrame) -> None:
+        wm = sf.world_model
+        if sf.frame.laser is None or wm is None or wm is self._last:
+            return
+        self._last = wm
+        self.times.append(sf.frame.time)
+        self.index.append(self.replay.index)
+        feats = features(wm)
+        feats["pose"] = np.asarray(wm.pose, dtype=float)  # to place the zero frame on the map
+        self.features.append(feats)
+        if self.scorer is not None and self.replay.index in (self.run.truth or {}):
+            n = self.scorer.run.count
+            self.scorer.on_frame(sf)
+            if self.scorer.run.count != n and self.scorer.run.last is not None:
+                self._scores(self.scorer.run.last)
+        lm = wm.local_map
+        self._put("count.walls", float(len(lm.walls)))
+        self._put("count.corners", float(len(wm.corners)))
+        self._put("count.doors", float(len(wm.doors)))
+        self._put("count.possible_doors", float(len(wm.possible_doors)))
+        for stage, ms in (wm.timings_ms or {}).items():
+            self._put(f"ms.{stage}", float(ms))
+        if self.localising:
+            self._put("localisation.quality", float(wm.localisation_quality))
+            self._put("localisation.lost", float(bool(wm.lost) or wm.global_pose is None))
+            true = (sf.frame.truth or {}).get("pose")
+            if true is not None:
+                n = len(self.pose.position)
+                self.pose.add(wm.global_pose, _pose(true), wm.lost)
+                if len(self.pose.position) > n:
+                    self._put("localisation.error_m", self.pose.position[-1])
+        if self.agreement is not None:
+            self.agreement.on_frame(sf)
+        self._pad()
+
+    def _scores(self, s: FrameScore) -> None:
+        for name, num, den in (("walls.precision", s.wall_len_ok, s.wall_len),
+                               ("walls.recall", s.truth_len_ok, s.truth_len),
+                               ("corners.precision", s.corners_ok, s.corners),
+                               ("corners.recall", s.truth_corners_ok, s.truth_corners),
+                               ("doors.precision", s.doors_ok, s.doors),
+                               ("doors.recall", s.truth_doors_ok, s.truth_doors)):
+            self._put(name, num / den if den > 0 else math.nan)
+        self._put("pose.error_m", s.pose_err_m)
+
+    def _pad(self) -> None:
+        """Every series as long as the rows so far (NaN where this frame gave it nothing)."""
+        n = len(self.times)
+        for col in self.rows.values():
+            if len(col) < n:
+                col.append(math.nan)
+
+    def summary(self) -> dict[str, Any]:
+        return {"frames": len(self.times)}
+
+
+def rejudge(run: KeptRun, cfg: Config, *, generation: int = 0, tol: Tolerances | None = None,
+            cancelled: Callable[[], bool] | None = None,
+            progress: Callable[[int, int], None] | None = None, progress_every: int = 100) -> Judged:
+    """Re-perceive, re-localise and re-score every frame of `run` with `cfg` (validated first).
+
+    `cancelled()` is asked between frames; when true the judge stops with `Cancelled`.
+    `progress(done, total)` is called every `progress_every` frames (ticks) and at the end."""
+    from pico_studio.evaluation.runner import make_perceptor
+
+    cfg = validated(cfg)
+    t0 = time.perf_counter()
+    replay = FramesReplay(run.frames)
+    localising = run.global_map is not None and cfg.localisation.enabled and len(run.global_map.walls) > 0
+    perceptor = make_perceptor(cfg, run.global_map, run.initial_pose, localise=localising,
+                               field=run.distance_field(cfg) if localising else None)
+    truth = run.truth or {}
+    scorer = TruthScorer(lambda: truth[replay.index], tol=tol, vertices=run.vertices) if truth else None
+    agreement = AgreementObserver(every=1) if run.has_true_pose else None
+    rows = _Series(run, replay, scorer, localising, agreement)
+    session = Session(replay, perceptor=perceptor, observers=[rows])
+    total = len(run.frames)
+    for k, _ in enumerate(session.frames()):
+        if cancelled is not None and cancelled():
+            raise Cancelled
+        if progress is not None and (k + 1) % progress_every == 0:
+            progress(k + 1, total)
+    if progress is not None:
+        progress(total, total)
+    series = {name: np.asarray(col, dtype=float) for name, col in rows.rows.items()}
+    totals, notes = _totals(run, rows, scorer, agreement, series, localising)
+    if agreement is not None:
+        per = _agreement_per_frame(agreement, len(rows.times))
+        if per is not None:
+            series["local_map.agreement"] = per
+    return Judged(generation, np.asarray(rows.times, dtype=float), np.asarray(rows.index, dtype=np.int64),
+                  series, totals, rows.features, notes, time.perf_counter() - t0, cfg)
+
+
+def _totals(run: KeptRun, rows: _Series, scorer: TruthScorer | None, agreement: Any,
+            series: dict[str, np.ndarray], localising: bool) -> tuple[dict[str, float], list[str]]:
+    notes: list[str] = []
+    summary: dict[str, Any] = {}
+    if scorer is not None:
+        summary["perceptor"] = scorer.run.summary()
+    else:
+        notes.append("no simulator truth: wall, corner and door scores are absent (counts and stability shown)")
+    if localising and rows.pose.lost:
+        summary["localisation"] = rows.pose.summary()
+    elif run.global_map is None:
+        notes.append("no map to localise on: localisation figures are absent")
+    elif not run.has_true_pose:
+        notes.append("no true pose: localisation error is absent")
+    totals = flatten(summary)
+    if scorer is None:
+        ms = series.get("ms.total")
+        if ms is not None and len(ms):
+            totals["perceptor.ms_per_scan"] = float(np.nanmedian(ms))
+    if agreement is not None:
+        totals["local_map.agreement"] = float(agreement.summary()["agreement"])
+    for name in ("count.walls", "count.corners", "count.doors", "count.possible_doors"):
+        col = series.get(name)
+        if col is not None and len(col):
+            totals[name] = float(np.nanmean(col))
+    return totals, notes
+
+
+def _agreement_per_frame(agreement: Any, n: int) -> np.ndarray | None:
+    """Per frame agreement from the observer's kept samples (judged against the finished
+    reference map), when it keeps them per frame; None otherwise."""
+    per_frame = getattr(agreement, "_per_frame", None)
+    samples = getattr(agreement, "_samples", None)
+    if per_frame is None or samples is None or len(per_frame) != n:
+        return None
+    pts = np.vstack(samples) if samples else np.zeros((0, 2))
+    if not len(pts):
+        return np.full(n, math.nan)
+    ok = agreement.reference.distance(pts) <= agreement.distance
+    return np.array([float(ok[s:s + k].mean()) if k else math.nan for s, k in per_frame])
+
+
+def higher_is_better(name: str) -> bool:
+    """Whether a larger value of total or series `name` is better (counts: neither; True)."""
+    m = METRICS.get(name)
+    if m is not None:
+        return m.higher_is_better
+    return not (name.endswith("error_m") or name.startswith("ms.") or name.endswith("lost")
+                or name.endswith("ms_per_scan"))
+
+
+# ----- in the background -----------------------------------------------------------------------
+
+
+class Rejudger:
+    """Re-judges a kept run in a background thread whenever `submit(cfg)` is called.
+
+    A submit while a re-judge is under way cancels it (it stops at the next frame) and starts
+    the new one: each submit takes the next *generation*; `on_result(judged)` is called only
+    for a re-judge of the newest generation that ran to the end, and `on_progress(generation,
+    done, total)` as it goes. `latest` is the newest finished `Judged`. A config that fails
+    validation raises `ConfigError` from `submit` and cancels nothing."""
+
+    def __init__(self, run: KeptRun, *, on_result: Callable[[Judged], None] | None = None,
+                 on_progress: Callable[[int, int, int], None] | None = None,
+                 on_error: Callable[[int, Exception], None] | None = None, tol: Tolerances | None = None):
+        self.run = run
+        self.on_result, self.on_progress, self.on_error = on_result, on_progress, on_error
+        self.tol = tol
+        self.progress_every = 100  # frames between progress reports
+        self.generation = 0
+        self.latest: Judged | None = None
+        self.running = False
+        self._pending: Config | None = None
+        self._cond = threading.Condition()
+        self._closed = False
+        self._thread = threading.Thread(target=self._loop, name="rejudge", daemon=True)
+        self._thread.start()
+
+    def submit(self, cfg: Config) -> int:
+        """Queue `cfg` (validated now), cancelling a re-judge under way; its generation."""
+        cfg = validated(cfg)
+        with self._cond:
+            self.generation += 1
+            self._pending = cfg
+            self._cond.notify_all()
+            return self.generation
+
+    def set_run(self, run: KeptRun) -> None:
+        """Judge another kept run from the next submit on (a run under way is cancelled)."""
+        with self._cond:
+            self.run = run
+            self.generation += 1
+            self._pending = None
+            self.latest = None
+            self._cond.notify_all()
+
+    def wait(self, generation: int | None = None, timeout: float = 60.0) -> Judged | None:
+        """Block until the result of `generation` (default the newest) is in, or `timeout`."""
+        end = time.monotonic() + timeout
+        with self._cond:
+            while True:
+                want = self.generation if generation is None else generation
+                if self.latest is not None and self.latest.generation >= want:
+                    return self.latest
+                left = end - time.monotonic()
+                if left <= 0:
+                    return None
+                self._cond.wait(left)
+
+    def close(self) -> None:
+        with self._cond:
+            self._closed = True
+            self.generation += 1
+            self._cond.notify_all()
+        self._thread.join(timeout=10.0)
+
+    def _loop(self) -> None:
+        while True:
+            with self._cond:
+                while self._pending is None and not self._closed:
+                    self._cond.wait()
+                if self._closed:
+                    return
+                cfg, gen, run = self._pending, self.generation, self.run
+                self._pending = None
+                self.running = True
+            assert cfg is not None
+            try:
+                judged = rejudge(run, cfg, generation=gen, tol=self.tol,
+                                 cancelled=lambda g=gen: self.generation != g,  # type: ignore[misc]
+                                 progress=lambda d, t, g=gen: self._progress(g, d, t),  # type: ignore[misc]
+                                 progress_every=self.progress_every)
+            except Cancelled:
+                continue
+            except Exception as e:  # a bug in one config's run must not stop the worker
+                with self._cond:
+                    self.running = False
+                if self.on_error is not None:
+                    self.on_error(gen, e)
+                continue
+            finally:
+                with self._cond:
+                    self.running = self._pending is not None
+            with self._cond:
+                if gen != self.generation:  # overtaken after its last frame: drop it
+                    continue
+                self.latest = judged
+                self._cond.notify_all()
+            if self.on_result is not None:
+                self.on_result(judged)
+
+    def _progress(self, gen: int, done: int, total: int) -> None:
+        if self.on_progress is not None and gen == self.generation:
+            self.on_progress(gen, done, total)

@@ -1,0 +1,123 @@
+"""Re-judging a kept run with another config: series per frame, totals, the background worker."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import threading
+
+import numpy as np
+import pytest
+
+from pico_studio.config import Config, with_value
+from pico_studio.core.behaviours.wander import Wander
+from pico_studio.core.perception import Perceptor
+from pico_studio.errors import ConfigError
+from pico_studio.evaluation.rejudge import (
+    SERIES,
+    KeptRun,
+    Rejudger,
+    record_replay,
+    record_sim,
+    rejudge,
+)
+from pico_studio.evaluation.run_score import TruthScorer
+from pico_studio.json_map import load_json_map
+from pico_studio.session import Session
+from pico_studio.sim import Simulator
+from pico_studio.sources import open_source
+
+CFG = Config()
+START = (3.5, 0.6, math.pi / 2)
+COARSE = with_value(CFG, "perception.scan.min_length", 1.5)
+
+
+@pytest.fixture(scope="module")
+def run(request) -> KeptRun:  # noqa: ANN001
+    gmap = load_json_map(request.config.rootpath / "pico_studio/data/maps/hospital_2019.json")
+    sim = Simulator(gmap, CFG.sim, seed=1, initial_pose=START)
+    return record_sim(sim, CFG, Wander(CFG.ui.wander), seconds=4.0, localise=True)
+
+
+def test_the_same_config_judges_the_kept_frames_as_the_live_run_was_judged(maps_dir, run) -> None:
+    gmap = load_json_map(maps_dir / "hospital_2019.json")
+    sim = Simulator(gmap, CFG.sim, seed=1, initial_pose=START)
+    live = TruthScorer(sim)
+    Session(sim, perceptor=Perceptor(CFG.perception), behaviour=Wander(CFG.ui.wander), observers=[live]).run(4.0)
+    judged = rejudge(run.__class__(run.frames, run.truth, run.vertices), CFG)  # no map: perception only
+    s = live.summary()
+    assert len(judged.times) == run.scans == s["frames"] == 80
+    assert judged.totals["walls.precision"] == s["wall_precision"]
+    assert judged.totals["doors.recall"] == s["door_recall"]
+    assert judged.totals["corners.recall"] == s["corner_recall"]
+
+
+def test_series_cover_every_scan_and_a_coarser_config_loses_walls(run) -> None:
+    a, b = rejudge(run, CFG), rejudge(run, COARSE)
+    n = run.scans
+    for name in ("walls.precision", "walls.recall", "doors.recall", "count.walls", "count.doors",
+                 "localisation.quality", "localisation.lost", "localisation.error_m", "ms.total"):
+        assert len(a.series[name]) == n, name
+        assert name in SERIES or name.startswith("ms."), name
+    assert np.all(np.diff(a.times) > 0) and len(a.features) == n
+    assert a.totals["localisation.pose_error_m.median"] < 0.1
+    assert b.totals["walls.recall"] < a.totals["walls.recall"] - 0.05
+    assert np.nanmean(b.series["count.walls"]) < np.nanmean(a.series["count.walls"])
+    # the sensor stream is the same: the times and frames judged are too
+    np.testing.assert_array_equal(a.times, b.times)
+    np.testing.assert_array_equal(a.frame_index, b.frame_index)
+
+
+def test_an_invalid_config_is_refused_naming_the_field_and_nothing_is_judged(run) -> None:
+    bad = dataclasses.replace(CFG, perception=dataclasses.replace(
+        CFG.perception, scan=dataclasses.replace(CFG.perception.scan, min_length=-1.0)))
+    with pytest.raises(ConfigError, match=r"perception\.scan\.min_length"):
+        rejudge(run, bad)
+    results: list = []
+    worker = Rejudger(run, on_result=results.append)
+    try:
+        with pytest.raises(ConfigError, match=r"perception\.scan\.min_length"):
+            worker.submit(bad)
+        assert worker.generation == 0 and worker.wait(timeout=0.2) is None and results == []
+    finally:
+        worker.close()
+
+
+def test_a_change_mid_rejudge_cancels_it_and_old_and_new_never_mix(run) -> None:
+    results: list = []
+    progress: list[tuple[int, int, int]] = []
+    started = threading.Event()
+
+    def on_progress(gen: int, done: int, total: int) -> None:
+        progress.append((gen, done, total))
+        started.set()
+
+    worker = Rejudger(run, on_result=results.append, on_progress=on_progress)
+    worker.progress_every = 1
+    try:
+        g1 = worker.submit(CFG)
+        assert started.wait(60)
+        g2 = worker.submit(COARSE)  # arrives while the first is under way
+        judged = worker.wait(g2, timeout=120)
+        assert judged is not None and judged.generation == g2 > g1
+        # the first was overtaken mid-run: only the second is delivered, whole and its own
+        assert [r.generation for r in results] == [g2]
+        direct = rejudge(run, COARSE)
+        assert judged.totals == {**direct.totals, "perceptor.ms_per_scan": judged.totals["perceptor.ms_per_scan"]}
+        for name, col in direct.series.items():
+            if not name.startswith("ms."):
+                np.testing.assert_array_equal(judged.series[name], col)
+        assert progress and progress[-1] == (g2, len(run.frames), len(run.frames))
+        assert all(gen in (g1, g2) for gen, _, _ in progress)
+    finally:
+        worker.close()
+
+
+def test_a_recording_without_truth_gives_counts_and_says_why_scores_are_absent(recordings_dir) -> None:
+    replay = open_source(f"bag:{recordings_dir / 'pico_real_2019-05-07.bag'}", CFG.sources)
+    run = record_replay(replay, seconds=3.0)
+    judged = rejudge(run, CFG)
+    assert len(judged.times) == run.scans > 20
+    assert "walls.precision" not in judged.series and "walls.precision" not in judged.totals
+    assert judged.totals["count.walls"] > 0 and len(judged.series["count.walls"]) == run.scans
+    assert any("no simulator truth" in n for n in judged.notes)
