@@ -23,6 +23,7 @@ from typing import Any
 import viser
 
 from pico_studio.config import Config
+from pico_studio.ui.ab_panel import ABPanel
 from pico_studio.ui.clock import frame_number, is_replay, recording_position, relative_time
 from pico_studio.ui.layers import LayerToggles, SceneLayers
 from pico_studio.ui.logbook import LogBook
@@ -35,10 +36,12 @@ from pico_studio.ui.panels.log import LogPanel
 from pico_studio.ui.panels.map_choice import MapPanel
 from pico_studio.ui.panels.run import RunPanel
 from pico_studio.ui.panels.tools import ToolsPanel
+from pico_studio.ui.plots_panel import PlotsPanel
 from pico_studio.ui.recording_panel import RecordingControls
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.scene_data import Prim, frame_prims, map_prims
 from pico_studio.ui.status import status_text
+from pico_studio.ui.whatif import WhatIf
 
 log = logging.getLogger(__name__)
 SETTINGS_KEY = "pico_studio.tab_settings"  # one JSON object per browser (local storage)
@@ -69,6 +72,8 @@ class StudioApp:
         self._stop = threading.Event()
         self._draw_lock = threading.RLock()
         self._thread: threading.Thread | None = None
+        self.whatif = WhatIf(studio, on_update=self.redraw)  # the whole run re-judged, A/B
+        self.whatif.attach()
         self._build_panels()
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_disconnect)
@@ -94,13 +99,16 @@ class StudioApp:
             self.layers_panel = LayersPanel(page, gui)
         with tabs.add_tab("Config"):
             self.config = ConfigTab(page, gui, self.export_dir)
+        with tabs.add_tab("What-if"):
+            self.ab = ABPanel(page, gui, self.whatif, self.export_dir)
+            self.plots = PlotsPanel(page, gui, self.whatif)
         with tabs.add_tab("Tools"):
             self.tools = ToolsPanel(page, gui, self.export_dir)
         with tabs.add_tab("Log"):
             self.log_panel = LogPanel(page, gui)
         self.tab_group = tabs
         self.panels: list[Panel] = [self.run, self.behaviour, self.map, self.recording, self.layers_panel,
-                                    self.config, self.tools, self.log_panel, self.help]
+                                    self.config, self.ab, self.plots, self.tools, self.log_panel, self.help]
 
     # ----- what tests and benchmarks read ---------------------------------------------------
     @property
@@ -144,6 +152,11 @@ class StudioApp:
     def switch_map(self, path: Path, name: str, client: viser.ClientHandle | None) -> None:
         self.map.switch(path, name, client)
 
+    def set_b(self, cfg: Config) -> None:
+        """Make `cfg` the current config, B, against a pinned A (the Tune tab's "apply as
+        B"): the sliders show it, the frame shown is re-processed, the whole run re-judged."""
+        self.config.apply(cfg)
+
     # ----- lifecycle ------------------------------------------------------------------------
     def start(self) -> None:
         self._thread = threading.Thread(target=self._loop, name="pico-studio-loop", daemon=True)
@@ -154,6 +167,7 @@ class StudioApp:
         if self._thread is not None:
             self._thread.join(timeout=2.0)
         self.recording.recorder.stop()
+        self.whatif.close()
         self.server.stop()
 
     # ----- the loop and drawing --------------------------------------------------------------------
@@ -218,9 +232,11 @@ class StudioApp:
                 for w in list(frame.wm.warnings if frame.wm is not None else []) + list(frame.errors):
                     self.log.add("warning", "perception", w, frame=frame_number(s, frame),
                                  t=relative_time(s.source, frame.time))
+            robot = s.robot_pose_in_map(frame) if frame is not None else None
+            prims = frame_prims(s, frame) | self.ab.prims(frame.time if frame is not None else None, robot)
             return Shown(
-                frame=frame, prims=frame_prims(s, frame), metrics=s.metrics(), length=length, position=position,
-                robot=s.robot_pose_in_map(frame) if frame is not None else None, playing=s.playing, replay=replay,
+                frame=frame, prims=prims, metrics=s.metrics(), length=length, position=position,
+                robot=robot, playing=s.playing, replay=replay,
             )
 
     def _frame_text(self) -> str:
@@ -234,9 +250,11 @@ class StudioApp:
         return text
 
     def _rescore(self) -> None:
-        """The truth scores of a re-processed live frame, after its layers went out."""
+        """After a change: the truth scores of the re-processed live frame (its layers went
+        out first), then the whole run re-judged in the background."""
         self.studio.rescore()
         self.redraw()
+        self.whatif.changed()
 
     def jump_to_frame(self, number: int) -> None:
         """Show frame `number` (as the log numbers frames): seek a replay, scrub the timeline."""

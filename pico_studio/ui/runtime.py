@@ -86,6 +86,8 @@ class Studio:
         self.cursor: int | None = None  # timeline position shown; None = follow the live frame
         self.perceive_ms: deque[float] = deque(maxlen=50)
         self.perceive_walltimes: deque[float] = deque(maxlen=50)
+        # more observers of every new session, each made for its source (the what-if's kept run)
+        self.observer_factories: list[Callable[[Studio], Any]] = []
         self.reset()
 
     # ----- lifecycle -----------------------------------------------------------------------
@@ -117,7 +119,7 @@ class Studio:
                 self.source,
                 perceptor=_StudioPerceptor(self._session_perceive),
                 behaviour=_StudioBehaviour(self),
-                observers=[_TimelineObserver(self)],
+                observers=[_TimelineObserver(self), *(make(self) for make in self.observer_factories)],
             )
 
     def _make_scorer(self) -> TruthScorer | None:

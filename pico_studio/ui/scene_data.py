@@ -86,6 +86,14 @@ LAYERS: tuple[LayerSpec, ...] = (
         PrimSpec("doors", S, style.DOOR, 4.0),
         PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 3.0),
     )),
+    LayerSpec("ab_diff", "A/B diff (B vs pinned A)", (  # filled by ui.ab_panel, not frame_prims
+        PrimSpec("diff_walls_lost", S, style.DIFF_LOST, 5.0),
+        PrimSpec("diff_walls_added", S, style.DIFF_ADDED, 5.0),
+        PrimSpec("diff_doors_lost", S, style.DIFF_LOST, 7.0),
+        PrimSpec("diff_doors_added", S, style.DIFF_ADDED, 7.0),
+        PrimSpec("diff_corners_lost", P, style.DIFF_LOST, point_size=0.12),
+        PrimSpec("diff_corners_added", P, style.DIFF_ADDED, point_size=0.12),
+    )),
     LayerSpec("proximity", "Proximity bubble", (
         PrimSpec("bubble", S, style.PROXIMITY, 1.5),
         PrimSpec("flagged", S, style.PROXIMITY_FLAGGED, 1.0),

@@ -62,6 +62,8 @@ ENTRANCE: RGB = (60, 130, 170)  # steel blue
 HALLWAY: RGB = (120, 200, 160)  # pale green
 ROOM_SIDE: RGB = (148, 100, 227)  # lilac: the watched side beam
 ROOM_JUMP: RGB = (150, 130, 0)  # ... when its range jumped: a side room's opening
+DIFF_ADDED: RGB = (30, 180, 30)  # green: a wall, corner or door config B adds against A
+DIFF_LOST: RGB = (250, 60, 20)  # red-orange: ... one B loses
 MEASURE: RGB = (249, 22, 139)
 INSPECT: RGB = (230, 213, 82)
 
@@ -101,6 +103,7 @@ LEGEND: list[tuple[str, list[tuple[RGB, str]]]] = [
     ("Behaviour", [(BEHAVIOUR_TARGET, "target"), (BEHAVIOUR_PLAN, "plan")]),
     ("Entrance", [(ENTRANCE, "entrance estimate"), (HALLWAY, "... in a hallway")]),
     ("Side room watch (seed 000)", [(ROOM_SIDE, "side beam"), (ROOM_JUMP, "side range jumped: a room")]),
+    ("A/B diff", [(DIFF_ADDED, "B adds (vs A)"), (DIFF_LOST, "B loses")]),
     ("Tools", [(MEASURE, "measure"), (INSPECT, "inspected feature")]),
 ]
 
@@ -117,7 +120,8 @@ def swatches(colours: list[RGB]) -> str:
 
 
 # colours drawn as points (point clouds are not tone-mapped: they show as declared)
-POINT_COLOURS = {LASER, *ENDPOINT.values(), SPIKE_CORNER, VECTOR_CORNER_INNER, VECTOR_CORNER_OUTER, BEHAVIOUR_TARGET}
+POINT_COLOURS = {LASER, *ENDPOINT.values(), SPIKE_CORNER, VECTOR_CORNER_INNER, VECTOR_CORNER_OUTER, BEHAVIOUR_TARGET,
+                 DIFF_ADDED, DIFF_LOST}
 
 # the layer key -> its colours as the Layers tab shows them beside the toggle
 LAYER_COLOURS: dict[str, list[RGB]] = {

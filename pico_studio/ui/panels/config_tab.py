@@ -1,5 +1,6 @@
-"""The Config tab: reset to defaults, export / import YAML, and a slider per parameter
-(`ui.config_panel.ConfigPanel`)."""
+"""The Config tab: reset to defaults, export / import YAML (an import merges over the current
+values and lists what it changed), the tuner's search / undo / diff view
+(`ui.config_panel.Tuner`) and a slider per parameter (`ui.config_panel.ConfigPanel`)."""
 
 from __future__ import annotations
 
@@ -10,10 +11,10 @@ from typing import Any
 
 import viser
 
-from pico_studio.config import Config, dump_yaml, loads_config
+from pico_studio.config import Config, dump_yaml, merge_config
 from pico_studio.errors import UserError
-from pico_studio.ui.config_panel import ConfigPanel
-from pico_studio.ui.page import Page, Panel
+from pico_studio.ui.config_panel import ConfigPanel, Tuner
+from pico_studio.ui.page import Page, Panel, Shown
 
 
 class ConfigTab(Panel):
@@ -32,24 +33,35 @@ class ConfigTab(Panel):
         reset.on_click(page.guard("reset to defaults", lambda e: self.apply(Config())))
         export.on_click(page.guard("export", self._on_export))
         upload.on_upload(page.guard("config import", self._on_upload))
-        self.sliders = ConfigPanel(gui, page.studio.cfg, page.guard("parameter", lambda e, path: self.edit(path, e.target.value)))
+        on_edit = page.guard("parameter", lambda e, path: self.edit(path, e.target.value))
+        self.tuner = Tuner(gui, None, lambda: page.studio.cfg, lambda cfg: self.apply(cfg, record=False),  # type: ignore[arg-type]
+                           lambda: page.hooks["pinned_a"]() if "pinned_a" in page.hooks else None, on_edit)
+        self.sliders = ConfigPanel(gui, page.studio.cfg, on_edit)
+        self.tuner.panel = self.sliders
+        page.hooks["config_shown"] = self.sliders.show
 
     def edit(self, path: str, value: Any) -> None:
         """What a user's edit of one parameter does: validate, re-process the frame shown,
         redraw; an invalid value is put back on the page and reported."""
         t0, c0 = time.perf_counter(), time.thread_time()
+        before = self.page.studio.cfg
         try:
             self.page.studio.set_param(path, value)
-        except UserError:
+        except UserError as e:
             self.sliders.show(self.page.studio.cfg)
+            self.tuner.refused(path, value, e.message)
             raise
+        self.tuner.record(before, self.page.studio.cfg)
+        self.tuner.accepted()
         self.page.redraw()
         self.page.server.flush()
         self.update_ms.append((time.perf_counter() - t0) * 1000.0)
         self.update_cpu_ms.append((time.thread_time() - c0) * 1000.0)
         self.page.hooks["rescore"]()
 
-    def apply(self, cfg: Config) -> None:
+    def apply(self, cfg: Config, *, record: bool = True) -> None:
+        if record:
+            self.tuner.record(self.page.studio.cfg, cfg)
         self.page.studio.set_config(cfg)
         self.sliders.show(cfg)
         self.page.redraw()
@@ -76,5 +88,12 @@ class ConfigTab(Panel):
             text = f.content.decode("utf-8")
         except UnicodeDecodeError:
             raise UserError("not a text file", file=f.name) from None
-        self.apply(loads_config(text, file=f.name))
-        self.page.notify(event.client, "config imported", f.name, color="green")
+        merged = merge_config(self.page.studio.cfg, text, file=f.name)  # over the tuned values
+        self.apply(merged.config)
+        listed = "; ".join(f"{c.path}: {c.old!r} → {c.new!r}" for c in merged.changed[:8])
+        more = f"; … {len(merged.changed) - 8} more" if len(merged.changed) > 8 else ""
+        body = f"{f.name}: {len(merged.changed)} value(s) changed" + (f": {listed}{more}" if merged.changed else "")
+        self.page.notify(event.client, "config imported", body, color="green")
+
+    def refresh(self, shown: Shown) -> None:
+        self.tuner.refresh()
