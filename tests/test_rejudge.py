@@ -121,3 +121,13 @@ def test_a_recording_without_truth_gives_counts_and_says_why_scores_are_absent(r
     assert "walls.precision" not in judged.series and "walls.precision" not in judged.totals
     assert judged.totals["count.walls"] > 0 and len(judged.series["count.walls"]) == run.scans
     assert any("no simulator truth" in n for n in judged.notes)
+
+
+def test_a_recording_with_true_poses_gets_the_agreement_and_the_pose_error(recordings_dir) -> None:
+    replay = open_source(f"carmen:{recordings_dir / 'intel-corrected.log.gz'}", CFG.sources)
+    run = record_replay(replay, seconds=4.0)
+    judged = rejudge(run, CFG)
+    agreement = judged.series["local_map.agreement"]
+    assert len(agreement) == run.scans and np.nanmin(agreement) >= 0.0 and np.nanmax(agreement) <= 1.0
+    assert 0.0 <= judged.totals["local_map.agreement"] <= 1.0
+    assert "walls.precision" not in judged.totals

@@ -56,3 +56,24 @@ def test_a_bad_config_is_refused_and_nothing_judged(studio) -> None:
     with pytest.raises(ConfigError, match=r"ui\.rate_hz"):
         w._judge("b", bad)
     assert w.b.judged is None
+
+
+def test_a_recording_is_judged_whole_and_says_why_scores_are_absent(recordings_dir) -> None:
+    spec = f"bag:{recordings_dir / 'pico_real_2019-05-07.bag'}"
+    s = Studio(Config(), None, make_source_factory(spec, None), map_name="")
+    w = WhatIf(s)
+    w.attach()
+    try:
+        for _ in range(5):
+            s.tick(0.05)
+        w.changed()
+        assert w.wait(180)
+        judged = w.b.judged
+        assert judged is not None and len(judged.times) == s.source.frame_count  # the whole file
+        assert "count.walls" in judged.series and "walls.precision" not in judged.series
+        assert any("no simulator truth" in n for n in judged.notes)
+        before = w.kept_run()
+        s.reset()  # a seek restarts the replay: the run stays the one read
+        assert w.kept_run() is before
+    finally:
+        w.close()

@@ -20,7 +20,7 @@ scorers as the frame comes.
 wall / corner / door precision and recall of that frame (NaN when the frame has nothing to
 count), the perceptor's pose error (when the simulator's truth is kept), the localised pose
 error against the true pose (when there is one and a map to localise on),
-`local_map.agreement` (runs with true poses: `evaluation.agreement`),
+`local_map.agreement` (recordings with true poses: `evaluation.agreement`),
 counts (local walls, corners, doors, possible doors), per-stage ms, localisation quality and
 lost. **Totals**: the run's figures (`metrics.flatten` names: ratios of sums over the run, as
 `eval` reports them) and the mean counts.
@@ -335,7 +335,9 @@ def rejudge(run: KeptRun, cfg: Config, *, generation: int = 0, tol: Tolerances |
                                field=run.distance_field(cfg) if localising else None)
     truth = run.truth or {}
     scorer = TruthScorer(lambda: truth[replay.index], tol=tol, vertices=run.vertices) if truth else None
-    agreement = AgreementObserver(every=1) if run.has_true_pose else None
+    # with the simulator's truth the walls are scored against the true geometry; agreement with
+    # a reference map cast from the true poses is the figure for recordings that know only those
+    agreement = AgreementObserver(every=1) if run.has_true_pose and not truth else None
     rows = _Series(run, replay, scorer, localising, agreement)
     session = Session(replay, perceptor=perceptor, observers=[rows])
     total = len(run.frames)

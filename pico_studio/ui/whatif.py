@@ -88,7 +88,7 @@ class WhatIf:
         s = self.studio
         with self._lock:
             if hasattr(s.source, "frame_count"):  # a recording: all of it, read once
-                key: Any = ("replay", str(getattr(s.source, "path", id(s.source))), s.source.frame_count,
+                key: Any = ("replay", str(getattr(s.source, "name", id(s.source))), s.source.frame_count,
                             self._localising_map() is not None)
                 if self._run_key != key:
                     self._new_run(record_replay(s.source, global_map=self._localising_map(), name=s.map_name), key)
