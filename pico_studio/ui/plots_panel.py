@@ -177,7 +177,9 @@ class PlotsPanel(Panel):
                 if plot is not None:
                     plot.remove()
                 with self.folder:
-                    scales = {"y": {"range": list(group.scale)}} if group.scale is not None else None
+                    scales: dict[str, Any] = {"x": {"time": False}}  # seconds, not a date
+                    if group.scale is not None:
+                        scales["y"] = {"range": list(group.scale)}
                     plot = self.gui.add_uplot(data, series, title=group.title, aspect=1.8, scales=scales,  # type: ignore[arg-type]
                                               order=order, visible=bool(self.toggles[group.key].value))
                 self.plots[group.key] = plot
