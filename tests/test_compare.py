@@ -117,3 +117,11 @@ def test_a_wall_half_covered_is_the_same_wall_and_a_longer_one_too() -> None:
     assert len(added) == 1
     assert diff_corners(np.zeros((0, 2)), np.zeros((0, 2)))[0].shape == (0, 2)
     assert diff_doors(np.zeros((0, 4)), np.array([[0, 0, 1, 0]], float))[0].shape == (1, 4)
+
+
+def test_a_scenario_set_compares_every_method_and_a_vs_a_is_zero(capsys) -> None:
+    smoke = "pico_studio/data/scenarios/smoke.yaml"
+    code, out = _compare(capsys, "defaults", "defaults", "--scenarios", smoke, "--fail-on", "perception_score")
+    assert code == 0 and out["regressed"] == [] and out["frames"] > 0
+    assert "localisation.pose_error_m.median" in out["metrics"]  # the localised scenarios
+    assert all(m["delta"] == 0 for m in out["metrics"].values())
