@@ -131,3 +131,13 @@ def test_a_recording_with_true_poses_gets_the_agreement_and_the_pose_error(recor
     assert len(agreement) == run.scans and np.nanmin(agreement) >= 0.0 and np.nanmax(agreement) <= 1.0
     assert 0.0 <= judged.totals["local_map.agreement"] <= 1.0
     assert "walls.precision" not in judged.totals
+
+
+def test_partial_results_grow_frame_by_frame_and_end_in_the_whole_run(run) -> None:
+    seen: list = []
+    whole = rejudge(run, CFG, partial=seen.append, partial_seconds=0.0)
+    assert whole.complete and len(seen) >= run.scans - 1
+    lengths = [len(j.times) for j in seen]
+    assert lengths == sorted(lengths) and not any(j.complete or j.totals for j in seen)
+    last = seen[-1]
+    np.testing.assert_array_equal(last.series["count.walls"], whole.series["count.walls"][: len(last.times)])

@@ -141,6 +141,7 @@ class Judged:
     notes: list[str]  # e.g. "no truth: scores absent"
     seconds: float  # wall time the re-judge took
     config: Config | None = None
+    complete: bool = True  # False: the frames judged so far of a re-judge under way (no totals)
 
 
 def validated(cfg: Config) -> Config:
@@ -320,11 +321,14 @@ class _Series:
 
 def rejudge(run: KeptRun, cfg: Config, *, generation: int = 0, tol: Tolerances | None = None,
             cancelled: Callable[[], bool] | None = None,
-            progress: Callable[[int, int], None] | None = None, progress_every: int = 100) -> Judged:
+            progress: Callable[[int, int], None] | None = None, progress_every: int = 100,
+            partial: Callable[[Judged], None] | None = None, partial_seconds: float = 1.0) -> Judged:
     """Re-perceive, re-localise and re-score every frame of `run` with `cfg` (validated first).
 
     `cancelled()` is asked between frames; when true the judge stops with `Cancelled`.
-    `progress(done, total)` is called every `progress_every` frames (ticks) and at the end."""
+    `progress(done, total)` is called every `progress_every` frames (ticks) and at the end;
+    `partial(judged)` every `partial_seconds` with the series of the frames judged so far
+    (`complete` False, no totals), so a long run's plots fill in as it goes."""
     from pico_studio.evaluation.runner import make_perceptor
 
     cfg = validated(cfg)
@@ -341,11 +345,17 @@ def rejudge(run: KeptRun, cfg: Config, *, generation: int = 0, tol: Tolerances |
     rows = _Series(run, replay, scorer, localising, agreement)
     session = Session(replay, perceptor=perceptor, observers=[rows])
     total = len(run.frames)
+    next_partial = t0 + partial_seconds
     for k, _ in enumerate(session.frames()):
         if cancelled is not None and cancelled():
             raise Cancelled
         if progress is not None and (k + 1) % progress_every == 0:
             progress(k + 1, total)
+        if partial is not None and time.perf_counter() >= next_partial:
+            partial(Judged(generation, np.asarray(rows.times, dtype=float), np.asarray(rows.index, dtype=np.int64),
+                           {n: np.asarray(c, dtype=float) for n, c in rows.rows.items()}, {}, list(rows.features),
+                           [], time.perf_counter() - t0, cfg, complete=False))
+            next_partial = time.perf_counter() + partial_seconds
     if progress is not None:
         progress(total, total)
     series = {name: np.asarray(col, dtype=float) for name, col in rows.rows.items()}
@@ -423,9 +433,11 @@ class Rejudger:
 
     def __init__(self, run: KeptRun, *, on_result: Callable[[Judged], None] | None = None,
                  on_progress: Callable[[int, int, int], None] | None = None,
-                 on_error: Callable[[int, Exception], None] | None = None, tol: Tolerances | None = None):
+                 on_error: Callable[[int, Exception], None] | None = None, tol: Tolerances | None = None,
+                 on_partial: Callable[[Judged], None] | None = None):
         self.run = run
         self.on_result, self.on_progress, self.on_error = on_result, on_progress, on_error
+        self.on_partial = on_partial
         self.tol = tol
         self.progress_every = 100  # frames between progress reports
         self.generation = 0
@@ -490,7 +502,8 @@ class Rejudger:
                 judged = rejudge(run, cfg, generation=gen, tol=self.tol,
                                  cancelled=lambda g=gen: self.generation != g,  # type: ignore[misc]
                                  progress=lambda d, t, g=gen: self._progress(g, d, t),  # type: ignore[misc]
-                                 progress_every=self.progress_every)
+                                 progress_every=self.progress_every,
+                                 partial=self._partial if self.on_partial is not None else None)
             except Cancelled:
                 continue
             except Exception as e:  # a bug in one config's run must not stop the worker
@@ -509,6 +522,10 @@ class Rejudger:
                 self._cond.notify_all()
             if self.on_result is not None:
                 self.on_result(judged)
+
+    def _partial(self, judged: Judged) -> None:
+        if self.on_partial is not None and judged.generation == self.generation:
+            self.on_partial(judged)
 
     def _progress(self, gen: int, done: int, total: int) -> None:
         if self.on_progress is not None and gen == self.generation:

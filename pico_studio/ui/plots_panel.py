@@ -80,15 +80,22 @@ def group_series(group: Group, judged: Judged | None) -> list[tuple[str, RGB]]:
 
 def chart_data(group: Group, b: Judged | None, a: Judged | None, t0: float) -> tuple[tuple[np.ndarray, ...], tuple[dict[str, Any], ...]]:
     """(data, series) for one chart: x = seconds since `t0`, then B's series, then A's
-    (dashed) when `a` is judged on the same frames. NaN where a frame has no value."""
+    (dashed) when `a` is judged on the same frames. NaN where a frame has no value; a B
+    re-judged part of the way (`complete` False) is drawn over A's whole run."""
     names = group_series(group, b)
-    x = (b.times - t0) if b is not None else np.zeros(0)
+    with_a = a is not None and b is not None and len(a.times) >= len(b.times) and (
+        len(a.times) == len(b.times) or not b.complete)
+    x = (a.times - t0) if with_a else ((b.times - t0) if b is not None else np.zeros(0))  # type: ignore[union-attr]
+    n = len(x)
     data: list[np.ndarray] = [np.asarray(x, dtype=np.float64)]
     series: list[dict[str, Any]] = [{"label": "t (s)"}]
     for name, colour in names:
-        data.append(np.asarray(b.series[name], dtype=np.float64))  # type: ignore[union-attr]
+        col = np.full(n, np.nan)
+        values = np.asarray(b.series[name], dtype=np.float64)  # type: ignore[union-attr]
+        col[:len(values)] = values[:n]
+        data.append(col)
         series.append({"label": name, "stroke": _css(colour), "width": 1.5, "points": {"show": False}})
-    if a is not None and b is not None and len(a.times) == len(b.times):
+    if with_a and a is not None and b is not None:
         for name, colour in names:
             if name in a.series:
                 data.append(np.asarray(a.series[name], dtype=np.float64))
@@ -156,8 +163,8 @@ class PlotsPanel(Panel):
 
     def _update_charts(self) -> None:
         w = self.whatif
-        b = w.b.judged
-        a = w.a.judged if w.a is not None and w.comparable else None
+        b = w.b.shown
+        a = w.a.judged if w.a is not None and (w.comparable or (b is not None and not b.complete)) else None
         key = (id(b), id(a))
         if key == self._drawn:
             return

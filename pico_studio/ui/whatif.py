@@ -44,6 +44,12 @@ class Side:
     judged: Judged | None = None
     run_id: int = -1  # the run snapshot `judged` is of
     waiting: bool = False  # a re-judge of this side is asked for and not in yet
+    partial: Judged | None = None  # while waiting: the frames of the new re-judge judged so far
+
+    @property
+    def shown(self) -> Judged | None:
+        """What the plots show: the re-judge under way so far, else the last complete one."""
+        return self.partial if self.waiting and self.partial is not None else self.judged
 
 
 class WhatIf:
@@ -186,7 +192,8 @@ class WhatIf:
         if w is None:
             w = Rejudger(KeptRun([]), on_result=lambda j, s=side: self._on_result(s, j),  # type: ignore[misc]
                          on_progress=lambda g, d, t, s=side: self._on_progress(s, g, d, t),  # type: ignore[misc]
-                         on_error=lambda g, e, s=side: self._on_error(s, e))  # type: ignore[misc]
+                         on_error=lambda g, e, s=side: self._on_error(s, e),  # type: ignore[misc]
+                         on_partial=(lambda j: self._on_partial(j)) if side == "b" else None)
             self._workers[side] = w
         return w
 
@@ -198,10 +205,18 @@ class WhatIf:
             target = self.b if side == "b" else self.a
             if target is None:
                 return
-            target.judged, target.run_id, target.waiting = judged, run_id, False
+            target.judged, target.run_id, target.waiting, target.partial = judged, run_id, False, None
             if side == "b":
                 self.progress = (self.progress[1], self.progress[1])
             self.error = ""
+        self.on_update()
+
+    def _on_partial(self, judged: Judged) -> None:
+        with self._lock:
+            gen, _ = self._pending.get("b", (-1, -1))
+            if judged.generation != gen or not self.b.waiting:
+                return
+            self.b.partial = judged
         self.on_update()
 
     def _on_progress(self, side: str, gen: int, done: int, total: int) -> None:
