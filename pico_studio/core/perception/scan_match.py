@@ -41,6 +41,7 @@ import numpy as np
 
 from pico_studio.config.perception_params import ScanMatchParams
 from pico_studio.core.geometry import transform_points, wrap_angle
+from pico_studio.core.perception.scan_match_kernels import associate
 
 Pose = tuple[float, float, float]
 
@@ -140,15 +141,9 @@ def _best_heading(pts: np.ndarray, a: np.ndarray, ab: np.ndarray, normal: np.nda
 
 def _associate(q: np.ndarray, a: np.ndarray, ab: np.ndarray, normal: np.ndarray, length: np.ndarray,
                gate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Nearest wall of each point (index, signed distance to its line, usable)."""
-    rel = q[:, None, :] - a[None, :, :]
-    t = (rel * ab[None]).sum(-1) / (length**2)[None]
-    closest = a[None] + np.clip(t, 0.0, 1.0)[..., None] * ab[None]
-    dist = np.hypot(*(q[:, None, :] - closest).transpose(2, 0, 1))
-    k = np.argmin(dist, axis=1)
-    rows = np.arange(len(q))
-    tk = t[rows, k]
-    inside = (tk >= 0.0) & (tk <= 1.0)
-    ok = inside & (dist[rows, k] < gate)
-    r = (rel[rows, k] * normal[k]).sum(-1)
-    return k, r, ok
+    """Nearest wall of each point (index, signed distance to its line, usable): one compiled
+    loop over points and walls (scan_match_kernels.associate)."""
+    def c(v: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(v, dtype=np.float64)
+
+    return associate(c(q), c(a), c(ab), c(normal), c(length), float(gate))
