@@ -1,0 +1,46 @@
+"""Small built scenes for the clutter rules: walls as segments, a ray-cast laser, a robot.
+
+Everything in metres, the laser at the robot's centre (no footprint)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pico_studio.core.io import LaserData, OdometryData
+
+Pose = tuple[float, float, float]
+
+
+def cast(walls: np.ndarray, pose: Pose, n: int = 720, fov: float = 2 * math.pi, max_range: float = 10.0) -> LaserData:
+    """A scan of `walls` (W, 4) from `pose`: beam i at -fov/2 + i fov/n (robot frame)."""
+    inc = fov / n
+    rel = -fov / 2 + np.arange(n) * inc
+    ang = rel + pose[2]
+    d = np.column_stack([np.cos(ang), np.sin(ang)])
+    a, e = walls[:, 0:2], walls[:, 2:4] - walls[:, 0:2]
+    ao = a[None] - np.array(pose[:2])
+    den = d[:, None, 0] * e[None, :, 1] - d[:, None, 1] * e[None, :, 0]
+    safe = np.where(np.abs(den) > 1e-12, den, 1.0)
+    t = (ao[..., 0] * e[None, :, 1] - ao[..., 1] * e[None, :, 0]) / safe
+    u = (ao[..., 0] * d[:, None, 1] - ao[..., 1] * d[:, None, 0]) / safe
+    t = np.where((np.abs(den) > 1e-12) & (t > 1e-9) & (u >= 0) & (u <= 1), t, np.inf).min(axis=1)
+    ranges = np.where(t <= max_range, t, np.inf)
+    return LaserData(0.01, max_range, float(rel[0]), float(rel[-1]), inc, 0.0, ranges)
+
+
+def box(cx: float, cy: float, w: float, h: float | None = None) -> np.ndarray:
+    """(4, 4) the sides of an axis-aligned box centred at (cx, cy)."""
+    h = w if h is None else h
+    x0, x1, y0, y1 = cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2
+    return np.array([[x0, y0, x1, y0], [x1, y0, x1, y1], [x1, y1, x0, y1], [x0, y1, x0, y0]], dtype=float)
+
+
+def room(w: float = 6.0, h: float = 4.0) -> np.ndarray:
+    """(4, 4) a w x h room with a corner at the origin."""
+    return box(w / 2, h / 2, w, h)
+
+
+def odometry(pose: Pose, t: float) -> OdometryData:
+    return OdometryData(pose[0], pose[1], pose[2], t)
