@@ -285,6 +285,11 @@ class IdentifyParams:
     end_face_doors: bool = param(
         True, help="A convex wall end facing another wall's face across a door's width is a door (a T-opening)",
     )
+    end_face_min_length: float = param(
+        1.5, lo=0.0, hi=20.0, step=0.05, unit="m",
+        help="...when the wall whose end it is is at least this long: a building's wall, not the side of a "
+        "table or a cabinet (a passage between furniture and a wall is no door)",
+    )
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="Connected local walls spanning at most this (bounding-box diagonal) are an object (a cabinet, "
