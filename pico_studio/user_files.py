@@ -149,6 +149,20 @@ def check_output(path: str | Path, error: type[UserError]) -> None:
         raise error(f"cannot write: is {what}, not a regular file", file=Path(path))
 
 
+def check_upload(name: str, content: bytes, error: type[UserError], suffixes: tuple[str, ...]) -> str:
+    """The file name an upload may be saved under (its last path part), or `error` for an
+    upload over the upload cap, with a name that is no file name, or of the wrong kind."""
+    cap = _cap("upload")
+    if len(content) > cap:
+        raise error(f"is {_human(len(content))}, over the {_human(cap)} upload limit", file=str(name)[:200])
+    base = Path(str(name).replace("\\", "/")).name
+    if base in ("", ".", "..") or "\0" in base or len(base) > 255:
+        raise error("is not a usable file name", file=str(name)[:200])
+    if not base.lower().endswith(suffixes):
+        raise error(f"upload one of {', '.join(suffixes)}", file=base)
+    return base
+
+
 def open_file(path: str | Path, error: type[UserError], kind: str | None = None) -> IO[bytes]:
     """The regular file at `path` opened for binary reading, checked as `check_file` does;
     opened non-blocking and re-checked, so a path swapped for a FIFO cannot block."""

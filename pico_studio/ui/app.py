@@ -23,6 +23,7 @@ from typing import Any
 import viser
 
 from pico_studio.config import Config
+from pico_studio.ui.client_input import guard_connection, guard_server
 from pico_studio.ui.clock import frame_number, is_replay, recording_position, relative_time
 from pico_studio.ui.layers import LayerToggles, SceneLayers
 from pico_studio.ui.logbook import LogBook
@@ -58,6 +59,7 @@ class StudioApp:
         self.studio = studio
         self.export_dir = Path(export_dir)
         self.server = viser.ViserServer(host=host, port=port, label="pico_studio", verbose=verbose)
+        guard_server(self.server, self._notify_tab)  # what a tab sends is checked first (client_input.py)
         self.server.scene.set_up_direction("+z")
         self.server.scene.world_axes.visible = False
         self.log = LogBook()
@@ -255,7 +257,13 @@ class StudioApp:
         self.redraw()
 
     # ----- tabs ---------------------------------------------------------------------------------
+    def _notify_tab(self, client_id: int, title: str, body: str) -> None:
+        client = self.server.get_clients().get(client_id)
+        if client is not None:
+            self.page.notify(client, title, body)
+
     def _on_connect(self, client: viser.ClientHandle) -> None:
+        guard_connection(client, self._notify_tab)
         tab = TabState(client, LayerToggles(client))
         for panel in self.panels:
             panel.connect(tab)
