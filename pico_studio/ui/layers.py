@@ -44,6 +44,7 @@ class SceneLayers:
         self.has_data: dict[str, bool] = {}
         self.sizes: dict[str, int] = {}
         self._sent: dict[str, tuple[Any, ...]] = {}  # what each node shows now
+        self.metres_per_px = 0.02  # of the view that last zoomed (points are world-sized in viser)
         for layer in LAYERS:
             for spec in layer.prims:
                 self.handles[spec.name] = self._make(spec, layer.key)
@@ -62,9 +63,21 @@ class SceneLayers:
         if spec.kind == "label":
             return scene.add_label(name, "", position=pos, visible=False, anchor="bottom-left", font_screen_scale=0.8)
         return scene.add_point_cloud(
-            name, _DUMMY_PT, np.array(spec.color, dtype=np.uint8), point_size=spec.point_size,
+            name, _DUMMY_PT, np.array(spec.color, dtype=np.uint8), point_size=spec.point_size * self.metres_per_px,
             point_shape="circle", precision="float32", point_shading="flat", position=pos, visible=False,
         )
+
+    def set_pixel_size(self, metres_per_px: float) -> None:
+        """Keep point markers at their size in screen pixels (viser sizes points in metres):
+        called when a tab's view zooms; the tab that zoomed last sets it for all."""
+        if not metres_per_px > 0 or abs(metres_per_px / self.metres_per_px - 1.0) < 0.1:
+            return
+        self.metres_per_px = metres_per_px
+        with self.server.atomic():
+            for name, h in self.handles.items():
+                spec = PRIM_SPECS[name]
+                if spec.kind == "points":
+                    h.point_size = spec.point_size * metres_per_px
 
     def update(self, prims: dict[str, Prim]) -> None:
         """Assign new geometry to the existing nodes (nothing is re-created)."""

@@ -4,8 +4,8 @@
     image = renderer.draw(map_prims(m) | frame_prims(studio, frame))   # (H, W, 3) RGB
 
 Same prims (`ui.scene_data`), same colours (`ui.style`), same draw order (`LAYERS`, bottom
-up) and line widths (screen pixels) as the page; points are discs of their world size (at
-least 2 px). `render_run` steps a `Studio` through a time window and writes one image per
+up), line widths and marker sizes (screen pixels) as the page; points are discs (at
+least 1 px). `render_run` steps a `Studio` through a time window and writes one image per
 perceived frame to an MP4 (OpenCV's FFMPEG writer), a GIF (Pillow) or, for .png, the last one.
 """
 
@@ -70,7 +70,7 @@ class TopDown:
             for p, q, c in zip(a, b, colours, strict=True):
                 cv2.line(img, _pt(p), _pt(q), _rgb(c), width, cv2.LINE_AA)
             return
-        radius = max(2, int(round(spec.point_size / 2 * self.scale)))
+        radius = max(1, int(round(spec.point_size / 2)))
         for p, c in zip(self.to_px(prim.data), colours, strict=True):
             cv2.circle(img, _pt(p), radius, _rgb(c), -1, cv2.LINE_AA)
 
