@@ -30,18 +30,12 @@ from pico_studio.json_map import GlobalMap, load_map
 from pico_studio.sim.base import Base
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.odometry import Odometry
-from pico_studio.sim.sim_config import SimConfigFile, load_sim_config
+from pico_studio.sim.sim_config import SimConfigFile, check_start_pose, load_sim_config
 from pico_studio.sim.truth import GroundTruth
 from pico_studio.sim.world import World
 
 Pose = tuple[float, float, float]
 _EPS_T = 1e-9  # events this close to the end of a step belong to it
-
-
-def load_any_map(path: str | Path, map_params: HeightmapParams | None = None) -> GlobalMap:
-    """A JSON map, or a heightmap image / map_server YAML vectorised with `map_params`
-    (cfg.map.heightmap): `json_map.load_map`."""
-    return load_map(path, map_params)
 
 
 def _legacy_start_center(m: GlobalMap) -> tuple[float, float] | None:
@@ -75,11 +69,12 @@ class Simulator:
         self.world = World(global_map, params, self.sim_config)
         speed_cap = None if self.sim_config.disable_speedcap is None else not self.sim_config.disable_speedcap
         start = self._start_pose(initial_pose)
+        check_start_pose(start, global_map.bounds, self.sim_config, explicit=initial_pose is not None)
         self.base = Base(params.base, start, speed_cap=speed_cap)
         self._check_start_free(start, initial_pose)
         self.laser = Laser(params.laser, np.random.default_rng(laser_seq))
         self.odometry = Odometry(params.odometry, np.random.default_rng(odom_seq), uncertain=self.sim_config.uncertain_odom)
-        self.truth = GroundTruth(self)
+        self.truth = GroundTruth(self.world, self.base, self.laser, self.odometry, params.truth)
         self._t = 0.0
         self._laser_k = 0
         self._odom_k = 0
@@ -110,7 +105,7 @@ class Simulator:
         """A simulator for a map file (JSON or heightmap, vectorised with `map_params`) and
         an optional official simulator config JSON."""
         sim_config = load_sim_config(sim_config_path) if sim_config_path is not None else None
-        return cls(load_any_map(map_path, map_params), params, sim_config, seed=seed)
+        return cls(load_map(map_path, map_params), params, sim_config, seed=seed)
 
     # ----- start pose -----------------------------------------------------------------------
     def _start_pose(self, explicit: Pose | None) -> Pose:

@@ -3,6 +3,7 @@
 States:
     plan      A* (planner.py) from the robot's global pose to the spot in front of the next
               cabinet; no path: try once more without the remembered obstacles, then give up
+              (at most 4 A* runs per tick, standing still meanwhile: no tick stalls the loop)
     drive     follow the plan (pure pursuit, `lookahead` ahead); ask doors on the plan to open
               when one is within `door_request_distance`; something not on the map within
               `blocked_distance` along the plan and within `path_clearance` of it: blocked
@@ -34,6 +35,7 @@ from pico_studio.core.behaviours.bubble import Bubble
 from pico_studio.core.behaviours.planner import PlanGrid, astar, densify
 from pico_studio.core.geometry import (
     compose,
+    pairwise_distances,
     point_segment_distance,
     relative,
     transform_points,
@@ -44,6 +46,7 @@ from pico_studio.errors import UserError
 from pico_studio.json_map import GlobalMap
 
 _PATH_STEP = 0.05  # m between the points the plan is followed along
+_PLANS_PER_TICK = 4  # A* runs per tick at most (a few ms each, compiled): no replan stalls the 20 Hz loop
 
 
 def object_spots(m: GlobalMap, index: int, front_distance: float,
@@ -111,6 +114,7 @@ class HospitalTour(BehaviourBase):
         self.global_pose: Pose | None = None
         self._k = 0  # index into order
         self._state = "plan"
+        self._tries: list[tuple[PlanGrid, Pose]] | None = None  # plans left in this planning round
         self._goal: Pose | None = None
         self._path = np.zeros((0, 2))
         self._obstacles = np.zeros((0, 2))
@@ -130,12 +134,14 @@ class HospitalTour(BehaviourBase):
         g = getattr(wm, "global_pose", None) if wm is not None else None
         if g is not None and not getattr(wm, "lost", False):
             g = (float(g[0]), float(g[1]), float(g[2]))
-            odo_at_wm = tuple(float(v) for v in getattr(wm, "pose", self.pose))
+            at_wm = getattr(wm, "pose", self.pose)
+            odo_at_wm: Pose = (float(at_wm[0]), float(at_wm[1]), float(at_wm[2]))
             # the world model's pose is in the perceptor's zero frame; ours is raw odometry:
             # anchor the global pose to our odometry reading of the same instant
             zero = getattr(wm, "zero_pose", None)
-            odo_raw = compose(tuple(float(v) for v in zero), odo_at_wm) if zero is not None else self.pose
-            self._anchor = (g, odo_raw)  # type: ignore[assignment]
+            odo_raw = (compose((float(zero[0]), float(zero[1]), float(zero[2])), odo_at_wm)
+                       if zero is not None else self.pose)
+            self._anchor = (g, odo_raw)
         elif self._anchor is None and self.initial_pose is not None:
             self._anchor = (self.initial_pose, self.pose)
         if self._anchor is None:
@@ -182,23 +188,32 @@ class HospitalTour(BehaviourBase):
         return Command()
 
     def _plan_step(self, pose: Pose) -> Command:
+        """Plan to the current target's spots (first round the obstacles met so far, then
+        without them), at most `_PLANS_PER_TICK` A* runs per tick: a target with many
+        unreachable spots takes a few ticks standing still, never one long tick."""
         i = self.order[self._k]
-        for attempt in (self._obstacles, np.zeros((0, 2))):
-            grid = self.grid.with_obstacles(attempt, self.p.obstacle_radius + self.p.inflation) if len(attempt) else self.grid
+        if self._tries is None:  # a new planning round
+            rounds = [self._obstacles, np.zeros((0, 2))] if len(self._obstacles) else [self._obstacles]
+            grids = [self.grid.with_obstacles(o, self.p.obstacle_radius + self.p.inflation) if len(o) else self.grid
+                     for o in rounds]
+            self._tries = [(g, spot) for g in grids for spot in self.spots[self._k]]
+        for _ in range(_PLANS_PER_TICK):
+            if not self._tries:
+                self._tries = None
+                self.give_up(f"{self.map.object_key[:-1]} {i} cannot be reached")
+                return Command()
+            grid, spot = self._tries.pop(0)
             start = grid.nearest_free(pose[:2], 0.5) or pose[:2]
-            for spot in self.spots[self._k]:
-                path = astar(grid, start, spot[:2])
-                if path is not None:
-                    self._goal = spot
-                    self._path = densify(np.vstack([[pose[:2]], path[1:]]), _PATH_STEP)
-                    self._plan = self._path
-                    self._target = (spot[0], spot[1])
-                    self._state = "drive"
-                    return Command()
-            if len(attempt) == 0:
-                break
-        self.give_up(f"{self.map.object_key[:-1]} {i} cannot be reached")
-        return Command()
+            path = astar(grid, start, spot[:2])
+            if path is not None:
+                self._tries = None
+                self._goal = spot
+                self._path = densify(np.vstack([[pose[:2]], path[1:]]), _PATH_STEP)
+                self._plan = self._path
+                self._target = (spot[0], spot[1])
+                self._state = "drive"
+                return Command()
+        return Command()  # more spots to try next tick
 
     def _drive(self, pose: Pose, now: float) -> Command:
         assert self._goal is not None
@@ -244,7 +259,7 @@ class HospitalTour(BehaviourBase):
         pts = pts[np.hypot(*(pts - xy).T) <= self.p.blocked_distance + self.p.inflation]
         if len(pts) == 0:
             return False
-        gaps = np.hypot(*(pts[:, None, :] - close[None, :, :]).transpose(2, 0, 1))
+        gaps = pairwise_distances(pts, close)
         return bool(gaps.min() < self.p.path_clearance)
 
     def _blocked(self, pose: Pose, now: float) -> Command:
@@ -256,7 +271,7 @@ class HospitalTour(BehaviourBase):
         seen = self._unmapped_points(pose)
         # an obstacle already waited for (a new side of it came into view): replan at once
         known = len(self._obstacles) > 0 and len(seen) > 0 and bool(
-            np.hypot(*(seen[:, None, :] - self._obstacles[None, ::4, :]).transpose(2, 0, 1)).min() < 0.3)
+            pairwise_distances(seen, self._obstacles[::4]).min() < 0.3)
         waited = now - self._blocked_since
         if not known and (waited < self.p.blocked_wait or (door and waited < 3 * self.p.blocked_wait)):
             return Command(open_door=door)
