@@ -20,6 +20,7 @@ import numpy as np
 
 from pico_studio.errors import UserError
 from pico_studio.ui.clock import is_replay, start_time
+from pico_studio.ui.replay import ReplayDriver
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.scene_data import LAYERS, PRIM_SPECS, Prim, frame_prims, map_prims
 from pico_studio.ui.timeline import FrameRecord
@@ -84,17 +85,15 @@ def _rgb(c: np.ndarray) -> tuple[int, int, int]:
 
 
 def frames_in(studio: Studio, t_from: float, t_to: float | None, dt: float) -> Iterator[FrameRecord]:
-    """Step the studio (paused page: no redraws) and yield each perceived frame whose time,
-    relative to the start, lies in [t_from, t_to]. A replay first seeks to t_from."""
+    """Step the studio and yield each perceived frame whose time, relative to the start, lies
+    in [t_from, t_to]. A replay delivers every scan (`ReplayDriver`), from its first: the
+    world model of the first frame shown is built up to it."""
     source = studio.source
     t0 = start_time(source)
-    if is_replay(source) and t_from > 0:
-        source.seek_time(t0 + t_from)
+    driver = ReplayDriver(studio) if is_replay(source) else None
     while source.ok():
-        frame = studio.tick(dt)
+        frame = driver.step() if driver is not None else studio.tick(dt)
         if frame is None:
-            if not source.ok():
-                break
             continue
         t = frame.time - t0
         if t_to is not None and t > t_to + 1e-9:

@@ -20,8 +20,6 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from pico_studio.core.localisation import TrackerState
-from pico_studio.core.perception import PerceptorState
 from pico_studio.ui.clock import recording_position
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.timeline import FrameRecord
@@ -135,7 +133,7 @@ class ReplayDriver:
         if k > 4 * self.every and older:
             i = max(older)
             return i, self.checkpoints[i].state, False
-        return 0, initial_state(self.studio), True
+        return 0, self.studio.initial_state(), True
 
     def _check_source(self) -> None:
         if self.studio.source is not self._source:
@@ -146,9 +144,3 @@ class ReplayDriver:
         """The source was reopened (reset, map change): its checkpoints are gone too."""
         self.checkpoints.clear()
         self._target = None
-
-
-def initial_state(studio: Studio) -> tuple[Any, Any]:
-    """The perceptor's and localiser's state at the start of a run (as `Studio.reset` makes it)."""
-    tracker = TrackerState.initial(len(studio.lmap.field.segments)) if studio.lmap is not None else None
-    return (PerceptorState.initial(), tracker)
