@@ -56,14 +56,19 @@ class SceneLayers:
         pos = (0.0, 0.0, _z_of(spec.name))
         scene = self.server.scene
         if spec.kind == "segments":
+            # a node coloured per item is made with per-vertex colours: switching a line node
+            # from one colour to per-vertex colours later leaves it white on the page
+            colours: Any = (np.repeat(line_vertex(np.array([spec.color], np.uint8))[:, None, :], 2, axis=1)
+                            if spec.per_item else line_uniform(spec.color))
             return scene.add_line_segments(
-                name, _DUMMY_SEG, line_uniform(spec.color), thickness=spec.thickness, thickness_units="screen",
+                name, _DUMMY_SEG, colours, thickness=spec.thickness, thickness_units="screen",
                 position=pos, visible=False,
             )
         if spec.kind == "label":
             return scene.add_label(name, "", position=pos, visible=False, anchor="bottom-left", font_screen_scale=0.8)
         return scene.add_point_cloud(
-            name, _DUMMY_PT, np.array(spec.color, dtype=np.uint8), point_size=spec.point_size * self.metres_per_px,
+            name, _DUMMY_PT, np.array([spec.color] if spec.per_item else spec.color, dtype=np.uint8),
+            point_size=spec.point_size * self.metres_per_px,
             point_shape="circle", precision="float32", point_shading="flat", position=pos, visible=False,
         )
 
@@ -94,6 +99,10 @@ class SceneLayers:
         if n:
             data = np.asarray(prim.data, dtype=np.float32)
             colors = None if prim.colors is None else np.asarray(prim.colors, np.uint8)
+            if spec.per_item and colors is None:  # keep the node per-vertex
+                colors = np.tile(np.array(spec.color, np.uint8), (n, 1))
+            elif not spec.per_item:
+                colors = None  # one colour per node, as it was made
             sent = self._sent.get(name, (None, None))
             key = (data.tobytes() + prim.text.encode(), None if colors is None else colors.tobytes())
             # each part only when it changed (equal colour bytes are an equal count too)

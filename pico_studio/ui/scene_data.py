@@ -48,6 +48,7 @@ class PrimSpec:
     color: style.RGB
     thickness: float = style.THICK_LAYER  # screen pixels
     point_size: float = style.POINT_PX  # screen pixels (the page rescales as the view zooms)
+    per_item: bool = False  # coloured item by item (the page's node is made so from the start)
 
 
 @dataclass(frozen=True)
@@ -76,31 +77,31 @@ LAYERS: tuple[LayerSpec, ...] = (
     LayerSpec("combined", "Combined map", (
         # as thick as the map's walls, so that its dashes hide the wall under them
         PrimSpec("combined_unseen", S, style.COMBINED_UNSEEN, style.THICK_MAP),
-        PrimSpec("combined", S, style.COMBINED_MATCHED, 3.0),
+        PrimSpec("combined", S, style.COMBINED_MATCHED, 3.0, per_item=True),
     )),
     LayerSpec("local", "Local map", (
-        PrimSpec("local_walls", S, style.LOCAL_WALL, 1.5),
-        PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=6.0),
-        PrimSpec("corners", P, style.ENDPOINT[2], point_size=9.0),
+        PrimSpec("local_walls", S, style.LOCAL_WALL, 2.0),
+        PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=6.0, per_item=True),
+        PrimSpec("corners", P, style.ENDPOINT[2], point_size=9.0, per_item=True),
     )),
     LayerSpec("current", "Current map segments", (PrimSpec("current", S, style.CURRENT_MAP, 2.0),)),
     LayerSpec("doors", "Doors and possible doors", (
         PrimSpec("doors", S, style.DOOR, 4.0),
-        PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 3.0),
+        PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 3.0, per_item=True),
     )),
     LayerSpec("proximity", "Proximity bubble", (
-        PrimSpec("bubble", S, style.PROXIMITY, 1.5),
-        PrimSpec("flagged", S, style.PROXIMITY_FLAGGED, 1.0),
+        PrimSpec("bubble", S, style.PROXIMITY, 2.0),
+        PrimSpec("flagged", S, style.PROXIMITY_FLAGGED, 1.5),
     )),
     LayerSpec("laser", "Laser points", (PrimSpec("laser", P, style.LASER, point_size=3.0),)),
-    LayerSpec("entrance", "Entrance estimate / hallway", (PrimSpec("entrance", S, style.ENTRANCE, 3.0),)),
+    LayerSpec("entrance", "Entrance estimate / hallway", (PrimSpec("entrance", S, style.ENTRANCE, 3.0, per_item=True),)),
     LayerSpec("room", "Side room watch", (
-        PrimSpec("room_side", S, style.ROOM_SIDE, 1.5),
+        PrimSpec("room_side", S, style.ROOM_SIDE, 2.0, per_item=True),
         PrimSpec("room_label", L, style.ROOM_SIDE),
     )),
     LayerSpec("scan_corners", "Scan corners (spike / vector)", (
         PrimSpec("spike_corners", P, style.SPIKE_CORNER, point_size=8.0),
-        PrimSpec("vector_corners", P, style.VECTOR_CORNER_INNER, point_size=7.0),
+        PrimSpec("vector_corners", P, style.VECTOR_CORNER_INNER, point_size=7.0, per_item=True),
     ), default_on=False),
     LayerSpec("behaviour", "Behaviour target / plan", (
         PrimSpec("plan", S, style.BEHAVIOUR_PLAN, 2.0),
