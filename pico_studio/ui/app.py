@@ -74,6 +74,10 @@ class StudioApp:
         self._build_panels()
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_disconnect)
+        if self.replay is not None:  # a recording opens on its first frame, drawn
+            playing = studio.playing
+            self.replay.seek(0)
+            studio.playing = playing
         self.redraw()
 
     def _build_panels(self) -> None:
