@@ -142,7 +142,7 @@ LAYER_COLOURS: dict[str, list[RGB]] = {
 
 def swatch_row(layer: str) -> str:
     """The colour swatches shown just above a layer's toggle."""
-    return f'<div style="margin:2px 0 -6px 2px;line-height:1">{swatches(LAYER_COLOURS.get(layer, []))}</div>'
+    return f'<div style="margin:4px 0 0 2px;line-height:1">{swatches(LAYER_COLOURS.get(layer, []))}</div>'
 
 
 SHORT_LEGEND: list[tuple[RGB, str]] = [
