@@ -13,6 +13,7 @@ objectives):
 from __future__ import annotations
 
 import html
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -156,20 +157,27 @@ def _figures(study: optuna.Study, spec: StudySpec) -> list[tuple[str, str]]:
     """(title, html) of each figure Optuna can draw from this study (a note when it cannot)."""
     from optuna import visualization as vis
 
-    name = spec.objective.metrics[0]
-    target = (lambda t: t.values[0]) if len(study.directions) > 1 else None
-    kw: dict[str, Any] = {"target": target, "target_name": name} if target else {"target_name": name}
+    obj = spec.objective
+    name = obj.metrics[0]
+    several = len(study.directions) > 1
+    # several objectives: the figures follow the first; PED-ANOVA wants "low is good" then
+    target = (lambda t: t.values[0]) if several else None
+    low_good = (lambda t: -obj.oriented(t.values)[0]) if several else None
+    kw: dict[str, Any] = {"target": target, "target_name": name} if several else {"target_name": name}
     out: list[tuple[str, str]] = []
     importances: dict[str, float] = {}
     try:
-        importances = optuna.importance.get_param_importances(
-            study, evaluator=optuna.importance.PedAnovaImportanceEvaluator(), target=target)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            importances = optuna.importance.get_param_importances(
+                study, evaluator=optuna.importance.PedAnovaImportanceEvaluator(), target=low_good)
     except Exception as e:  # too few complete trials, or no variation
         out.append(("Parameter importances", f"<p>not available: {html.escape(str(e))}</p>"))
     makers = [("Optimisation history", lambda: vis.plot_optimization_history(study, **kw))]
     if importances:
         makers.append(("Parameter importances", lambda: vis.plot_param_importances(
-            study, evaluator=optuna.importance.PedAnovaImportanceEvaluator(), **kw)))
+            study, evaluator=optuna.importance.PedAnovaImportanceEvaluator(), target=low_good,
+            target_name=name)))
         top = list(importances)[:8]
         makers.append(("Parallel coordinates (the 8 most important parameters)",
                        lambda: vis.plot_parallel_coordinate(study, params=top, **kw)))
@@ -179,7 +187,9 @@ def _figures(study: optuna.Study, spec: StudySpec) -> list[tuple[str, str]]:
     first = True
     for title, make in makers:
         try:
-            fig = make()
+            with warnings.catch_warnings():  # PED-ANOVA notes a target is "low is good": it is
+                warnings.simplefilter("ignore", UserWarning)
+                fig = make()
             out.append((title, fig.to_html(full_html=False, include_plotlyjs=first)))
             first = False
         except Exception as e:

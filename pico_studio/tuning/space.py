@@ -20,7 +20,7 @@ import json
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from pico_studio.config import Config, ParamInfo, get_value, params, with_value
+from pico_studio.config import Config, ParamInfo, from_dict, get_value, params, to_dict
 from pico_studio.errors import ConfigError
 
 TUNABLE_ROOTS = ("perception", "localisation", "behaviour")
@@ -97,10 +97,18 @@ class SearchSpace:
         return {d.path: get_value(cfg, d.path) for d in self.dimensions}
 
     def apply(self, cfg: Config, values: dict[str, Any]) -> Config:
-        """`cfg` with the trial's values, validated (a ConfigError fails the trial)."""
+        """`cfg` with the trial's values, validated together (cross-field rules such as
+        door_min_width < door_max_width see the whole trial); a ConfigError fails the trial."""
+        tree = to_dict(cfg)
         for path, value in values.items():
-            cfg = with_value(cfg, path, value)
-        return cfg
+            *sections, name = path.split(".")
+            node = tree
+            for part in sections:
+                node = node[part]
+            if name not in node:
+                raise ConfigError("unknown parameter", field=path)
+            node[name] = value
+        return from_dict(Config, tree)
 
 
 def parse_globs(text: str | None) -> tuple[str, ...]:

@@ -18,8 +18,11 @@ from __future__ import annotations
 
 import hashlib
 import logging
+import os
 import re
+import socket
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -77,46 +80,58 @@ def storage_url(storage: str | None, out: Path) -> str:
 
 def shown_url(url: str) -> str:
     """A storage URL with any password hidden, for messages."""
-    return re.sub(r"(://[^:/@]+):[^@]*@", r"\1:***@", url)
+    return re.sub(r"(://[^:/@]+):[^@]*@", r"\1:***@", url).replace("postgresql+psycopg://", "postgresql://")
 
 
 def open_storage(url: str) -> optuna.storages.BaseStorage:
     """The storage behind `url`, or a ConfigError naming it when it cannot be reached."""
+    _quiet()
     if "://" not in url:
         from optuna.storages.journal import JournalFileBackend, JournalStorage
 
         Path(url).parent.mkdir(parents=True, exist_ok=True)
         return JournalStorage(JournalFileBackend(url))
-    try:
-        # a heartbeat lets a study on several machines fail the trials of a worker that died
-        return optuna.storages.RDBStorage(url, heartbeat_interval=30, grace_period=120,
-                                          engine_kwargs={"pool_pre_ping": True})
-    except Exception as e:  # sqlalchemy's errors name the driver, the host and the reason
-        reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-        raise ConfigError(f"cannot open storage {shown_url(url)}: {reason}", field="--storage") from None
+    for attempt in range(3):
+        try:
+            # a heartbeat lets a study on several machines fail the trials of a worker that died
+            return optuna.storages.RDBStorage(url, heartbeat_interval=30, grace_period=120,
+                                              engine_kwargs={"pool_pre_ping": True})
+        except Exception as e:  # sqlalchemy's errors name the driver, the host and the reason
+            # machines starting together on an empty database race to create its tables
+            if "IntegrityError" in type(e).__name__ and attempt < 2:
+                time.sleep(0.5 + attempt)
+                continue
+            reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+            raise ConfigError(f"cannot open storage {shown_url(url)}: {reason}", field="--storage") from None
+    raise AssertionError("unreachable")
 
 
 def _quiet() -> None:
+    """Optuna's per-trial log lines and experimental-feature notes would bury the progress."""
     optuna.logging.set_verbosity(optuna.logging.ERROR)
+    warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
     logging.getLogger("sqlalchemy").setLevel(logging.ERROR)
 
 
-def open_study(spec: StudySpec, *, create: bool = True, sampler: Any = None) -> optuna.Study:
-    """Load (or, with `create`, make) the study; refuse it if it searches another space."""
+def open_study(spec: StudySpec, *, create: bool = True, sampler: Any = None) -> tuple[optuna.Study, bool]:
+    """(the study, whether this call made it); refused if it searches another space."""
     _quiet()
     storage = open_storage(spec.storage)
     names = {s.study_name for s in optuna.get_all_study_summaries(storage, include_best_trial=False)}
     where = shown_url(spec.storage)
-    if spec.study_name in names:
-        study = optuna.load_study(study_name=spec.study_name, storage=storage, sampler=sampler)
-        _refuse_other(study, spec, where)
-        return study
-    if not create:
-        raise ConfigError(f"no study '{spec.study_name}' in {where}", field="--study")
-    study = optuna.create_study(storage=storage, study_name=spec.study_name, sampler=sampler,
-                                directions=spec.objective.directions, load_if_exists=True)
-    _refuse_other(study, spec, where, fresh=True)
-    return study
+    if spec.study_name not in names:
+        if not create:
+            raise ConfigError(f"no study '{spec.study_name}' in {where}", field="--study")
+        try:
+            study = optuna.create_study(storage=storage, study_name=spec.study_name, sampler=sampler,
+                                        directions=spec.objective.directions)
+            _refuse_other(study, spec, where, fresh=True)
+            return study, True
+        except optuna.exceptions.DuplicatedStudyError:
+            pass  # another machine made it a moment ago: join it
+    study = optuna.load_study(study_name=spec.study_name, storage=storage, sampler=sampler)
+    _refuse_other(study, spec, where)
+    return study, False
 
 
 def _refuse_other(study: optuna.Study, spec: StudySpec, where: str, *, fresh: bool = False) -> None:
@@ -141,13 +156,13 @@ def _refuse_other(study: optuna.Study, spec: StudySpec, where: str, *, fresh: bo
 def prepare(spec: StudySpec) -> optuna.Study:
     """Open the study for a run: the start config queued when new; on a journal, trials left
     running by an interrupted run are marked failed (a journal has one run at a time)."""
-    study = open_study(spec)
+    study, made = open_study(spec)
     trials = study.get_trials(deepcopy=False)
     if spec.is_journal:
         for t in trials:
             if t.state == TrialState.RUNNING:
                 study.tell(t.number, state=TrialState.FAIL)
-    if not trials:
+    if made:  # only the maker queues it, so machines starting together run it once
         study.enqueue_trial(spec.space.start_params(spec.base), user_attrs={START_ATTR: True})
     return study
 
@@ -158,7 +173,7 @@ def counted(study: optuna.Study) -> int:
 
 def make_objective(spec: StudySpec, worker: int) -> Callable[[optuna.Trial], list[float]]:
     def objective(trial: optuna.Trial) -> list[float]:
-        trial.set_user_attr("worker", worker)
+        trial.set_user_attr("worker", f"{socket.gethostname()}:{os.getpid()}/{worker}")
         try:
             values = spec.space.suggest(trial)
             cfg = spec.space.apply(spec.base, values)
@@ -180,7 +195,7 @@ def make_objective(spec: StudySpec, worker: int) -> Callable[[optuna.Trial], lis
 def run_worker(spec: StudySpec, worker: int = 0, *, on_trial: Callable[[int], None] | None = None) -> list[int]:
     """Run trials until the study holds `spec.trials`; the numbers of the trials this ran."""
     _quiet()
-    study = open_study(spec, create=False)
+    study, _ = open_study(spec, create=False)
     # a seed per worker and per start, so workers and resumed runs do not repeat each other
     seed = int(hashlib.sha256(f"{spec.seed}/{worker}/{len(study.trials)}".encode()).hexdigest()[:8], 16)
     startup = max(3, min(10, spec.trials // 4))

@@ -12,6 +12,8 @@ import time
 from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor
 
+import optuna
+
 from pico_studio.tuning.study import StudySpec, counted, open_study, run_worker
 
 
@@ -24,6 +26,7 @@ class Workers:
 
     def __init__(self, spec: StudySpec, k: int, *, first_worker: int = 0):
         self.spec = spec
+        self._study: optuna.Study | None = None
         self.pool = ProcessPoolExecutor(max_workers=k, mp_context=mp.get_context("spawn"))
         self.futures: list[Future[list[int]]] = [
             self.pool.submit(_worker, spec, first_worker + w) for w in range(k)]
@@ -32,7 +35,9 @@ class Workers:
         return all(f.done() for f in self.futures)
 
     def poll(self) -> int:
-        return counted(open_study(self.spec, create=False))
+        if self._study is None:
+            self._study = open_study(self.spec, create=False)[0]
+        return counted(self._study)
 
     def results(self) -> list[list[int]]:
         """The trial numbers each worker ran (re-raises a worker's crash)."""
