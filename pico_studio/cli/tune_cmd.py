@@ -35,7 +35,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     src.add_argument("--scenarios", help="a scenario set YAML (e.g. pico_studio/data/scenarios/builtin.yaml)")
     src.add_argument("--map", help="one map instead of a scenario set")
     src.add_argument("--sim-config", help="the official simulator's config JSON for --map")
-    src.add_argument("--source", help="one recording (bag:FILE | carmen:FILE) with truth")
+    src.add_argument("--source", help="one recording (bag:FILE | carmen:FILE) with its truth, "
+                                      "localised on --map")
+    src.add_argument("--poses", type=int, default=10, help="random free poses on --map (default 10)")
     p.add_argument("--config", help="the start config YAML (default: the defaults)")
     p.add_argument("--params", default=DEFAULT_PARAMS,
                    help=f"parameter globs to search, comma separated (default {DEFAULT_PARAMS})")
@@ -56,15 +58,33 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _scenarios(args: argparse.Namespace) -> ScenarioSet:
+    """The scenario set to search on: --scenarios, or one built from --map / --source."""
     if args.scenarios and (args.map or args.source):
         raise ConfigError("give either --scenarios or --map/--source, not both", field="--scenarios")
     if args.scenarios:
         return load_scenarios(args.scenarios)
+    if args.source:  # a recording, localised on --map when one is given (its truth scores it)
+        kind, _, file = args.source.partition(":")
+        if kind not in ("bag", "carmen") or not file:
+            raise ConfigError(f"must be bag:FILE or carmen:FILE, got {args.source!r}", field="--source")
+        name = Path(file).stem
+        one = Scenario(name, map=_existing(args.map, "--map"), recording=f"{kind}:{_existing(file, '--source')}",
+                       localise=args.map is not None)
+        return ScenarioSet(name, None, [one])
     if args.map:
-        return ScenarioSet(Path(args.map).stem, None, (Scenario(Path(args.map).stem, args.map, args.sim_config),))
-    if args.source:
-        raise ConfigError("a recording alone cannot be tuned on yet; put it in a scenario set", field="--source")
-    raise ConfigError("needs --scenarios FILE or --map MAP", field="--scenarios")
+        name = Path(args.map).stem
+        one = Scenario(name, map=_existing(args.map, "--map"), sim_config=_existing(args.sim_config, "--sim-config"),
+                       seed=args.seed, poses=args.poses)
+        return ScenarioSet(name, None, [one])
+    raise ConfigError("needs --scenarios FILE, --map MAP or --source bag:FILE", field="--scenarios")
+
+
+def _existing(path: str | None, field: str) -> str | None:
+    if path is None:
+        return None
+    if not Path(path).is_file():
+        raise ConfigError(f"no such file: {path}", field=field)
+    return str(Path(path).resolve())
 
 
 def split_holdout(ss: ScenarioSet, holdout: str | None, seed: int) -> tuple[ScenarioSet, ScenarioSet | None]:
@@ -84,8 +104,8 @@ def split_holdout(ss: ScenarioSet, holdout: str | None, seed: int) -> tuple[Scen
     order = np.random.default_rng(seed).permutation(n)
     kept = {int(i) for i in order[:k]}
     pick = lambda held: tuple(s for i, s in enumerate(ss.scenarios) if (i in kept) == held)  # noqa: E731
-    return (ScenarioSet(ss.name, ss.path, pick(False)),
-            ScenarioSet(f"{ss.name} (held out)", ss.path, pick(True)))
+    return (ScenarioSet(ss.name, ss.path, list(pick(False))),
+            ScenarioSet(f"{ss.name} (held out)", ss.path, list(pick(True))))
 
 
 def _tune(args: argparse.Namespace) -> int:

@@ -39,18 +39,22 @@ METRICS: dict[str, Metric] = {m.name: m for m in [
 @dataclass(frozen=True)
 class Scenario:
     name: str
-    map: str
+    map: str | None = None
+    world: str | None = None
     sim_config: str | None = None
     seed: int = 0
-    poses: int = 3
+    behaviour: str | None = None
+    poses: int | None = None
     recording: str | None = None
+    localise: bool = False
+    frames: int = 20
 
 
 @dataclass(frozen=True)
 class ScenarioSet:
     name: str
-    path: str | None
-    scenarios: tuple[Scenario, ...]
+    path: Path | None
+    scenarios: list[Scenario] = field(default_factory=list)
 
 
 @dataclass
@@ -64,10 +68,9 @@ class ScenarioResult:
 
 @dataclass
 class SetResult:
-    per_scenario: list[ScenarioResult]
+    per_scenario: dict[str, ScenarioResult]
     metrics: dict[str, float]
     frames: int = 0
-    extra: dict[str, Any] = field(default_factory=dict)
 
 
 def load_scenarios(path: str | Path) -> ScenarioSet:
@@ -80,10 +83,10 @@ def load_scenarios(path: str | Path) -> ScenarioSet:
     for i, it in enumerate(items):
         if not isinstance(it, dict) or "map" not in it:
             raise ConfigError("needs a map", file=p, field=f"scenarios[{i}].map")
-        base = p.parent
-        out.append(Scenario(name=str(it.get("name", f"s{i}")), map=str(base / it["map"]),
-                            seed=int(it.get("seed", 0)), poses=int(it.get("poses", 3))))
-    return ScenarioSet(str(data.get("name", p.stem)), str(p), tuple(out))
+        out.append(Scenario(name=str(it.get("name", f"s{i}")), map=str(p.parent / it["map"]),
+                            seed=int(it.get("seed", 0)), poses=int(it.get("poses", 3)),
+                            frames=int(it.get("frames", 20))))
+    return ScenarioSet(str(data.get("name", p.stem)), p, out)
 
 
 def _f1(p: float, r: float) -> float:
@@ -96,7 +99,8 @@ def evaluate_scenario(s: Scenario, cfg: Config, *, progress: Any = None) -> Scen
     with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
         f.write(dump_yaml(cfg, comments=False))
     try:
-        r = evaluate(s.map, sim_config=s.sim_config, config=f.name, seed=s.seed, poses=s.poses, frames=10)
+        assert s.map is not None and s.poses is not None
+        r = evaluate(s.map, sim_config=s.sim_config, config=f.name, seed=s.seed, poses=s.poses, frames=s.frames)
     finally:
         Path(f.name).unlink()
     m = {"walls.f1": _f1(r["wall_precision"], r["wall_recall"]),
@@ -111,9 +115,6 @@ def evaluate_scenario(s: Scenario, cfg: Config, *, progress: Any = None) -> Scen
 def evaluate_scenarios(ss: ScenarioSet, cfg: Config, *, workers: int = 1, progress: Any = None) -> SetResult:
     res = [evaluate_scenario(s, cfg) for s in ss.scenarios]
     keys = res[0].metrics.keys()
-    return SetResult(res, {k: sum(r.metrics[k] for r in res) / len(res) for k in keys},
+    return SetResult({r.name: r for r in res}, {k: sum(r.metrics[k] for r in res) / len(res) for k in keys},
                      sum(r.frames for r in res))
 
-
-def scenario_has_truth(s: Scenario) -> bool:
-    return s.recording is None

@@ -12,10 +12,10 @@ from __future__ import annotations
 import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 from pico_studio.errors import ConfigError
-from pico_studio.tuning.backend import METRICS, ScenarioSet, scenario_has_truth
+from pico_studio.tuning.backend import METRICS, Scenario, ScenarioSet
 
 DEFAULT_OBJECTIVE = "perception_score"
 MS_METRIC = "perceptor.ms_per_scan"
@@ -28,7 +28,7 @@ class Objective:
     max_ms: float | None = None
 
     @property
-    def directions(self) -> list[str]:
+    def directions(self) -> list[Literal["minimize", "maximize"]]:
         return ["maximize" if METRICS[m].higher_is_better else "minimize" for m in self.metrics]
 
     def values(self, metrics: dict[str, float]) -> list[float]:
@@ -73,13 +73,41 @@ def parse_objective(text: str | None, max_ms: float | None = None) -> Objective:
     return Objective(names, max_ms)
 
 
+def gives(s: Scenario, metric: str) -> bool:
+    """Whether scenario `s` can report `metric`: the perceptor's scores need the simulator's
+    truth, localisation errors a localised run (a recording: its recorded truth), behaviour
+    figures a behaviour."""
+    if metric.startswith("localisation."):
+        return s.localise
+    if metric.startswith("behaviour."):
+        return s.behaviour is not None
+    if not METRICS[metric].needs_truth:
+        return True
+    return s.recording is None
+
+
+def recording_has_truth(s: Scenario) -> bool:
+    from pico_studio.config import Config
+    from pico_studio.sources import open_source
+
+    assert s.recording is not None
+    source = open_source(s.recording, Config().sources)
+    try:
+        return bool(getattr(source, "has_truth", False))
+    finally:
+        getattr(source, "close", lambda: None)()
+
+
 def check_truth(objective: Objective, *sets: ScenarioSet | None) -> None:
-    """Refuse a truth metric on a scenario that has no ground truth (a recording without it)."""
-    truth_metrics = [m for m in objective.metrics if METRICS[m].needs_truth]
-    if not truth_metrics:
-        return
-    for ss in sets:
-        for s in ss.scenarios if ss is not None else ():
-            if not scenario_has_truth(s):
-                raise ConfigError(f"scenario '{s.name}' has no ground truth for {truth_metrics[0]}",
-                                  file=ss.path, field=f"{s.name}")
+    """Refuse a truth metric on a scenario without ground truth (a recording without it), and
+    a metric that no scenario of the set reports."""
+    for ss in (s for s in sets if s is not None):
+        for m in objective.metrics:
+            for s in ss.scenarios:
+                no_truth = METRICS[m].needs_truth and s.recording is not None and (
+                    not gives(s, m) or not recording_has_truth(s))
+                if no_truth:
+                    raise ConfigError(f"scenario '{s.name}' ({s.recording}) has no ground truth for {m}",
+                                      file=ss.path, field="--objective")
+            if not any(gives(s, m) for s in ss.scenarios):
+                raise ConfigError(f"no scenario of '{ss.name}' reports {m}", file=ss.path, field="--objective")
