@@ -72,6 +72,11 @@ class LiveStudy:
     def running(self) -> bool:
         return self.workers is not None and not self.workers.done()
 
+    @property
+    def error(self) -> str | None:
+        """Why a worker process ended early, if one did."""
+        return self.workers.error() if self.workers is not None else None
+
     def rows(self) -> list[TrialRow]:
         return trial_rows(self.study, self.spec)
 

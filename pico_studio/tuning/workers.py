@@ -39,6 +39,14 @@ class Workers:
             self._study = open_study(self.spec, create=False)[0]
         return counted(self._study)
 
+    def error(self) -> str | None:
+        """The first crash of a finished worker, as one line (None if none crashed)."""
+        for f in self.futures:
+            if f.done() and not f.cancelled() and f.exception() is not None:
+                e = f.exception()
+                return f"{type(e).__name__}: {e}".splitlines()[0]
+        return None
+
     def results(self) -> list[list[int]]:
         """The trial numbers each worker ran (re-raises a worker's crash)."""
         return [f.result() for f in self.futures]
