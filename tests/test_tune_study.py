@@ -89,6 +89,9 @@ def test_max_ms_constraint_and_pareto(tmp_path, capsys):
     code, j, _ = tune(capsys, "--scenarios", str(sc), "--params", MERGE2, "--trials", "3", "--max-ms", "1e-9",
                       "--out", str(tmp_path / "a"))
     assert code == 0 and j["complete"] == 3 and j["best"]["value"] is None  # nothing is that fast
+    code, j, _ = tune(capsys, "--scenarios", str(sc), "--params", MERGE2, "--trials", "3", "--max-ms", "1e6",
+                      "--out", str(tmp_path / "a2"))
+    assert code == 0 and j["best"]["value"] is not None  # everything is that fast
     code, j, _ = tune(capsys, "--scenarios", str(sc), "--params", MERGE2, "--trials", "4",
                       "--objective", "perception_score,endpoint_error_m", "--out", str(tmp_path / "b"))
     assert code == 0 and len(j["best"]["value"]) == 2

@@ -12,7 +12,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 from pico_studio.errors import ConfigError
 from pico_studio.tuning.backend import METRICS, Scenario, ScenarioSet
@@ -40,7 +40,8 @@ class Objective:
         return [v if METRICS[m].higher_is_better else -v for m, v in zip(self.metrics, values, strict=True)]
 
     def constraint(self, metrics: dict[str, float]) -> list[float] | None:
-        """Optuna's constraint values (feasible when <= 0), or None without `--max-ms`."""
+        """The constraint values (feasible when <= 0; Optuna's `Trial.set_constraint`), or None
+        without `--max-ms`."""
         if self.max_ms is None:
             return None
         return [float(metrics[MS_METRIC]) - self.max_ms]
@@ -49,12 +50,6 @@ class Objective:
         text = ", ".join(f"{m} ({'higher' if METRICS[m].higher_is_better else 'lower'} is better)"
                          for m in self.metrics)
         return text + (f", at most {self.max_ms:g} ms per scan" if self.max_ms is not None else "")
-
-
-def constraints_func(trial: Any) -> Sequence[float]:
-    """For Optuna's samplers: the constraint stored with the trial (module level, so it
-    pickles into worker processes)."""
-    return tuple(trial.user_attrs.get(CONSTRAINT_ATTR, (0.0,)))
 
 
 def parse_objective(text: str | None, max_ms: float | None = None) -> Objective:

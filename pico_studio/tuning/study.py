@@ -34,7 +34,7 @@ from optuna.trial import FrozenTrial, TrialState
 from pico_studio.config import Config
 from pico_studio.errors import ConfigError
 from pico_studio.tuning.backend import ScenarioSet, evaluate_scenarios
-from pico_studio.tuning.objective import CONSTRAINT_ATTR, Objective, constraints_func
+from pico_studio.tuning.objective import CONSTRAINT_ATTR, Objective
 from pico_studio.tuning.space import SearchSpace
 
 JOURNAL = "journal.log"
@@ -182,7 +182,8 @@ def make_objective(spec: StudySpec, worker: int) -> Callable[[optuna.Trial], lis
             trial.set_user_attr("seconds_wall", time.perf_counter() - t0)
             trial.set_user_attr("metrics", {k: float(v) for k, v in result.metrics.items()})
             con = spec.objective.constraint(result.metrics)
-            if con is not None:
+            if con is not None:  # the samplers and best_trial read it; the page reads the attribute
+                trial.set_constraint("max_ms", con[0])
                 trial.set_user_attr(CONSTRAINT_ATTR, con)
             return spec.objective.values(result.metrics)
         except Exception as e:
@@ -199,9 +200,7 @@ def run_worker(spec: StudySpec, worker: int = 0, *, on_trial: Callable[[int], No
     # a seed per worker and per start, so workers and resumed runs do not repeat each other
     seed = int(hashlib.sha256(f"{spec.seed}/{worker}/{len(study.trials)}".encode()).hexdigest()[:8], 16)
     startup = max(3, min(10, spec.trials // 4))
-    study.sampler = optuna.samplers.TPESampler(
-        seed=seed, n_startup_trials=startup, multivariate=True,
-        constraints_func=constraints_func if spec.objective.max_ms is not None else None)
+    study.sampler = optuna.samplers.TPESampler(seed=seed, n_startup_trials=startup, multivariate=True)
     objective = make_objective(spec, worker)
     mine: list[int] = []
 
