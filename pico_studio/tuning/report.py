@@ -13,6 +13,7 @@ objectives):
 from __future__ import annotations
 
 import html
+import re
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -126,7 +127,7 @@ def summarise(study: optuna.Study, spec: StudySpec, out: Path, *, holdout: Scena
             f"scenarios: {spec.scenarios.name} ({len(spec.scenarios.scenarios)})\n"
             f"load it with --config {p.name}")), encoding="utf-8")
         config_path = str(p)
-    errors = sorted({str(t.user_attrs["error"]) for t in trials if "error" in t.user_attrs})
+    errors = _grouped([str(t.user_attrs["error"]) for t in trials if "error" in t.user_attrs])
     report = TuneReport(
         study=spec.study_name, trials=len(trials),
         complete=sum(t.state == TrialState.COMPLETE for t in trials),
@@ -137,6 +138,16 @@ def summarise(study: optuna.Study, spec: StudySpec, out: Path, *, holdout: Scena
         seconds_wall=seconds_wall, errors=errors)
     write_html(study, spec, report, out / REPORT_HTML)
     return report
+
+
+def _grouped(errors: list[str]) -> list[str]:
+    """Failed trials' errors, the same error once with its count (values in brackets and
+    numbers do not make an error another)."""
+    counts: dict[str, int] = {}
+    for e in errors:
+        key = re.sub(r"\([^)]*\)", "(…)", e)
+        counts[key] = counts.get(key, 0) + 1
+    return [f"{k} ({n} trials)" if n > 1 else k for k, n in sorted(counts.items(), key=lambda kv: -kv[1])]
 
 
 def _metric_rows(r: TuneReport) -> str:
