@@ -26,7 +26,7 @@ import numpy as np
 from pico_studio.config import Config, with_value
 from pico_studio.core.geometry import compose, relative, wrap_angle
 from pico_studio.core.localisation import Localiser
-from pico_studio.core.localisation.inputs import laser_points, odometry_pose
+from pico_studio.core.localisation.inputs import odometry_pose
 from pico_studio.json_map import load_json_map
 from pico_studio.sim import Simulator, load_sim_config
 
@@ -126,7 +126,7 @@ def run(name: str, *, seconds: float, gain_error: float, kick_at: float | None, 
         odom = odometry_pose(odom, sim.read_odometry())
         if laser is None or odom is None:
             continue
-        r = loc.step(laser_points(laser), odom)
+        r = loc.step(laser.points, odom)
         true = sim.truth.pose
         track.append((true, r.pose, r.lost))
         if r.pose is None:
@@ -242,7 +242,7 @@ def kick_trials(name: str, *, kicks: int, seed: int = 0) -> dict:
             odom = odometry_pose(odom, sim.read_odometry())
             if laser is None or odom is None:
                 continue
-            r = loc.step(laser_points(laser), odom)
+            r = loc.step(laser.points, odom)
             t = sim.truth.pose
             err = math.inf if r.pose is None else math.hypot(r.pose[0] - t[0], r.pose[1] - t[1])
             out.append((r.lost, err))
@@ -295,7 +295,7 @@ def cost(name: str, *, seconds: float = 20.0, repeats: int = 5, seed: int = 0) -
         laser = sim.read_laser()
         odom = odometry_pose(odom, sim.read_odometry())
         if laser is not None and odom is not None:
-            frames.append((laser_points(laser), odom))
+            frames.append((laser.points, odom))
     start = sim.truth.pose
     times = np.zeros((repeats, len(frames)))
     cpu = np.zeros((repeats, len(frames)))  # CPU time: less disturbed by other jobs on the machine

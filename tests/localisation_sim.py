@@ -10,7 +10,7 @@ import numpy as np
 
 from pico_studio.core.geometry import compose, point_segment_distance, relative, wrap_angle
 from pico_studio.core.localisation import Localiser
-from pico_studio.core.localisation.inputs import laser_points, odometry_pose
+from pico_studio.core.localisation.inputs import odometry_pose
 from pico_studio.sim import Simulator
 
 DT = 0.05
@@ -74,7 +74,7 @@ class Driver:
             self.odom = odometry_pose(self.odom, sim.read_odometry())
             if laser is None or self.odom is None:
                 continue
-            r = self.loc.step(laser_points(laser), self.odom)
+            r = self.loc.step(laser.points, self.odom)
             t = sim.truth.pose
             dr = compose(self._start[0], relative(self._start[1], sim.truth.odometry_pose))
             self.dead_reckoning.append(math.hypot(dr[0] - t[0], dr[1] - t[1]))

@@ -15,3 +15,16 @@ def box_map(w: float = 10.0, h: float = 10.0, **extra: Any) -> GlobalMap:
     data = {"points": points, "walls": [[0, 1], [1, 2], [2, 3], [3, 0]] + extra.pop("more_walls", [])}
     data.update(extra)
     return map_from_dict(data)
+
+
+def door_map() -> GlobalMap:
+    """The 10 x 10 m box split by an inner wall at x = 5 with a 1 m gap (y 4..5) closed by a
+    0.1 m thick door."""
+    return box_map(
+        more_points=[
+            {"x": 5, "y": 0}, {"x": 5, "y": 4}, {"x": 5, "y": 5}, {"x": 5, "y": 10},
+            {"x": 4.95, "y": 4}, {"x": 5.05, "y": 4}, {"x": 5.05, "y": 5}, {"x": 4.95, "y": 5},
+        ],
+        more_walls=[[4, 5], [6, 7]],
+        doors=[[[8, 9], [9, 10], [10, 11], [11, 8]]],
+    )

@@ -10,7 +10,6 @@ from pico_studio.config import Config
 from pico_studio.core.geometry import compose, invert, transform_segments
 from pico_studio.core.localisation import Localiser, combine
 from pico_studio.core.localisation.combined import zero_to_global
-from pico_studio.core.localisation.inputs import laser_points
 from pico_studio.json_map import load_json_map
 from pico_studio.sim import Simulator
 
@@ -53,7 +52,7 @@ def test_walls_in_view_become_seen_while_tracking(maps_dir):
     assert loc.combined((0.0, 0.0, 0.0), np.zeros((0, 4))) is None  # nothing before a fix
     for _ in range(6):
         sim.advance(0.05)
-        loc.step(laser_points(sim.read_laser()), (0.0, 0.0, 0.0))
+        loc.step(sim.read_laser().points, (0.0, 0.0, 0.0))
     cm = loc.combined((0.0, 0.0, 0.0), np.zeros((0, 4)))
     assert cm is not None
     assert 0 < cm.map_wall_seen.sum() < len(m.walls)  # walls in view seen, hidden ones not

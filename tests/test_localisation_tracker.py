@@ -10,7 +10,6 @@ import pytest
 
 from pico_studio.config import Config
 from pico_studio.core.localisation import Localiser, TrackerState, localise
-from pico_studio.core.localisation.inputs import laser_points
 from pico_studio.core.localisation.matcher import beams_through_walls, quality
 from pico_studio.json_map import load_json_map
 from pico_studio.sim import Simulator
@@ -26,7 +25,7 @@ def restaurant(maps_dir):
 def _scan(gmap, pose) -> np.ndarray:
     sim = Simulator(gmap, Config().sim, seed=0, initial_pose=pose)
     sim.advance(0.05)
-    return laser_points(sim.read_laser())
+    return sim.read_laser().points
 
 
 def test_bad_scans_do_not_raise_and_a_lost_scan_is_dead_reckoned(restaurant):

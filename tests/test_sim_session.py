@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from sim_helpers import box_map
-from test_sim_world import door_map
+from sim_helpers import box_map, door_map
 
 from pico_studio.core.io import BaseReference, Command, Frame, LaserData, OdometryData
 from pico_studio.session import Session

@@ -4,21 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from sim_helpers import box_map
+from sim_helpers import box_map, door_map
 
 from pico_studio.sim import Simulator, sim_config_from_dict
-
-
-def door_map():
-    # an inner wall at x = 5 with a 1 m gap (y 4..5) closed by a 0.1 m thick door
-    return box_map(
-        more_points=[
-            {"x": 5, "y": 0}, {"x": 5, "y": 4}, {"x": 5, "y": 5}, {"x": 5, "y": 10},
-            {"x": 4.95, "y": 4}, {"x": 5.05, "y": 4}, {"x": 5.05, "y": 5}, {"x": 4.95, "y": 5},
-        ],
-        more_walls=[[4, 5], [6, 7]],
-        doors=[[[8, 9], [9, 10], [10, 11], [11, 8]]],
-    )
 
 
 def ahead(sim: Simulator) -> float:

@@ -43,7 +43,7 @@ def from_dict(cls: type[T], data: Any, *, file: str | Path | None = None, prefix
             )
         f = fields[key]
         if "pico_studio.section" in f.metadata:
-            sub_cls = f.default_factory  # type: ignore[misc]
+            sub_cls = f.default_factory
             kwargs[key] = from_dict(sub_cls, value, file=file, prefix=path + ".")  # type: ignore[arg-type]
         else:
             try:

@@ -10,7 +10,9 @@ from dataclasses import dataclass
 
 from pico_studio.config.spec import param, section
 
-SEGMENTERS = ("split_merge", "angle", "ransac")
+# The built-in segmenters of core/perception/segment.py's registry, by name (config is the
+# ground floor and cannot import it; tests/test_perception_segmenters.py checks the two agree).
+SEGMENTER_NAMES = ("split_merge", "angle", "ransac")
 
 
 @dataclass(frozen=True)
@@ -67,7 +69,7 @@ class ScanParams:
         help="Extra allowed gap per metre of range, for the sparser points far away",
     )
     segmenter: str = param(
-        "split_merge", choices=SEGMENTERS,
+        "split_merge", choices=SEGMENTER_NAMES,
         help="Line segmenter: split-and-merge (seed 003), angle clustering (seed 001), RANSAC (seed 002)",
     )
     min_points: int = param(

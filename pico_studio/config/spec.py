@@ -137,17 +137,6 @@ def params(obj: Any) -> list[ParamInfo]:
     return [p for p in walk(obj) if isinstance(p, ParamInfo)]
 
 
-def spec_field_kinds(cls: type) -> dict[str, str]:
-    """Field name -> "param" | "section" for one section class."""
-    out: dict[str, str] = {}
-    for f in dataclasses.fields(cls):
-        if _SECTION in f.metadata:
-            out[f.name] = "section"
-        elif _SPEC in f.metadata:
-            out[f.name] = "param"
-    return out
-
-
 def coerce(spec: ParamSpec, value: Any) -> Any:
     """The value as the parameter's type, or ValueError saying what is wrong with it."""
     kind = spec.kind

@@ -31,6 +31,21 @@ class LaserData:
     def angles(self) -> np.ndarray:
         return self.angle_min + np.arange(len(self.ranges)) * self.angle_increment
 
+    @property
+    def valid(self) -> np.ndarray:
+        """(n,) bool: the beams with a return, i.e. a finite range within [range_min, range_max]."""
+        r = np.asarray(self.ranges, dtype=float)
+        with np.errstate(invalid="ignore"):
+            return np.isfinite(r) & (r >= self.range_min) & (r <= self.range_max)
+
+    @property
+    def points(self) -> np.ndarray:
+        """(M, 2) robot-frame points of the valid beams, in beam order."""
+        ok = self.valid
+        r = np.asarray(self.ranges, dtype=float)[ok]
+        a = self.angles[ok]
+        return np.column_stack([r * np.cos(a), r * np.sin(a)])
+
 
 @dataclass(frozen=True)
 class OdometryData:

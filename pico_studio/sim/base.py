@@ -26,10 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from pico_studio.config.sim_params import BaseParams
+from pico_studio.core.geometry import Pose, compose, point_segment_distance, relative
 from pico_studio.sim.world import KIND_NAMES
-
-Pose = tuple[float, float, float]
-_TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True)
@@ -48,21 +46,6 @@ def twist_displacement(vx: float, vy: float, va: float, h: float) -> Pose:
     return ((vx * s + vy * (c - 1.0)) / va, (vx * (1.0 - c) + vy * s) / va, th)
 
 
-def compose(p: Pose, q: Pose) -> Pose:
-    """p (x) q for plain floats (the hot loop's version of core.geometry.compose)."""
-    c, s = math.cos(p[2]), math.sin(p[2])
-    a = math.remainder(p[2] + q[2], _TWO_PI)
-    return (p[0] + c * q[0] - s * q[1], p[1] + s * q[0] + c * q[1], math.pi if a == -math.pi else a)
-
-
-def relative(p: Pose, q: Pose) -> Pose:
-    """q in p's frame, for plain floats."""
-    c, s = math.cos(p[2]), math.sin(p[2])
-    dx, dy = q[0] - p[0], q[1] - p[1]
-    a = math.remainder(q[2] - p[2], _TWO_PI)
-    return (c * dx + s * dy, -s * dx + c * dy, math.pi if a == -math.pi else a)
-
-
 def box_hits(pose: Pose, half_length: float, half_width: float, segments: np.ndarray) -> np.ndarray:
     """Which segments (N, 4, map frame) touch the box at `pose`.
 
@@ -78,16 +61,6 @@ def box_hits(pose: Pose, half_length: float, half_width: float, segments: np.nda
     cross = x1 * y2 - y1 * x2  # |d| times the distance to the line
     apart |= np.abs(cross) > np.abs(dy) * half_length + np.abs(dx) * half_width
     return ~apart
-
-
-def segment_distances(xy: tuple[float, float], segments: np.ndarray) -> np.ndarray:
-    """Distance from the point to every segment."""
-    a = segments[:, 0:2]
-    ab = segments[:, 2:4] - a
-    ap = np.asarray(xy) - a
-    t = np.minimum(np.maximum((ap * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-18), 0.0), 1.0)
-    d = ap - t[:, None] * ab
-    return np.sqrt((d * d).sum(1))
 
 
 class Base:
@@ -125,7 +98,7 @@ class Base:
         speed = math.hypot(vx, vy)
         travel = speed * h + abs(va) * h * self.radius  # bound on any box point's path
         if world_version != self._budget_world or self._budget < travel:
-            dist = segment_distances(self.pose[:2], segments)
+            dist = point_segment_distance(self.pose[:2], segments)[0]
             self._budget = float(dist.min()) - self.radius
             self._budget_world = world_version
         if self._budget >= travel:

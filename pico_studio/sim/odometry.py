@@ -18,11 +18,8 @@ import math
 import numpy as np
 
 from pico_studio.config.sim_params import OdometryParams
-from pico_studio.core.geometry import relative
+from pico_studio.core.geometry import Pose, compose, relative
 from pico_studio.core.io import OdometryData
-from pico_studio.sim.base import compose
-
-Pose = tuple[float, float, float]
 
 
 class Odometry:

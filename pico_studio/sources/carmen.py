@@ -38,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from pico_studio.config.sources_params import CarmenParams, SourcesParams
+from pico_studio.core.geometry import wrap_angle
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.errors import SourceError
 from pico_studio.sources.replay import Recording, Replay, TimedPose
@@ -148,7 +149,7 @@ def _flaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[floa
         angle_min=angle_min, angle_max=angle_min + (n - 1) * increment,
         angle_increment=increment, timestamp=t, ranges=ranges,
     )
-    return scan, (x, y, _wrap(theta)), OdometryData(ox, oy, _wrap(otheta), t)
+    return scan, (x, y, wrap_angle(theta)), OdometryData(ox, oy, wrap_angle(otheta), t)
 
 
 def _in_log_order(
@@ -209,7 +210,7 @@ def _robotlaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[
         range_min=cfg.range_min, range_max=range_max, angle_min=start,
         angle_max=start + (n - 1) * increment, angle_increment=increment, timestamp=t, ranges=ranges,
     )
-    return scan, (x, y, _wrap(theta)), OdometryData(x, y, _wrap(theta), t)
+    return scan, (x, y, wrap_angle(theta)), OdometryData(x, y, wrap_angle(theta), t)
 
 
 def _count(tokens: list[str], index: int, field: str) -> int:
@@ -223,7 +224,7 @@ def _odom(tokens: list[str]) -> OdometryData:
     if len(tokens) != _ODOM_FIELDS:
         raise _BadLine("fields", f"needs {_ODOM_FIELDS} fields, found {len(tokens)}")
     x, y, theta = (_number(tokens, k, name) for k, name in ((1, "x"), (2, "y"), (3, "theta")))
-    return OdometryData(x, y, _wrap(theta), _number(tokens, 7, "ipc_timestamp"))
+    return OdometryData(x, y, wrap_angle(theta), _number(tokens, 7, "ipc_timestamp"))
 
 
 def _number(tokens: list[str], index: int, field: str) -> float:
@@ -248,9 +249,3 @@ def _numbers(tokens: list[str], start: int, n: int, field: str) -> np.ndarray:
         raise _BadLine(f"{field}[{bad[0]}]", f"must be finite, got {tokens[start + bad[0]]!r}")
     return values
 
-
-def _wrap(a: float) -> float:
-    """Wrap one angle to (-pi, pi] (the scalar twin of core.geometry.wrap_angle, which is
-    vectorised and too slow called once per line)."""
-    w = math.remainder(a, 2 * math.pi)
-    return math.pi if w == -math.pi else w

@@ -63,8 +63,9 @@ class Scan:
     @classmethod
     def from_laser(cls, laser: LaserData, max_range: float | None = None) -> Scan:
         r = np.asarray(laser.ranges, dtype=float)
-        hi = laser.range_max if max_range is None else min(max_range, laser.range_max)
-        valid = np.isfinite(r) & (r >= laser.range_min) & (r <= hi)
+        valid = laser.valid
+        if max_range is not None:
+            valid &= r <= max_range
         ranges = np.where(valid, r, np.inf)
         angles = laser.angles
         pts = np.column_stack([ranges[valid] * np.cos(angles[valid]), ranges[valid] * np.sin(angles[valid])])

@@ -39,7 +39,7 @@ from pico_studio.core.behaviours.base import (
     wall_angle,
 )
 from pico_studio.core.behaviours.bubble import Bubble
-from pico_studio.core.geometry import transform_points, wrap_angle
+from pico_studio.core.geometry import invert, transform_points, wrap_angle
 
 
 @dataclass(frozen=True)
@@ -130,13 +130,10 @@ class EscapeRoom(BehaviourBase):
                 return None
             local = found[0]
             if near is not None:
-                to_local = np.array(near) - np.array(self.pose[:2])
-                c, s_ = math.cos(-self.pose[2]), math.sin(-self.pose[2])
-                near_local = np.array([c * to_local[0] - s_ * to_local[1], s_ * to_local[0] + c * to_local[1]])
+                near_local = transform_points(np.array([near], dtype=float), invert(self.pose))[0]
                 local = min(found, key=lambda o: float(np.hypot(*(o.centre - near_local))))
         centre = transform_points(local.centre[None, :], self.pose)[0]
-        c, s = math.cos(self.pose[2]), math.sin(self.pose[2])
-        normal = np.array([c * local.normal[0] - s * local.normal[1], s * local.normal[0] + c * local.normal[1]])
+        normal = transform_points(local.normal[None, :], (0.0, 0.0, self.pose[2]))[0]
         return Opening(centre, normal, local.width)
 
     def _is_dead_end(self, local_centre: np.ndarray) -> bool:

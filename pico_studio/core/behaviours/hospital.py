@@ -34,6 +34,7 @@ from pico_studio.core.behaviours.bubble import Bubble
 from pico_studio.core.behaviours.planner import PlanGrid, astar, densify
 from pico_studio.core.geometry import (
     compose,
+    pairwise_distances,
     point_segment_distance,
     relative,
     transform_points,
@@ -130,12 +131,14 @@ class HospitalTour(BehaviourBase):
         g = getattr(wm, "global_pose", None) if wm is not None else None
         if g is not None and not getattr(wm, "lost", False):
             g = (float(g[0]), float(g[1]), float(g[2]))
-            odo_at_wm = tuple(float(v) for v in getattr(wm, "pose", self.pose))
+            at_wm = getattr(wm, "pose", self.pose)
+            odo_at_wm: Pose = (float(at_wm[0]), float(at_wm[1]), float(at_wm[2]))
             # the world model's pose is in the perceptor's zero frame; ours is raw odometry:
             # anchor the global pose to our odometry reading of the same instant
             zero = getattr(wm, "zero_pose", None)
-            odo_raw = compose(tuple(float(v) for v in zero), odo_at_wm) if zero is not None else self.pose
-            self._anchor = (g, odo_raw)  # type: ignore[assignment]
+            odo_raw = (compose((float(zero[0]), float(zero[1]), float(zero[2])), odo_at_wm)
+                       if zero is not None else self.pose)
+            self._anchor = (g, odo_raw)
         elif self._anchor is None and self.initial_pose is not None:
             self._anchor = (self.initial_pose, self.pose)
         if self._anchor is None:
@@ -244,7 +247,7 @@ class HospitalTour(BehaviourBase):
         pts = pts[np.hypot(*(pts - xy).T) <= self.p.blocked_distance + self.p.inflation]
         if len(pts) == 0:
             return False
-        gaps = np.hypot(*(pts[:, None, :] - close[None, :, :]).transpose(2, 0, 1))
+        gaps = pairwise_distances(pts, close)
         return bool(gaps.min() < self.p.path_clearance)
 
     def _blocked(self, pose: Pose, now: float) -> Command:
@@ -256,7 +259,7 @@ class HospitalTour(BehaviourBase):
         seen = self._unmapped_points(pose)
         # an obstacle already waited for (a new side of it came into view): replan at once
         known = len(self._obstacles) > 0 and len(seen) > 0 and bool(
-            np.hypot(*(seen[:, None, :] - self._obstacles[None, ::4, :]).transpose(2, 0, 1)).min() < 0.3)
+            pairwise_distances(seen, self._obstacles[::4]).min() < 0.3)
         waited = now - self._blocked_since
         if not known and (waited < self.p.blocked_wait or (door and waited < 3 * self.p.blocked_wait)):
             return Command(open_door=door)

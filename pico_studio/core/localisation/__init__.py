@@ -71,7 +71,7 @@ def localise_world_model(
     """Localise on a WorldModel's scan points and zero-frame pose; set its `global_pose`,
     `localisation_quality`, `lost` and `combined` (and `timings_ms["localisation"]`)."""
     t0 = time.perf_counter()
-    zero_pose = tuple(float(v) for v in wm.pose)
+    zero_pose: Pose = (float(wm.pose[0]), float(wm.pose[1]), float(wm.pose[2]))
     result, state = localise(state, np.asarray(wm.points, dtype=float).reshape(-1, 2), zero_pose,
                              lmap, params)
     wm.global_pose = result.pose

@@ -84,7 +84,7 @@ class DistanceField:
 
     @property
     def shape(self) -> tuple[int, int]:
-        return self.field.shape  # type: ignore[return-value]
+        return self.field.shape
 
     def _grid(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Fractional (column, row) of every point."""
@@ -103,14 +103,6 @@ class DistanceField:
         top = f[r0, c0] * (1 - fc) + f[r0, c0 + 1] * fc
         bottom = f[r0 + 1, c0] * (1 - fc) + f[r0 + 1, c0 + 1] * fc
         return top * (1 - fr) + bottom * fr
-
-    def distance_nearest_cell(self, points: np.ndarray) -> np.ndarray:
-        """Distance of the nearest grid node: cheaper than `distance`, for coarse search."""
-        h, w = self.field.shape
-        c, r = self._grid(points)
-        ci = np.clip(np.rint(c).astype(np.int64), 0, w - 1)
-        ri = np.clip(np.rint(r).astype(np.int64), 0, h - 1)
-        return self.field[ri, ci]
 
     def coarse(self, stride: int, truncation: float, pad: int) -> np.ndarray:
         """Every `stride`-th node's distance, truncated, padded by `pad` nodes of `truncation`

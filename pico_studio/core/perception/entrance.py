@@ -17,6 +17,7 @@ import statistics
 import numpy as np
 
 from pico_studio.config.perception_params import EntranceParams
+from pico_studio.core.geometry import wrap_angle
 
 Estimate = tuple[float, float, bool]  # angle, distance, hallway
 
@@ -61,12 +62,11 @@ def median_entrance(history: tuple[Estimate, ...]) -> tuple[tuple[float, float] 
     """Median (angle, distance) over the recent estimates, and whether most were hallways."""
     if not history:
         return None, False
-    # a few dozen scalars: plain-float math (numpy's per-call cost would dominate)
     a = [h[0] for h in history]
     # the median of angles near +-pi: taken relative to the circular mean
     ref = math.atan2(math.fsum(map(math.sin, a)) / len(a), math.fsum(map(math.cos, a)) / len(a))
-    rel = [(x - ref + math.pi) % (2 * math.pi) - math.pi for x in a]
-    ang = (ref + statistics.median(rel) + math.pi) % (2 * math.pi) - math.pi
+    rel = [wrap_angle(x - ref) for x in a]
+    ang = wrap_angle(ref + statistics.median(rel))
     dist = float(statistics.median([h[1] for h in history]))
     hallway = sum(h[2] for h in history) * 2 > len(history)
     return (ang, dist), hallway

@@ -285,7 +285,7 @@ def _absorb(w: _Work, i: int, k: int, params: MergeParams) -> None:
 # ----- 5. connecting ends into corners ---------------------------------------------------------
 
 
-def _near_pairs(walls: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
+def _near_pairs(walls: np.ndarray, r: float) -> tuple[np.ndarray, ...]:
     """Ordered pairs (i, k), i != k, whose bounding boxes grown by r overlap: the only pairs
     that can connect or merge, found without an all-pairs geometry pass."""
     lo = np.minimum(walls[:, 0:2], walls[:, 2:4]) - r

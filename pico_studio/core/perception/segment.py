@@ -1,6 +1,10 @@
 """From clusters of points to walls: run the chosen segmenter, refit, merge neighbours, filter.
 
-Every segmenter returns pieces as inclusive point-index ranges [first, last]. Each piece is
+Segmenters are found by name in `SEGMENTERS` (`perception.scan.segmenter`); every one has the
+shape `Segmenter`: the scan's resampled points (M, 2) in beam order, its clusters (C, 2) as
+half-open point ranges [start, end), and the perception params (each reads its own section),
+returning pieces (S, 2) as inclusive point-index ranges [first, last] in cluster order, never
+crossing a cluster. `register_segmenter` adds one (a plugin's). Each piece is
 then refitted by closed-form total least squares (orthogonal regression), for all pieces at
 once from prefix sums of x, y, x^2, xy, y^2:
 
@@ -20,13 +24,16 @@ End kinds (per segment end): 0 floating (occluded or at the edge of the view), 1
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from pico_studio.config.perception_params import PerceptionParams
+from pico_studio.core.geometry import segment_lengths
 from pico_studio.core.perception import segment_angle, segment_ransac, segment_split_merge
 from pico_studio.core.perception.scan import ScanPoints
+from pico_studio.errors import ConfigError
 
 END_FLOATING, END_JOINT, END_SEEN = 0, 1, 2
 
@@ -45,14 +52,33 @@ class Segments:
                         np.zeros((0, 2), dtype=np.int64), np.zeros(0))
 
 
+Segmenter = Callable[[np.ndarray, np.ndarray, PerceptionParams], np.ndarray]
+"""(points (M, 2), clusters (C, 2) [start, end), params) -> pieces (S, 2) [first, last]."""
+
+SEGMENTERS: dict[str, Segmenter] = {}
+
+
+def register_segmenter(name: str, fn: Segmenter, *, replace: bool = False) -> None:
+    """Make `fn` selectable as `perception.scan.segmenter: <name>`."""
+    if name in SEGMENTERS and not replace:
+        raise ValueError(f"a segmenter named {name!r} is already registered")
+    SEGMENTERS[name] = fn
+
+
+# the built-in three, each handed its own params section
+register_segmenter("split_merge", lambda pts, cl, p: segment_split_merge.split(pts, cl, p.split_merge))
+register_segmenter("angle", lambda pts, cl, p: segment_angle.cluster(pts, cl, p.angle))
+register_segmenter("ransac", lambda pts, cl, p: segment_ransac.extract(pts, cl, p.ransac))
+
+
 def run_segmenter(scan: ScanPoints, params: PerceptionParams) -> np.ndarray:
     """Raw pieces (S, 2) from the configured segmenter."""
     name = params.scan.segmenter
-    if name == "angle":
-        return segment_angle.cluster(scan.points, scan.clusters, params.angle)
-    if name == "ransac":
-        return segment_ransac.extract(scan.points, scan.clusters, params.ransac)
-    return segment_split_merge.split(scan.points, scan.clusters, params.split_merge)
+    fn = SEGMENTERS.get(name)
+    if fn is None:
+        raise ConfigError(f"unknown segmenter {name!r}; one of: {', '.join(SEGMENTERS)}",
+                          field="perception.scan.segmenter")
+    return np.asarray(fn(scan.points, scan.clusters, params), dtype=np.int64).reshape(-1, 2)
 
 
 def segment_scan(scan: ScanPoints, params: PerceptionParams) -> Segments:
@@ -84,7 +110,7 @@ def finish_pieces(scan: ScanPoints, pieces: np.ndarray, params: PerceptionParams
             del group
             seg, theta, rms = refit(pts, pieces, pre)
     n = pieces[:, 1] - pieces[:, 0] + 1
-    length = np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1])
+    length = segment_lengths(seg)
     keep = (n >= p.min_points) & (length >= p.min_length) & (rms <= p.max_rms)
     # end kinds, decided before filtering so a dropped neighbour leaves a floating end
     kind = np.zeros((len(pieces), 2), dtype=np.int64)
