@@ -1,0 +1,98 @@
+"""The page's Tune tab in a real browser: a study on the current map started from the page,
+watched live, its best trial applied and exported; a bad glob is reported, the page stays up."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import pytest
+
+from pico_studio.config import Config, loads_config, with_value
+from tests.ui_browser_helpers import (
+    CHROMIUM,
+    CHROMIUM_ARGS,
+    VIEWPORT,
+    free_port,
+    input_of,
+    set_number,
+    wait_until,
+)
+
+pytestmark = pytest.mark.browser
+sync_api = pytest.importorskip("playwright.sync_api")
+if not CHROMIUM.exists():
+    pytest.skip("Debian's chromium is not installed (./dev test installs it)", allow_module_level=True)
+
+PARAMS = "perception.merge.confirm_hits,perception.merge.min_length"
+
+
+@pytest.fixture(scope="module")
+def app(tmp_path_factory: pytest.TempPathFactory):
+    from pico_studio.cli.serve_cmd import build_app
+
+    args = argparse.Namespace(
+        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1",
+        port=free_port(), seed=3, export_dir=str(tmp_path_factory.mktemp("exports")), paused=True,
+    )
+    app = build_app(args, verbose=False)
+    app.start()
+    yield app
+    app.stop()
+
+
+@pytest.fixture(scope="module")
+def page(app, tmp_path_factory: pytest.TempPathFactory):
+    with sync_api.sync_playwright() as p:
+        ctx = p.chromium.launch_persistent_context(
+            str(tmp_path_factory.mktemp("chromium-profile")), executable_path=str(CHROMIUM), headless=True,
+            args=CHROMIUM_ARGS, viewport=VIEWPORT, accept_downloads=True,
+        )
+        page = ctx.new_page()
+        page.goto(app.url + "/?fixedDpr=1")
+        page.get_by_text("hospital_2019.json").first.wait_for(timeout=30000)
+        page.get_by_role("tab", name="Tune").click()
+        yield page
+        ctx.close()
+
+
+def _set_text(page, label: str, text: str) -> None:  # noqa: ANN001
+    box = input_of(page, label)
+    box.fill(text)
+    box.press("Enter")
+
+
+def test_a_study_from_the_page_improves_a_bad_config_and_is_applied(app, page, tmp_path: Path) -> None:
+    bad = with_value(with_value(Config(), "perception.merge.confirm_hits", 40), "perception.merge.min_length", 1.5)
+    app.apply_config(bad)  # a deliberately bad start: what the page has now is the start trial
+    _set_text(page, "Parameters", PARAMS)
+    set_number(page, "Trials", 8)
+    set_number(page, "Poses", 2)
+    assert wait_until(lambda: app.tune.trials.value == 8 and app.tune.globs.value == PARAMS)
+    page.get_by_role("button", name="Start study").click()
+    assert wait_until(lambda: app.tune.live is not None and not app.tune.live.running
+                      and "done" in app.tune.status.content, timeout=300)
+    page.get_by_text("8/8 trials").first.wait_for(timeout=20000)  # the status as the tab shows it
+    assert page.locator(".uplot canvas").locator("visible=true").count() >= 1  # the live plot
+    x, values, best = app.tune.plot.data
+    assert len(x) >= 2 and best[-1] == max(values) and best[-1] > values[0]  # improved on the start
+    chosen = str(app.tune.choice.value)
+    page.get_by_role("button", name="Apply to the config").click()
+    n = int(chosen[1:])
+    want = app.tune.live.config_of(n)
+    assert wait_until(lambda: app.studio.cfg == want)
+    assert app.studio.cfg.perception.merge.confirm_hits < 40 or app.studio.cfg.perception.merge.min_length < 1.5
+    with page.expect_download(timeout=20000) as info:
+        page.get_by_role("button", name="Export as YAML").click()
+    path = tmp_path / "trial.yaml"
+    info.value.save_as(path)
+    assert loads_config(path.read_text()) == want
+
+
+def test_a_bad_glob_is_reported_and_the_page_keeps_working(app, page) -> None:
+    _set_text(page, "Parameters", "perception.nope.*")
+    assert wait_until(lambda: app.tune.globs.value == "perception.nope.*")
+    page.get_by_role("button", name="Start study").click()
+    page.get_by_text("perception.nope.*", exact=False).locator("visible=true").first.wait_for(timeout=20000)
+    assert wait_until(lambda: any("perception.nope.*" in e.message for e in app.log.entries))
+    assert page.get_by_role("button", name="Start study").is_enabled()
