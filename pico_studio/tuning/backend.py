@@ -7,6 +7,9 @@ INTERIM until the evaluation spine lands on main (then this re-exports
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -94,15 +97,22 @@ def _f1(p: float, r: float) -> float:
 
 
 def evaluate_scenario(s: Scenario, cfg: Config, *, progress: Any = None) -> ScenarioResult:
-    from pico_studio.cli.eval_cmd import evaluate  # interim only: the spine replaces this
-
+    # interim only: `pico-studio eval` in a child process (the runner of the spine replaces it;
+    # a child, because tuning sits below the CLI and must not import it)
     with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
         f.write(dump_yaml(cfg, comments=False))
+    assert s.map is not None and s.poses is not None
+    cmd = [sys.executable, "-m", "pico_studio", "eval", "--map", s.map, "--config", f.name, "--seed", str(s.seed),
+           "--poses", str(s.poses), "--frames", str(s.frames), "--json"]
+    if s.sim_config:
+        cmd += ["--sim-config", s.sim_config]
     try:
-        assert s.map is not None and s.poses is not None
-        r = evaluate(s.map, sim_config=s.sim_config, config=f.name, seed=s.seed, poses=s.poses, frames=s.frames)
+        done = subprocess.run(cmd, capture_output=True, text=True, check=False)
     finally:
         Path(f.name).unlink()
+    if done.returncode != 0:
+        raise RuntimeError(done.stderr.strip().splitlines()[-1] if done.stderr.strip() else "eval failed")
+    r = json.loads(done.stdout)
     m = {"walls.f1": _f1(r["wall_precision"], r["wall_recall"]),
          "corners.f1": _f1(r["corner_precision"], r["corner_recall"]),
          "doors.f1": _f1(r["door_precision"], r["door_recall"]),
