@@ -3,57 +3,25 @@ watched live, its best trial applied and exported; a bad glob is reported, the p
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import pytest
 
 from pico_studio.config import Config, loads_config, with_value
-from tests.ui_browser_helpers import (
-    CHROMIUM,
-    CHROMIUM_ARGS,
-    VIEWPORT,
-    free_port,
-    input_of,
-    set_number,
-    wait_until,
-)
+from tests import test_ui_browser as browser_tests
+from tests.ui_browser_helpers import input_of, set_number, wait_until
 
-pytestmark = pytest.mark.browser
-sync_api = pytest.importorskip("playwright.sync_api")
-if not CHROMIUM.exists():
-    pytest.skip("Debian's chromium is not installed (./dev test installs it)", allow_module_level=True)
+pytestmark = pytest.mark.browser  # skipped with the browser tests when chromium or playwright is absent
 
 PARAMS = "perception.merge.confirm_hits,perception.merge.min_length"
+# one server (the default hospital, simulated, paused) and one browser, as the browser tests'
+app, browser, page = browser_tests.app, browser_tests.browser, browser_tests.page
 
 
 @pytest.fixture(scope="module")
-def app(tmp_path_factory: pytest.TempPathFactory):
-    from pico_studio.cli.serve_cmd import build_app
-
-    args = argparse.Namespace(
-        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1",
-        port=free_port(), seed=3, export_dir=str(tmp_path_factory.mktemp("exports")), paused=True,
-    )
-    app = build_app(args, verbose=False)
-    app.start()
-    yield app
-    app.stop()
-
-
-@pytest.fixture(scope="module")
-def page(app, tmp_path_factory: pytest.TempPathFactory):
-    with sync_api.sync_playwright() as p:
-        ctx = p.chromium.launch_persistent_context(
-            str(tmp_path_factory.mktemp("chromium-profile")), executable_path=str(CHROMIUM), headless=True,
-            args=CHROMIUM_ARGS, viewport=VIEWPORT, accept_downloads=True,
-        )
-        page = ctx.new_page()
-        page.goto(app.url + "/?fixedDpr=1")
-        page.get_by_text("hospital_2019.json").first.wait_for(timeout=30000)
-        page.get_by_role("tab", name="Tune").click()
-        yield page
-        ctx.close()
+def tune_page(page):  # noqa: ANN001 - the page of the browser tests, on the Tune tab
+    page.get_by_role("tab", name="Tune").click()
+    return page
 
 
 def _set_text(page, label: str, text: str) -> None:  # noqa: ANN001
@@ -62,7 +30,8 @@ def _set_text(page, label: str, text: str) -> None:  # noqa: ANN001
     box.press("Enter")
 
 
-def test_a_study_from_the_page_improves_a_bad_config_and_is_applied(app, page, tmp_path: Path) -> None:
+def test_a_study_from_the_page_improves_a_bad_config_and_is_applied(app, tune_page, tmp_path: Path) -> None:
+    page = tune_page
     bad = with_value(with_value(Config(), "perception.merge.confirm_hits", 40), "perception.merge.min_length", 1.5)
     app.apply_config(bad)  # a deliberately bad start: what the page has now is the start trial
     _set_text(page, "Parameters", PARAMS)
@@ -89,7 +58,8 @@ def test_a_study_from_the_page_improves_a_bad_config_and_is_applied(app, page, t
     assert loads_config(path.read_text()) == want
 
 
-def test_a_bad_glob_is_reported_and_the_page_keeps_working(app, page) -> None:
+def test_a_bad_glob_is_reported_and_the_page_keeps_working(app, tune_page) -> None:
+    page = tune_page
     _set_text(page, "Parameters", "perception.nope.*")
     assert wait_until(lambda: app.tune.globs.value == "perception.nope.*")
     page.get_by_role("button", name="Start study").click()
