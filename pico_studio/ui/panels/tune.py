@@ -71,7 +71,7 @@ class TunePanel(Panel):
         self.export_md = gui.add_markdown("")
         self.start_button.on_click(page.guard("start study", lambda e: self.start()))
         self.stop_button.on_click(page.guard("stop study", lambda e: self.stop()))
-        self.apply_button.on_click(page.guard("apply trial", lambda e: self.apply_trial(self._chosen())))
+        self.apply_button.on_click(page.guard("apply trial", self._on_apply))
         self.export_button.on_click(page.guard("export trial", self._on_export))
 
     # ----- a study ----------------------------------------------------------------------------
@@ -166,6 +166,9 @@ class TunePanel(Panel):
         cfg = self.live.config_of(number)
         self.apply_config(cfg)
         return cfg
+
+    def _on_apply(self, event: viser.GuiEvent) -> None:
+        self.apply_trial(self._chosen())
 
     def export_trial(self, number: int) -> tuple[str, Path]:
         assert self.live is not None and self.folder is not None
