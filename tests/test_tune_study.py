@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import optuna
 import pytest
 
@@ -113,3 +115,11 @@ def test_local_workers_share_the_journal(tmp_path, capsys):
     trials = _study(tmp_path / "o", "tiny-1").trials
     assert [t.number for t in trials] == list(range(6))
     assert len({t.user_attrs["worker"].split("/")[0] for t in trials}) == 2  # two processes took part
+
+
+def test_a_truth_metric_on_a_recording_without_truth_is_refused(tmp_path, capsys):
+    bag = Path(__file__).parent / "data" / "recordings" / "pico_real_2019-05-07.bag"
+    code, _, err = tune(capsys, "--source", f"bag:{bag}", "--trials", "2", "--out", str(tmp_path / "o"))
+    assert code == 2
+    assert err.count("\n") == 1 and "pico_real_2019-05-07" in err and "no ground truth for perception_score" in err
+    assert not (tmp_path / "o").exists()  # refused before anything was written
