@@ -19,6 +19,7 @@ recorded scans (all three segmenters) to F, and `--same-as F` checks them agains
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import pickle
 import statistics
@@ -28,12 +29,12 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from pico_studio.cli.eval_cmd import random_free_poses
 from pico_studio.config import Config, with_value
-from pico_studio.core.io import Command
+from pico_studio.core.behaviours.registry import Drive
 from pico_studio.core.perception import STAGES, Perceptor
 from pico_studio.core.perception.scan import process_scan
 from pico_studio.core.perception.segment import finish_pieces, segment_scan
+from pico_studio.evaluation.poses import random_free_poses
 from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
@@ -51,11 +52,9 @@ def record(poses: int, frames: int, seed: int) -> list[list[tuple]]:
     runs = []
     for k, pose in enumerate(starts):
         sim = Simulator(gmap, cfg.sim, seed=seed + k, initial_pose=pose)
-        session = Session(sim, behaviour=lambda f, wm: Command(0.05, 0.0, 0.4), history=1)
-        seq = []
-        for _ in range(frames):
-            session.tick(0.05)
-            seq.append((session.last_laser, session.last_odometry))
+        session = Session(sim, behaviour=Drive(0.05, 0.0, 0.4))
+        seq = [(session.last_laser, session.last_odometry)
+               for _ in itertools.islice(session.frames(dt=0.05), frames)]
         runs.append(seq)
     return runs
 

@@ -7,13 +7,15 @@ import logging
 import time
 from pathlib import Path
 
+from pico_studio.core.behaviours.registry import behaviour_help
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("serve", help="open the interactive web UI (default: the hospital example, simulated)")
     p.add_argument("--map", help="a JSON map or heightmap image (default: the built-in hospital_2019.json)")
     p.add_argument("--sim-config", help="simulator config JSON (initial pose, moving objects, ...)")
     p.add_argument("--config", help="a (partial) config YAML to start from")
-    p.add_argument("--behaviour", default="wander", help="what drives the robot: wander (default), escape-room, room-finder, hospital[:I,J,K] (cabinet order), teleop, stop")
+    p.add_argument("--behaviour", default="wander", help="what drives the robot: " + behaviour_help() + " | teleop (default wander)")
     p.add_argument("--source", default="sim", help="sim (default), bag:FILE, carmen:FILE or ros (a replay drives nothing: behaviours are ignored)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
     p.add_argument("--port", type=int, default=8080, help="port (default 8080)")
