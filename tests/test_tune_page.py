@@ -37,11 +37,11 @@ def test_a_study_from_the_page_improves_a_bad_config_and_is_applied(app, tune_pa
     _set_text(page, "Parameters", PARAMS)
     set_number(page, "Trials", 8)
     set_number(page, "Poses", 2)
-    assert wait_until(lambda: app.tune.trials.value == 8 and app.tune.globs.value == PARAMS)
+    assert wait_until(lambda: app.tune.trials.value == 8 and app.tune.globs.value == PARAMS, timeout=60)
     page.get_by_role("button", name="Start study").click()
     assert wait_until(lambda: app.tune.live is not None and not app.tune.live.running
                       and "done" in app.tune.status.content, timeout=300)
-    page.get_by_text("8/8 trials").first.wait_for(timeout=20000)  # the status as the tab shows it
+    page.get_by_text("8/8 trials").first.wait_for(timeout=60000)  # the status as the tab shows it
     assert page.locator(".uplot canvas").locator("visible=true").count() >= 1  # the live plot
     x, values, best = app.tune.plot.data
     assert len(x) >= 2 and best[-1] == max(values) and best[-1] > values[0]  # improved on the start
@@ -49,9 +49,9 @@ def test_a_study_from_the_page_improves_a_bad_config_and_is_applied(app, tune_pa
     page.get_by_role("button", name="Apply to the config").click()
     n = int(chosen[1:])
     want = app.tune.live.config_of(n)
-    assert wait_until(lambda: app.studio.cfg == want)
+    assert wait_until(lambda: app.studio.cfg == want, timeout=60)
     assert app.studio.cfg.perception.merge.confirm_hits < 40 or app.studio.cfg.perception.merge.min_length < 1.5
-    with page.expect_download(timeout=20000) as info:
+    with page.expect_download(timeout=60000) as info:
         page.get_by_role("button", name="Export as YAML").click()
     path = tmp_path / "trial.yaml"
     info.value.save_as(path)
@@ -61,8 +61,8 @@ def test_a_study_from_the_page_improves_a_bad_config_and_is_applied(app, tune_pa
 def test_a_bad_glob_is_reported_and_the_page_keeps_working(app, tune_page) -> None:
     page = tune_page
     _set_text(page, "Parameters", "perception.nope.*")
-    assert wait_until(lambda: app.tune.globs.value == "perception.nope.*")
+    assert wait_until(lambda: app.tune.globs.value == "perception.nope.*", timeout=60)
     page.get_by_role("button", name="Start study").click()
-    page.get_by_text("perception.nope.*", exact=False).locator("visible=true").first.wait_for(timeout=20000)
-    assert wait_until(lambda: any("perception.nope.*" in e.message for e in app.log.entries))
+    page.get_by_text("perception.nope.*", exact=False).locator("visible=true").first.wait_for(timeout=60000)
+    assert wait_until(lambda: any("perception.nope.*" in e.message for e in app.log.entries), timeout=60)
     assert page.get_by_role("button", name="Start study").is_enabled()

@@ -18,7 +18,7 @@ def scenario_file(folder: Path, *, poses: int = 2, names: tuple[str, ...] = ("ho
     """A scenario set over built-in maps: `poses` random free poses each."""
     lines = [f"name: tiny-{len(names)}", "scenarios:"]
     for i, n in enumerate(names):
-        lines.append(f"  - {{name: {n}, map: {MAPS / (n + '.json')}, seed: {i}, poses: {poses}}}")
+        lines.append(f"  - {{name: {n}, map: {MAPS / (n + '.json')}, seed: {i}, poses: {poses}, frames: 10}}")
     p = folder / f"scenarios-{len(names)}-{poses}.yaml"
     p.write_text("\n".join(lines) + "\n")
     return p

@@ -15,9 +15,8 @@ from dataclasses import dataclass
 from typing import Literal
 
 from pico_studio.errors import ConfigError
-from pico_studio.tuning.backend import METRICS, Scenario, ScenarioSet
+from pico_studio.tuning.backend import DEFAULT_OBJECTIVE, METRICS, Scenario, ScenarioSet
 
-DEFAULT_OBJECTIVE = "perception_score"
 MS_METRIC = "perceptor.ms_per_scan"
 CONSTRAINT_ATTR = "constraint"
 
