@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 
+from pico_studio.cli import limits
 from pico_studio.config import load_config
 from pico_studio.errors import UserError
 from pico_studio.evaluation.metrics import DEFAULT_OBJECTIVE, METRICS
@@ -34,11 +35,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--workers", type=int, default=1, help="with --scenarios: scenarios run in this many processes (default 1)")
     p.add_argument("--sim-config", help="the official simulator's config JSON")
     p.add_argument("--config", help="a pico_studio config YAML (perception, localisation, map and sim sections)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the poses and the simulator (default 0)")
-    p.add_argument("--poses", type=int, default=50, help="random free poses to score (default 50)")
-    p.add_argument("--frames", type=int, default=20, help="scans per pose (default 20, 1 s)")
-    p.add_argument("--turn", type=float, default=0.4, help="turn rate at each pose, rad/s (default 0.4)")
-    p.add_argument("--clearance", type=float, default=0.4, help="free space around each pose, m (default 0.4)")
+    p.add_argument("--seed", type=limits.SEED, default=0, help="seed of the poses and the simulator (default 0)")
+    p.add_argument("--poses", type=limits.COUNT, default=50, help="random free poses to score (default 50)")
+    p.add_argument("--frames", type=limits.COUNT, default=20, help="scans per pose (default 20, 1 s)")
+    p.add_argument("--turn", type=limits.TURN, default=0.4, help="turn rate at each pose, rad/s (default 0.4)")
+    p.add_argument("--clearance", type=limits.CLEARANCE, default=0.4, help="free space around each pose, m (default 0.4)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_eval)
 

@@ -13,6 +13,7 @@ import time
 from dataclasses import replace
 from typing import Any
 
+from pico_studio.cli import limits
 from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
 from pico_studio.cli.run_sources import (
     check_source_args,
@@ -44,9 +45,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-perceptor", action="store_true", help="only drive, read and record: no perceptor (and no scores), the simulator at full speed")
     p.add_argument("--sim-config", help="the official simulator's config JSON (start pose, moving objects, ...)")
     p.add_argument("--config", help="a pico_studio config YAML (partial files merge over the defaults)")
-    p.add_argument("--seed", type=int, help="random seed (default: sim.seed of the config)")
-    p.add_argument("--seconds", type=float, help="seconds to run (default 10; a replay runs to its end)")
-    p.add_argument("--dt", type=float, help="control period in seconds (default 0.05 = 20 Hz; a replay meets every frame unless given)")
+    p.add_argument("--seed", type=limits.SEED, help="random seed (default: sim.seed of the config)")
+    p.add_argument("--seconds", type=limits.SECONDS, action=limits.StepCap, help="seconds to run (default 10; a replay runs to its end)")
+    p.add_argument("--dt", type=limits.DT, action=limits.StepCap, help="control period in seconds (default 0.05 = 20 Hz; a replay meets every frame unless given)")
     p.add_argument("--behaviour", default="idle", help=behaviour_help() + " (default idle)")
     p.add_argument("--realtime", action="store_true", help="pace to wall-clock time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
