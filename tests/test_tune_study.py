@@ -123,3 +123,10 @@ def test_a_truth_metric_on_a_recording_without_truth_is_refused(tmp_path, capsys
     assert code == 2
     assert err.count("\n") == 1 and "pico_real_2019-05-07" in err and "no ground truth for perception_score" in err
     assert not (tmp_path / "o").exists()  # refused before anything was written
+
+
+def test_a_metric_no_scenario_reports_is_refused(tmp_path, capsys):
+    judged = tmp_path / "judged.yaml"  # judged by its outcome: no perceptor scores
+    judged.write_text('scenarios:\n  - {name: esc, world: "escape:7", behaviour: escape-room, seconds: 2}\n')
+    code, _, err = tune(capsys, "--scenarios", str(judged), "--trials", "2", "--out", str(tmp_path / "o"))
+    assert code == 2 and err.count("\n") == 1 and "reports perception_score" in err

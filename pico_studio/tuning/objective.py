@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
+from pico_studio.core.behaviours.registry import DEFAULT_SECONDS, behaviour_name
 from pico_studio.errors import ConfigError
 from pico_studio.tuning.backend import DEFAULT_OBJECTIVE, METRICS, Scenario, ScenarioSet
 
@@ -32,6 +33,9 @@ class Objective:
 
     def values(self, metrics: dict[str, float]) -> list[float]:
         """The raw values Optuna is told, in the order of `self.metrics`."""
+        missing = [m for m in self.metrics if m not in metrics]
+        if missing:
+            raise ValueError(f"no scenario of the set reported {missing[0]}")
         return [float(metrics[m]) for m in self.metrics]
 
     def oriented(self, values: Sequence[float]) -> list[float]:
@@ -68,16 +72,18 @@ def parse_objective(text: str | None, max_ms: float | None = None) -> Objective:
 
 
 def gives(s: Scenario, metric: str) -> bool:
-    """Whether scenario `s` can report `metric`: the perceptor's scores need the simulator's
-    truth, localisation errors a localised run (a recording: its recorded truth), behaviour
-    figures a behaviour."""
+    """Whether scenario `s` can report `metric`, by the runner's methods: a behaviour that is
+    judged by its outcome (`DEFAULT_SECONDS` of the registry: escape-room, room-finder,
+    hospital) gives behaviour figures, not the perceptor's scores; those need the simulator's
+    truth (poses or a plain scored run); localisation errors need a localised run."""
+    judged = s.behaviour is not None and behaviour_name(s.behaviour) in DEFAULT_SECONDS
     if metric.startswith("localisation."):
         return s.localise
     if metric.startswith("behaviour."):
-        return s.behaviour is not None
+        return judged
     if not METRICS[metric].needs_truth:
         return True
-    return s.recording is None
+    return s.recording is None and not judged
 
 
 def recording_has_truth(s: Scenario) -> bool:

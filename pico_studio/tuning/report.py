@@ -67,7 +67,10 @@ def evaluate_holdout(objective: Objective, holdout: ScenarioSet | None, cfg: Con
     if holdout is None:
         return None, {}
     m = {k: float(v) for k, v in evaluate_scenarios(holdout, cfg).metrics.items()}
-    return objective.oriented(objective.values(m)), m
+    try:
+        return objective.oriented(objective.values(m)), m
+    except ValueError:  # the hold-out reports only other metrics (e.g. behaviour outcomes)
+        return None, m
 
 
 @dataclass
