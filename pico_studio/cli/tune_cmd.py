@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 import time
 from pathlib import Path
 
@@ -22,7 +23,7 @@ from pico_studio.config import load_config
 from pico_studio.errors import ConfigError
 from pico_studio.progress import Progress
 from pico_studio.tuning.backend import Scenario, ScenarioSet, load_scenarios
-from pico_studio.tuning.objective import check_truth, parse_objective
+from pico_studio.tuning.objective import check_truth, parse_objective, relevant
 from pico_studio.tuning.report import summarise
 from pico_studio.tuning.space import DEFAULT_PARAMS, search_space
 from pico_studio.tuning.study import StudySpec, prepare, shown_url, storage_url
@@ -118,6 +119,14 @@ def _tune(args: argparse.Namespace) -> int:
     objective = parse_objective(args.objective, args.max_ms)
     search, holdout = split_holdout(_scenarios(args), args.holdout, args.seed)
     check_truth(objective, search, holdout)
+    for label, ss in (("search", search), ("hold-out", holdout)):
+        if ss is None:
+            continue
+        kept, dropped = relevant(ss, objective)
+        if dropped:
+            print(f"pico-studio tune: {label} set: leaving out {', '.join(dropped)} "
+                  f"(they report no {', '.join(objective.metrics)})", file=sys.stderr)
+        search, holdout = (kept, holdout) if label == "search" else (search, kept)
     out = Path(args.out)
     spec = StudySpec(storage_url(args.storage, out), args.study or search.name, space, objective,
                      search, cfg, args.trials, args.seed)

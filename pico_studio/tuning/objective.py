@@ -111,3 +111,11 @@ def check_truth(objective: Objective, *sets: ScenarioSet | None) -> None:
                                       file=ss.path, field="--objective")
             if not any(gives(s, m) for s in ss.scenarios):
                 raise ConfigError(f"no scenario of '{ss.name}' reports {m}", file=ss.path, field="--objective")
+
+
+def relevant(ss: ScenarioSet, objective: Objective) -> tuple[ScenarioSet, list[str]]:
+    """The set without the scenarios that report none of the objective's metrics (a judged
+    behaviour run costs minutes and adds nothing to a perception score), and their names."""
+    keep = [s for s in ss.scenarios if any(gives(s, m) for m in objective.metrics)]
+    dropped = [s.name for s in ss.scenarios if s not in keep]
+    return ScenarioSet(ss.name, ss.path, keep), dropped
