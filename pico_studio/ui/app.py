@@ -36,6 +36,7 @@ from pico_studio.ui.panels.log import LogPanel
 from pico_studio.ui.panels.map_choice import MapPanel
 from pico_studio.ui.panels.run import RunPanel
 from pico_studio.ui.panels.tools import ToolsPanel
+from pico_studio.ui.panels.tune import TunePanel
 from pico_studio.ui.recording_panel import RecordingControls
 from pico_studio.ui.replay import ReplayDriver
 from pico_studio.ui.runtime import Studio
@@ -106,11 +107,13 @@ class StudioApp:
             self.config = ConfigTab(page, gui, self.export_dir)
         with tabs.add_tab("Tools"):
             self.tools = ToolsPanel(page, gui, self.export_dir)
+        with tabs.add_tab("Tune"):
+            self.tune = TunePanel(page, gui, self.export_dir, apply=self.config.apply)
         with tabs.add_tab("Log"):
             self.log_panel = LogPanel(page, gui)
         self.tab_group = tabs
         self.panels: list[Panel] = [self.run, self.behaviour, self.map, self.recording, self.layers_panel,
-                                    self.config, self.tools, self.log_panel, self.help]
+                                    self.config, self.tools, self.tune, self.log_panel, self.help]
 
     # ----- what tests and benchmarks read ---------------------------------------------------
     @property
@@ -164,6 +167,7 @@ class StudioApp:
         if self._thread is not None:
             self._thread.join(timeout=2.0)
         self.recording.recorder.stop()
+        self.tune.close()
         self.server.stop()
 
     # ----- the loop and drawing --------------------------------------------------------------------
