@@ -19,10 +19,11 @@ from pico_studio.cli import (
     render_cmd,
     run_cmd,
     serve_cmd,
+    tune_cmd,
 )
 from pico_studio.errors import UserError
 
-COMMAND_MODULES = [map_cmd, config_cmd, run_cmd, eval_cmd, compare_cmd, serve_cmd, render_cmd]
+COMMAND_MODULES = [map_cmd, config_cmd, run_cmd, eval_cmd, compare_cmd, serve_cmd, render_cmd, tune_cmd]
 
 
 def build_parser() -> argparse.ArgumentParser:

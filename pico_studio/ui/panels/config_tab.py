@@ -12,9 +12,10 @@ from typing import Any
 import viser
 
 from pico_studio.config import Config, dump_yaml, merge_config
-from pico_studio.errors import UserError
+from pico_studio.errors import ConfigError, UserError
 from pico_studio.ui.config_panel import ConfigPanel, Tuner
 from pico_studio.ui.page import Page, Panel, Shown
+from pico_studio.user_files import check_upload
 
 
 class ConfigTab(Panel):
@@ -84,6 +85,7 @@ class ConfigTab(Panel):
 
     def _on_upload(self, event: viser.GuiEvent) -> None:
         f = event.target.value
+        check_upload(f.name, f.content, ConfigError, (".yaml", ".yml"))  # capped before parsing
         try:
             text = f.content.decode("utf-8")
         except UnicodeDecodeError:
