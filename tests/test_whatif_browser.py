@@ -123,7 +123,7 @@ def test_pin_as_a_then_b_shows_the_table_and_the_diff_overlay(app, page) -> None
     assert app.whatif.wait(120)
     page.get_by_role("tab", name="What-if").click()
     page.get_by_role("button", name="Pin as A").click()
-    assert wait_until(lambda: app.whatif.a is not None)
+    assert wait_until(lambda: app.whatif.a is not None), [e.line() for e in app.page.log.newest(5)]
     _config_section(page, "scan")
     set_number(page, "min_length", 1.5)  # B: only long walls
     assert wait_until(lambda: app.studio.cfg.perception.scan.min_length == 1.5)

@@ -18,6 +18,7 @@ from __future__ import annotations
 import json
 import math
 import time
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -236,7 +237,9 @@ class PlotsPanel(Panel):
             first = last is None
             self._cursor_sent[tab.client_id] = (t, now)
             try:
-                run_js(tab.client, (_install_js(self.goto._impl.uuid) if first else "") + _cursor_js(t))
+                with warnings.catch_warnings():  # a tab closing meanwhile: its message is dropped
+                    warnings.simplefilter("ignore")
+                    run_js(tab.client, (_install_js(self.goto._impl.uuid) if first else "") + _cursor_js(t))
             except Exception:  # a tab that just went away
                 self._cursor_sent.pop(tab.client_id, None)
 
