@@ -14,6 +14,7 @@ from typing import Any, TypeVar
 
 import yaml
 
+from pico_studio.config.plugin_params import section_class
 from pico_studio.config.spec import ParamInfo, SectionInfo, coerce, params, walk
 from pico_studio.errors import ConfigError
 from pico_studio.user_files import parse_yaml, read_text
@@ -43,8 +44,7 @@ def from_dict(cls: type[T], data: Any, *, file: str | Path | None = None, prefix
             )
         f = fields[key]
         if "pico_studio.section" in f.metadata:
-            sub_cls = f.default_factory
-            kwargs[key] = from_dict(sub_cls, value, file=file, prefix=path + ".")  # type: ignore[arg-type]
+            kwargs[key] = from_dict(section_class(f), value, file=file, prefix=path + ".")
         else:
             try:
                 kwargs[key] = coerce(f.metadata["pico_studio.param"], value)
