@@ -11,7 +11,12 @@ from perception_scenes import SQUARE, scan_of
 from pico_studio.config import Config
 from pico_studio.config.spec import params
 from pico_studio.core.perception.scan import process_scan
-from pico_studio.core.perception.segment import SEGMENTERS, register_segmenter, segment_scan, unregister_segmenter
+from pico_studio.core.perception.segment import (
+    SEGMENTERS,
+    register_segmenter,
+    segment_scan,
+    unregister_segmenter,
+)
 from pico_studio.errors import ConfigError
 
 P = Config().perception

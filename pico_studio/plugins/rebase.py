@@ -18,7 +18,8 @@ T = TypeVar("T")
 
 
 def rebase(cfg: T) -> T:
-    return _build(type(cfg), cfg)  # type: ignore[return-value]
+    built: T = _build(type(cfg), cfg)
+    return built
 
 
 def _build(cls: Any, old: Any) -> Any:
