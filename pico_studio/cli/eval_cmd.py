@@ -18,6 +18,7 @@ from typing import Any
 import cv2
 import numpy as np
 
+from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.config import load_config
 from pico_studio.core.geometry import compose, invert
 from pico_studio.core.io import Command
@@ -46,6 +47,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--turn", type=float, default=0.4, help="turn rate at each pose, rad/s (default 0.4)")
     p.add_argument("--clearance", type=float, default=0.4, help="free space around each pose, m (default 0.4)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_plugin_argument(p)
     p.set_defaults(func=_eval)
 
 

@@ -7,6 +7,8 @@ import logging
 import time
 from pathlib import Path
 
+from pico_studio.cli.plugin_args import add_plugin_argument
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("serve", help="open the interactive web UI (default: the hospital example, simulated)")
@@ -20,6 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=None, help="simulator random seed")
     p.add_argument("--export-dir", default="pico_studio_exports", help="where 'Export config' saves YAML files")
     p.add_argument("--paused", action="store_true", help="start paused")
+    add_plugin_argument(p)
     p.set_defaults(func=_serve)
 
 
