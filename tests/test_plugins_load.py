@@ -96,10 +96,11 @@ def test_a_plugin_that_fails_to_import_is_one_line_naming_file_and_line(tmp_path
         x = 1
         raise RuntimeError("my plugin is broken")
     """)
-    assert main(["config", "defaults", "--plugin", str(bad)]) == 2
-    err = capsys.readouterr().err.strip()
-    assert err.count("\n") == 0
-    assert f"{bad}:5" in err and "RuntimeError: my plugin is broken" in err
+    for command in (["config", "defaults"], ["serve", "--port", "1"], ["run"], ["eval", "--map", "x.json"]):
+        assert main([*command, "--plugin", str(bad)]) == 2  # before the command starts anything
+        err = capsys.readouterr().err.strip()
+        assert err.count("\n") == 0
+        assert f"{bad}:5" in err and "RuntimeError: my plugin is broken" in err
 
 
 def test_a_syntax_error_names_its_line(tmp_path: Path) -> None:
