@@ -34,9 +34,9 @@ from pico_studio.core.io import Command
 from pico_studio.core.perception import STAGES, Perceptor
 from pico_studio.core.perception.scan import process_scan
 from pico_studio.core.perception.segment import finish_pieces, segment_scan
+from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
-from pico_studio.sim.simulator import load_any_map
 
 ROOT = Path(__file__).resolve().parents[1]
 MAP = ROOT / "pico_studio" / "data" / "maps" / "hospital_2019.json"
@@ -44,7 +44,7 @@ MAP = ROOT / "pico_studio" / "data" / "maps" / "hospital_2019.json"
 
 def record(poses: int, frames: int, seed: int) -> list[list[tuple]]:
     cfg = Config()
-    gmap = load_any_map(MAP)
+    gmap = load_map(MAP)
     first = Simulator(gmap, cfg.sim, seed=seed)
     starts = random_free_poses(first.world.segments(), first.truth.pose[:2], poses, 0.4,
                                np.random.default_rng(seed), gmap.bounds)

@@ -17,7 +17,8 @@ import cv2
 import numpy as np
 
 from pico_studio.core.geometry import transform_points
-from pico_studio.sim import Simulator, load_any_map, load_sim_config
+from pico_studio.json_map import load_map
+from pico_studio.sim import Simulator, load_sim_config
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -67,7 +68,7 @@ def main() -> None:
     ap.add_argument("--scale", type=float, default=100.0, help="pixels per metre")
     args = ap.parse_args()
     sim = Simulator(
-        load_any_map(args.map),
+        load_map(args.map),
         sim_config=load_sim_config(args.sim_config) if args.sim_config else None,
         initial_pose=tuple(args.pose) if args.pose else None,
         seed=1,

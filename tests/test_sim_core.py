@@ -13,7 +13,8 @@ from pico_studio.config import Config, with_value
 from pico_studio.config.sim_params import SimParams
 from pico_studio.core.io import RobotIO
 from pico_studio.errors import ConfigError, MapError, SourceError
-from pico_studio.sim import Simulator, load_any_map, sim_config_from_dict
+from pico_studio.json_map import load_map
+from pico_studio.sim import Simulator, sim_config_from_dict
 
 
 def params(**changes: object) -> SimParams:
@@ -174,7 +175,7 @@ def test_sensor_rates_and_read_returns_none_until_new() -> None:
 
 def test_same_seed_same_run_different_seed_different_noise() -> None:
     def run(seed: int) -> list[np.ndarray]:
-        m = load_any_map("examples/maps/hospital_2019.json")
+        m = load_map("examples/maps/hospital_2019.json")
         sim = Simulator(m, params(odometry__uncertain=True), seed=seed)
         out = []
         for k in range(60):
@@ -248,13 +249,13 @@ def test_start_pose_inside_a_wall_is_a_clear_error() -> None:
 
 
 def test_start_area_centre_and_default_free_place() -> None:
-    r = load_any_map("examples/maps/restaurant_2024.json")
+    r = load_map("examples/maps/restaurant_2024.json")
     sim = Simulator(r)
     c = r.start_center
     assert c is not None and sim.truth.pose == (c[0], c[1], 0.0)
-    team = Simulator(load_any_map("examples/maps/hospital_2019_with_nodes.json"))
+    team = Simulator(load_map("examples/maps/hospital_2019_with_nodes.json"))
     assert team.truth.pose == (5.0, 2.5, 0.0)  # the centre of its `start` polygon
-    h = load_any_map("examples/maps/hospital_2019.json")
+    h = load_map("examples/maps/hospital_2019.json")
     a, b = Simulator(h), Simulator(h)
     assert a.truth.pose == b.truth.pose  # deterministic
     assert not a.base.collides(a.truth.pose, a.world.segments()).any()
@@ -313,7 +314,7 @@ def test_hokuyo_rate_and_custom_rates() -> None:
 
 
 def test_random_driving_never_ends_inside_or_through_a_wall() -> None:
-    m = load_any_map("examples/maps/hospital_2019.json")
+    m = load_map("examples/maps/hospital_2019.json")
     rng = np.random.default_rng(5)
     sim = Simulator(m, sim_config=sim_config_from_dict({"disable_speedcap": True}), seed=5)
     segs = sim.world.segments()

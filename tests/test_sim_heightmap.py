@@ -10,13 +10,14 @@ import numpy as np
 import pytest
 
 from pico_studio import json_map
-from pico_studio.sim import Simulator, load_any_map, load_sim_config
+from pico_studio.json_map import load_map
+from pico_studio.sim import Simulator, load_sim_config
 
 MAPS = "pico_studio/data/maps/"
 
 
 def test_hospital_2021_laser_hits_the_image_walls() -> None:
-    m = load_any_map(MAPS + "hospital_2021.png")
+    m = load_map(MAPS + "hospital_2021.png")
     sim = Simulator(m, sim_config=load_sim_config(MAPS + "hospital_2021_sim.json"), seed=3)
     assert len(sim.world.moving) == 2
     assert sim.world.enclosed(sim.truth.pose[:2])
@@ -41,7 +42,7 @@ def test_hospital_2021_laser_hits_the_image_walls() -> None:
 
 
 def test_heightmap_doors_are_sliding_doors() -> None:
-    m = load_any_map(MAPS + "doors_heightmap_example.png")
+    m = load_map(MAPS + "doors_heightmap_example.png")
     assert len(m.doors) == 4
     sim = None
     for side in (1.0, -1.0):  # 0.5 m in front of the first door, on whichever side is free
@@ -75,7 +76,7 @@ def test_run_on_a_heightmap_with_its_sim_config() -> None:
 
 
 def test_heightmap_door_grey_sets_the_sliding_direction() -> None:
-    m = load_any_map(MAPS + "doors_heightmap_example.png")
+    m = load_map(MAPS + "doors_heightmap_example.png")
     assert m.extra["heightmap"]["door_grey"][:2] == [180, 90]
     sim = Simulator(m, seed=1)
     light, dark = sim.world.doors[0], sim.world.doors[1]

@@ -84,7 +84,8 @@ def test_visible_doors_depend_on_the_pose() -> None:
     sim = Simulator(m, initial_pose=(1.2, 3.0, 0.0))  # middle-left room, facing +x
     vis = sim.truth.visible_doors()
     mids = {tuple(np.round((d[:2] + d[2:]) / 2, 2)) for d in vis}
-    assert mids == {(1.25, 2.1), (1.25, 4.1)}
+    # the door below at (1.25, 2.1) is not: its left jamb is at the fan's edge (see test_truth_doors)
+    assert mids == {(1.25, 4.1)}
     away = Simulator(m, initial_pose=(4.0, 6.0, 0.0))  # the corridor at the top, facing +x
     mids2 = {tuple(np.round((d[:2] + d[2:]) / 2, 2)) for d in away.truth.visible_doors()}
     assert (1.25, 2.1) not in mids2 and (5.5, 4.5) in mids2

@@ -27,6 +27,7 @@ from tests.ui_browser_helpers import (
     count_colour,
     free_port,
     input_of,
+    open_folder,
     screenshot,
     set_number,
     visible_on_screen,
@@ -201,6 +202,7 @@ def test_timeline_scrubs_back_and_returns_to_live(app, page) -> None:
 
 
 def test_export_downloads_the_live_config(app, page, tmp_path: Path) -> None:
+    app.config.edit("perception.scan.min_length", 0.55)  # what a user's edit does
     page.get_by_role("tab", name="Config").click()
     with page.expect_download(timeout=20000) as info:
         page.get_by_role("button", name="Export config (YAML)").click()
@@ -208,7 +210,7 @@ def test_export_downloads_the_live_config(app, page, tmp_path: Path) -> None:
     info.value.save_as(path)
     text = path.read_text()
     assert to_dict(loads_config(text)) == to_dict(app.studio.cfg)
-    assert app.studio.cfg.perception.scan.min_length == 5.0  # the tuned value went out
+    assert loads_config(text).perception.scan.min_length == 0.55  # the tuned value went out
     check = subprocess.run(
         [sys.executable, "-m", "pico_studio", "config", "check", str(path)], capture_output=True, text=True
     )
@@ -218,15 +220,18 @@ def test_export_downloads_the_live_config(app, page, tmp_path: Path) -> None:
 
 
 def test_broken_map_upload_shows_the_error_and_the_page_keeps_working(app, page, tmp_path: Path) -> None:
+    tuned = 0.45
+    app.config.edit("perception.scan.min_length", tuned)
     bad = tmp_path / "broken_map.json"
     bad.write_text(json.dumps({"points": [{"x": 0, "y": 0}], "walls": [[0, 7]]}))
     page.get_by_role("tab", name="Run").click()
+    open_folder(page, "Map", "Upload map")
     with page.expect_file_chooser() as chooser:
         page.get_by_role("button", name=re.compile("Upload map")).click()
     chooser.value.set_files(str(bad))
     page.get_by_text(re.compile(r"broken_map\.json")).first.wait_for(timeout=20000)
     assert app.studio.map_name == "hospital_2019.json"
-    assert app.studio.cfg.perception.scan.min_length == 5.0  # nothing tuned is lost
+    assert app.studio.cfg.perception.scan.min_length == tuned  # nothing tuned is lost
     frames = len(app.studio.timeline)
     page.get_by_role("button", name="Step one frame").click()
     assert wait_until(lambda: len(app.studio.timeline) == frames + 1)
@@ -329,7 +334,7 @@ def test_two_clicks_measure_a_distance(app, page) -> None:
     page.get_by_role("tab", name="Tools").click()
     input_of(page, "Click does").click()
     page.get_by_role("option", name="measure").click()
-    assert wait_until(lambda: app.tabs[_client(app).client_id].click_mode.value == "measure")
+    assert wait_until(lambda: app.tools.mode(app.tabs[_client(app).client_id]) == "measure")
     client = _client(app)
     a, b = world_to_pixel(client, 1.0, 1.0), world_to_pixel(client, 3.0, 1.0)
     page.mouse.click(*a)

@@ -14,12 +14,12 @@ from pico_studio.cli import main
 from pico_studio.config import Config, params, with_value
 from pico_studio.core.behaviours.wander import Wander
 from pico_studio.core.geometry import point_segment_distance
-from pico_studio.errors import ConfigError
+from pico_studio.errors import ConfigError, UserError
 from pico_studio.json_map import load_json_map
 from pico_studio.sim import Simulator
 from pico_studio.ui import style
 from pico_studio.ui.colour import line_display
-from pico_studio.ui.inspect import measure_text, nearest_feature, ray_to_ground
+from pico_studio.ui.inspect import features_near, measure_text, nearest_feature, ray_to_ground
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.scene_data import LAYERS, PRIM_SPECS, frame_prims, map_prims
 from pico_studio.ui.sources import DEFAULT_MAP, example_maps, make_source_factory
@@ -124,6 +124,9 @@ def test_inspect_finds_the_nearest_wall_with_its_numbers() -> None:
     assert f.distance == pytest.approx(0.02, abs=0.021)
     assert f"length {math.hypot(seg[2] - seg[0], seg[3] - seg[1]):.3f} m" in f.describe()
     assert nearest_feature((100.0, 100.0), prims) is None
+    corner = seg[:2]  # two walls meet here: both are listed, nearest first
+    found = features_near((corner[0] + 0.01, corner[1]), prims)
+    assert len(found) >= 2 and [f.distance for f in found] == sorted(f.distance for f in found)
     assert "distance 5.000 m" in measure_text((0.0, 0.0), (3.0, 4.0))
     assert ray_to_ground((1.0, 2.0, 10.0), (0.0, 0.0, -1.0)) == pytest.approx((1.0, 2.0))
 
@@ -170,15 +173,20 @@ def test_config_panel_has_an_input_for_every_parameter_and_reverts_bad_values(tm
         assert set(inputs) == {p.path for p in params(app.studio.cfg)}
         assert type(inputs["perception.scan.segmenter"]).__name__.startswith("GuiDropdown")
         assert type(inputs["perception.locate.laser_motion_without_odometry"]).__name__.startswith("GuiCheckbox")
-        inputs["ui.wander.clear_distance"].value = 0.1  # invalid: below stop_distance
+        inputs["perception.scan.min_length"].value = 0.7  # a server-side write is quiet
+        assert app.studio.cfg.perception.scan.min_length == Config().perception.scan.min_length
+        with pytest.raises(UserError):  # invalid: below stop_distance
+            app.config.edit("ui.wander.clear_distance", 0.1)  # what a user's edit does
         assert app.studio.cfg.ui.wander.clear_distance == Config().ui.wander.clear_distance
         assert inputs["ui.wander.clear_distance"].value == Config().ui.wander.clear_distance
-        inputs["perception.scan.min_length"].value = 0.5
+        app.config.edit("perception.scan.min_length", 0.5)
         assert app.studio.cfg.perception.scan.min_length == 0.5
         assert app.update_ms  # the change was redrawn and timed
         restaurant = example_maps()["restaurant_2024.json"]
         app.switch_map(restaurant, restaurant.name, None)
         assert app.studio.map_name == "restaurant_2024.json"
+        assert app.studio.playing and app.studio.shown() is not None  # plays at once, robot drawn
+        assert app.layers.sizes["robot_true"] > 0
         assert app.layers.sizes["map_walls"] == len(app.studio.global_map.walls)
         assert app.studio.cfg.perception.scan.min_length == 0.5  # tuned values survive a map change
         png = example_maps()["escape_room.png"]  # a heightmap, vectorised on loading

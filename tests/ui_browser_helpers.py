@@ -80,3 +80,11 @@ def set_number(page, label: str, value: float) -> None:  # noqa: ANN001
     box = input_of(page, label)
     box.fill(str(value))
     box.press("Enter")
+
+
+def open_folder(page, title: str, inside: str) -> None:  # noqa: ANN001
+    """Expand the visible GUI folder `title` unless the button or label `inside` shows already."""
+    if page.get_by_text(inside).locator("visible=true").count():
+        return
+    page.get_by_text(title, exact=True).locator("visible=true").first.click()
+    page.get_by_text(inside).locator("visible=true").first.wait_for(timeout=20000)

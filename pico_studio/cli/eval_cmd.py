@@ -27,13 +27,13 @@ from pico_studio.core.localisation.score import PoseScore, summary_line
 from pico_studio.core.localisation.stage import LocalisingPerceptor
 from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
+from pico_studio.json_map import load_map
 from pico_studio.progress import Progress
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from pico_studio.sim.map_features import vertex_graph
 from pico_studio.sim.scoring import RunScore, Tolerances, score_frame
 from pico_studio.sim.sim_config import load_sim_config
-from pico_studio.sim.simulator import load_any_map
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -102,7 +102,7 @@ def evaluate(map_path: str, *, sim_config: str | None = None, config: str | None
     if not math.isfinite(turn) or not math.isfinite(clearance) or clearance < 0:
         raise UserError("must be finite numbers (clearance >= 0)", field="--turn/--clearance")
     cfg = load_config(config)
-    gmap = load_any_map(map_path)
+    gmap = load_map(map_path)
     sc = load_sim_config(sim_config) if sim_config is not None else None
     first = Simulator(gmap, cfg.sim, sc, seed=seed)
     world = first.world

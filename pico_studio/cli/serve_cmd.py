@@ -29,20 +29,16 @@ def register(sub: argparse._SubParsersAction) -> None:
 def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioApp
     """The Studio and its page from parsed arguments (also used by the tests and benchmarks)."""
     from pico_studio.config import load_config
+    from pico_studio.json_map import load_map
     from pico_studio.ui.app import StudioApp
     from pico_studio.ui.runtime import Studio
-    from pico_studio.ui.sources import (
-        DEFAULT_MAP,
-        load_any_map,
-        make_source_factory,
-        sim_config_for,
-    )
+    from pico_studio.ui.sources import DEFAULT_MAP, make_source_factory, sim_config_for
 
     cfg = load_config(args.config)
     simulated = args.source == "sim"
     # a recording has no map of its own: only the one asked for (the example is the sim's)
     map_path = Path(args.map) if args.map else (DEFAULT_MAP if simulated else None)
-    global_map = load_any_map(map_path, cfg) if map_path is not None else None
+    global_map = load_map(map_path, cfg.map) if map_path is not None else None
     sim_config = args.sim_config if args.sim_config else (sim_config_for(map_path) if simulated and not args.map else None)
     factory = make_source_factory(args.source, sim_config, args.seed)
     name = map_path.name if map_path is not None else args.source

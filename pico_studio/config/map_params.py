@@ -23,16 +23,39 @@ class HeightmapParams:
     )
     door_grey_low: int = param(
         50, lo=0, hi=255, step=1, unit="grey",
-        help="Grey values strictly above this (and below door_grey_high) are doors",
+        help="Without a map_server YAML: grey values up to this are walls; above it (and below door_grey_high) door candidates",
     )
     door_grey_high: int = param(
         205, lo=0, hi=255, step=1, unit="grey",
-        help="Grey values strictly below this (and above door_grey_low) are doors",
+        help="Without a map_server YAML: grey values from this up are free; below it (and above door_grey_low) door candidates",
+    )
+
+    door_min_width: float = param(
+        0.5, lo=0.05, hi=5.0, step=0.05, unit="m",
+        help="A grey region is a door only when its long side is at least this long",
+    )
+    door_max_width: float = param(
+        1.5, lo=0.05, hi=10.0, step=0.05, unit="m",
+        help="A grey region is a door only when its long side is at most this long",
+    )
+    door_min_aspect: float = param(
+        2.0, lo=1.0, hi=50.0, step=0.5,
+        help="A grey region is a door only when its long side is this many times its short side",
+    )
+    door_min_fill: float = param(
+        0.5, lo=0.0, hi=1.0, step=0.05,
+        help="A grey region is a door only when it fills this fraction of its bounding rectangle",
+    )
+    edge_wall_grey: int = param(
+        128, lo=0, hi=255, step=1, unit="grey",
+        help="A grey pixel that is no door's is a wall (an anti-aliased wall edge) when darker than this, else free",
     )
 
     def check(self) -> list[tuple[str, str]]:
         if self.door_grey_low >= self.door_grey_high:
             return [("door_grey_low", f"must be below door_grey_high ({self.door_grey_high})")]
+        if self.door_min_width > self.door_max_width:
+            return [("door_min_width", f"must not exceed door_max_width ({self.door_max_width})")]
         return []
 
 

@@ -108,6 +108,11 @@ class TruthParams:
     straight_tolerance: float = param(0.15, lo=0.0, hi=1.0, step=0.01, unit="rad", help="Walls meeting within this of a straight line form no corner")
     visible_tolerance: float = param(0.05, lo=0.0, hi=1.0, step=0.01, unit="m", help="A point is unoccluded when the ray to it is blocked no nearer than this before it")
     min_wall_beams: int = param(2, lo=1, hi=100, step=1, help="A visible wall piece is hit by at least this many consecutive beams")
+    jamb_min_seen: float = param(0.15, lo=0.0, hi=2.0, step=0.01, unit="m", help="A door is visible when beams of the scan hit each jamb's wall over at least this length")
+    jamb_reach: float = param(0.5, lo=0.05, hi=5.0, step=0.05, unit="m", help="Only the part of a jamb's wall this close to the jamb counts as seeing it")
+    mouth_probe: float = param(0.25, lo=0.05, hi=2.0, step=0.05, unit="m", help="How far either side of a candidate passage mouth the free width is measured")
+    mouth_wall_length: float = param(0.5, lo=0.0, hi=5.0, step=0.05, unit="m", help="A passage's side walls run at least this long from its mouth (a plant pot beside a wall makes no passage)")
+    mouth_margin: float = param(0.1, lo=0.0, hi=1.0, step=0.01, unit="m", help="A passage is at most this much wider than its mouth (and the area it opens into at least door_min_width wider)")
 
     def check(self) -> list[tuple[str, str]]:
         if self.door_min_width > self.door_max_width:

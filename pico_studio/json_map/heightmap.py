@@ -1,18 +1,26 @@
 """Heightmap images (what the emc simulator loads) -> the vector `GlobalMap`.
 
 An image is grey (PNG/PGM; grey+alpha and RGB are converted): 255 = free, dark = wall,
-grey `door_grey_low < v < door_grey_high` = a sliding door (each 4-connected grey region
-one door, as the simulator's flood fill has it). A map_server YAML beside it (`image`,
-`resolution`, `origin`, `negate`, `occupied_thresh`, `free_thresh`) sets its size and
-place; without one the pixel size is `cfg.map.heightmap.resolution` (0.025 m).
+grey in between = a door candidate; a candidate region is a sliding door only when it looks
+like one (see `classify`). A map_server YAML beside it (`image`, `resolution`, `origin`,
+`negate`, `occupied_thresh`, `free_thresh`) sets its size and place; without one the pixel
+size is `cfg.map.heightmap.resolution` (0.025 m).
 
 Reading:
 - alpha: a (nearly) transparent pixel (alpha < 128) reads as free — it is "nothing drawn",
   as map_server treats it (unknown); the real files are all opaque, a note lists any.
 - grey+alpha / RGB(A) are converted to grey as OpenCV's IMREAD_GRAYSCALE does (what the
   simulator reads); 16-bit PGMs are scaled to 8 bit.
-- occupied: with a YAML, map_server's rule p = (255 - v) / 255 > occupied_thresh (after
-  `negate`); without one, v <= door_grey_low. Door pixels are never walls.
+- occupied / free: with a YAML, map_server's rule on p = (255 - v) / 255 (after `negate`):
+  p > occupied_thresh occupied, p < free_thresh free (defaults 0.65 / 0.196, as
+  map_server's); without one the emc simulator's convention: v <= door_grey_low occupied,
+  v >= door_grey_high free. In between (map_server's "unknown") are door candidates.
+- doors: a candidate region is a door when, cut off the walls' anti-aliased edges, it has a
+  door's size and shape and bridges two walls (`door_looks_like_a_door`); every other
+  candidate pixel is an anti-aliased wall edge: a wall when darker than `edge_wall_grey`
+  (half covered), else free. So a PGM with ~100 grey levels on its wall edges gets its
+  walls, not door rectangles lying along them. Door pixels are never walls. The real maps
+  (hard-edged) read exactly as with the plain grey band.
 
 Where the image lies in the world (see `grid.GridFrame`):
 - **with a map_server YAML**: ROS map_server's convention — x right, y up the image,
@@ -36,7 +44,7 @@ Where the image lies in the world (see `grid.GridFrame`):
   here the centre is exact: pixel (c, r)'s centre is ((H/2 - r - .5) res, (W/2 - c - .5) res).
 
 Vectorising (all in pixels, then through the frame to metres):
-1. classify pixels into occupied and door masks;
+1. classify pixels into occupied and door masks (`classify`);
 2. occupied 8-connected blobs smaller than `min_speck_area` px are dropped and reported
    (a warning with their pixel and world position) — e.g. the stray pixel of escape_room;
 3. the remaining blobs' outlines (outer boundaries and holes, `cv2.findContours` on the
@@ -80,7 +88,8 @@ class HeightmapImage:
     frame: GridFrame
     path: Path  # the image file
     yaml_path: Path | None = None
-    occupied_thresh: float | None = None  # from the YAML; None: v <= door_grey_low
+    occupied_thresh: float | None = None  # from the YAML; None: the emc convention (door_grey_low/high)
+    free_thresh: float | None = None  # from the YAML
     notes: list[str] = field(default_factory=list)
 
 
@@ -180,7 +189,7 @@ def _read_via_yaml(yaml_path: Path) -> HeightmapImage:
         grey = 255 - grey
     ox, oy, yaw = meta["origin"]
     frame = GridFrame.map_server(grey.shape, meta["resolution"], (ox, oy), yaw=yaw)
-    return HeightmapImage(grey, frame, meta["image"], yaml_path, meta["occupied_thresh"], notes)
+    return HeightmapImage(grey, frame, meta["image"], yaml_path, meta["occupied_thresh"], meta["free_thresh"], notes)
 
 
 def _read_grey(path: Path, *, file: Path) -> tuple[np.ndarray, list[str]]:
@@ -215,14 +224,69 @@ def _read_grey(path: Path, *, file: Path) -> tuple[np.ndarray, list[str]]:
 
 # ----- classifying and vectorising ----------------------------------------------------------
 def classify(img: HeightmapImage, params: HeightmapParams) -> tuple[np.ndarray, np.ndarray]:
-    """(occupied, door) boolean masks of the image's pixels."""
+    """(occupied, door) boolean masks of the image's pixels (see the module doc, "Reading").
+
+    1. bands: with a YAML, map_server's: p = (255 - v) / 255 > occupied_thresh occupied,
+       p < free_thresh free; without one the emc convention: v <= door_grey_low occupied,
+       v >= door_grey_high free. What lies between is a door candidate (map_server's
+       "unknown");
+    2. door cores: candidates not touching (8-neighbour) an occupied pixel — an
+       anti-aliased wall edge is a band of such touching pixels, so this cuts it off the
+       doors it would otherwise join; each 4-connected core grows back by one pixel into the
+       candidates (restoring a door's ends where it meets the walls);
+    3. a grown core is a door when it looks like one (`door_looks_like_a_door`);
+    4. every other candidate is an (anti-aliased) wall edge: occupied when darker than
+       `edge_wall_grey`, free otherwise."""
     g = img.grey
-    door = (g > params.door_grey_low) & (g < params.door_grey_high)
     if img.occupied_thresh is not None:
-        occupied = (255.0 - g) / 255.0 > img.occupied_thresh
+        p = (255.0 - g) / 255.0
+        occupied = p > img.occupied_thresh
+        free = p < (img.free_thresh if img.free_thresh is not None else 0.196)
     else:
         occupied = g <= params.door_grey_low
+        free = g >= params.door_grey_high
+    candidate = ~occupied & ~free
+    if not candidate.any():
+        return occupied, candidate
+    cross = cv2.getStructuringElement(cv2.MORPH_CROSS, (3, 3))
+    touching = cv2.dilate(occupied.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
+    near_wall = cv2.dilate(occupied.astype(np.uint8), np.ones((5, 5), np.uint8)).astype(bool)
+    n, labels = cv2.connectedComponents((candidate & ~touching).astype(np.uint8), connectivity=4)
+    door = np.zeros_like(candidate)
+    for k in range(1, n):
+        core = labels == k
+        region = cv2.dilate(core.astype(np.uint8), cross).astype(bool) & candidate
+        if door_looks_like_a_door(region, near_wall, img.frame.resolution, params):
+            door |= region
+    edge = candidate & ~door
+    occupied = occupied | (edge & (g < params.edge_wall_grey))
     return occupied & ~door, door
+
+
+def door_looks_like_a_door(
+    region: np.ndarray, near_wall: np.ndarray, resolution: float, params: HeightmapParams
+) -> bool:
+    """A grey region is a door when its minimum-area rectangle's long side is within
+    [door_min_width, door_max_width], at least `door_min_aspect` times its short side, the
+    region fills at least `door_min_fill` of it, and it bridges two walls: both ends (the
+    outer 2 px along the long side) lie within 2 px of a wall (`near_wall`), while at most a
+    fifth of the pixels between them do (an edge or strip along a wall is near it all along)."""
+    rows, cols = np.nonzero(region)
+    if len(rows) < max(params.min_speck_area, 1):
+        return False
+    corners = np.concatenate([np.stack([cols + du, rows + dv], axis=1) for du in (0, 1) for dv in (0, 1)])
+    (_, _), (w, h), deg = cv2.minAreaRect(corners.astype(np.float32))
+    long_px, short_px = max(w, h), max(min(w, h), 1.0)
+    if not (params.door_min_width <= long_px * resolution <= params.door_max_width):
+        return False
+    if long_px / short_px < params.door_min_aspect or len(rows) / (long_px * short_px) < params.door_min_fill:
+        return False
+    a = math.radians(deg if w >= h else deg + 90.0)
+    along = cols * math.cos(a) + rows * math.sin(a)
+    near = near_wall[rows, cols]
+    first, last = along <= along.min() + 2.0, along >= along.max() - 2.0
+    between = ~first & ~last
+    return bool(near[first].any() and near[last].any() and (not between.any() or near[between].mean() <= 0.2))
 
 
 def drop_specks(

@@ -21,13 +21,12 @@ from pico_studio.sim.sim_config import (
     load_sim_config,
     sim_config_from_dict,
 )
-from pico_studio.sim.simulator import Simulator, load_any_map
+from pico_studio.sim.simulator import Simulator
 
 __all__ = [
     "MovingObjectSpec",
     "SimConfigFile",
     "Simulator",
-    "load_any_map",
     "load_sim_config",
     "sim_config_from_dict",
 ]

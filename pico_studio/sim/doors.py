@@ -85,8 +85,3 @@ class SlidingDoor:
         """The door's current outline (K, 4), map frame."""
         v = self.vertices + self.offset * self.slide
         return np.hstack([v, np.roll(v, -1, axis=0)])
-
-    def opening_segment(self) -> np.ndarray:
-        """The gap the door closes: its centre line from one jamb to the other, (4,)."""
-        half = self.axis * self.size / 2
-        return np.concatenate([self.center - half, self.center + half])

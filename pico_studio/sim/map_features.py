@@ -19,6 +19,17 @@ Door openings (`door_openings`), in this order:
    each end used once;
 3. a wall end left over that faces a wall (not a cabinet or table) within [min_width, max_width] straight ahead:
    from the end to that wall.
+4. passage mouths: where a passage (corridor, room exit) of a door's width opens into a
+   larger free area — two convex corners or loose ends J1, J2 of walls (convex: the
+   direction to the other lies in a sector wider than pi + `straight_tolerance`) with
+   |J1 J2| in [min_width, max_width], nothing solid between them nor within `mouth_probe`
+   of the middle straight ahead either side, and, measured across
+   (parallel to J1 J2) at `mouth_probe` either side of the middle, a free width of at most
+   |J1 J2| + `mouth_margin` on one side (the passage, walled on both sides) and at least
+   |J1 J2| + min_width on the other (the room, or the open outside), and at both corners a
+   wall at least `mouth_wall_length` long leaving towards the passage side (within 15 degrees of square to J1 J2). An escape room's
+   corridor has one at each end; a corridor joining a wider one has one at the junction.
+   A doorway in a wall (free area on both sides) is not a mouth: rules 1-3 find it.
 Openings within `min_width / 2` of an earlier one (e.g. a map door's own gap) are dropped.
 """
 
@@ -33,6 +44,7 @@ from pico_studio.sim.doors import door_frame
 from pico_studio.sim.raycast import cast_rays
 
 _FACING = math.cos(math.radians(45))  # a gap is "straight ahead" of an end within 45 degrees
+_SQUARE = math.cos(math.radians(15))  # a passage wall leaves its mouth within 15 degrees of square
 
 
 @dataclass(frozen=True)
@@ -197,6 +209,10 @@ def door_openings(
     min_width: float = 0.5,
     max_width: float = 1.5,
     max_thickness: float = 0.3,
+    mouth_probe: float = 0.25,
+    mouth_margin: float = 0.1,
+    mouth_wall_length: float = 0.5,
+    straight_tolerance: float = 0.15,
 ) -> np.ndarray:
     """The map's door openings (D, 4), each from one jamb to the other (see the module doc).
 
@@ -208,9 +224,76 @@ def door_openings(
         out.append(_door_centre_line(np.asarray(poly, dtype=float)))
     if len(walls):
         solid = walls if obstacles is None or len(obstacles) == 0 else np.vstack([walls, obstacles])
-        ends, outward = wall_ends(vertex_graph(walls), walls, max_thickness)
+        graph = vertex_graph(walls)
+        ends, outward = wall_ends(graph, walls, max_thickness)
         out += _paired_gaps(ends, outward, walls, solid, min_width, max_width, out)
+        out += _passage_mouths(
+            graph, solid, min_width, max_width, mouth_probe, mouth_margin, mouth_wall_length, straight_tolerance, out
+        )
     return np.array(out).reshape(-1, 4)
+
+
+def _passage_mouths(
+    graph: Vertices,
+    solid: np.ndarray,
+    lo: float,
+    hi: float,
+    probe: float,
+    margin: float,
+    wall_length: float,
+    straight_tolerance: float,
+    found: list[np.ndarray],
+) -> list[np.ndarray]:
+    """Rule 4 of the module doc: where a passage of a door's width opens into a larger area."""
+    cand = np.array([v for v, d in enumerate(graph.directions) if len(d) >= 1], dtype=np.int64)
+    if len(cand) < 2:
+        return []
+    pts = graph.points[cand]
+    diff = pts[None, :, :] - pts[:, None, :]
+    dist = np.hypot(diff[..., 0], diff[..., 1])
+    pairs = np.argwhere(np.triu((dist >= lo) & (dist <= hi), 1))
+    out: list[np.ndarray] = []
+
+    def convex(v: int, toward: np.ndarray) -> bool:
+        p = graph.points[v]
+        return sector_width(graph.directions[v], math.atan2(toward[1] - p[1], toward[0] - p[0])) > math.pi + straight_tolerance
+
+    def along(v: int, direction: np.ndarray) -> bool:
+        """A wall at least `wall_length` long leaves vertex v along `direction` (within 15 degrees)."""
+        d = graph.directions[v]
+        seg = solid[list(graph.leaving[v])]
+        long_enough = np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1]) >= wall_length
+        return bool(np.any((np.cos(d) * direction[0] + np.sin(d) * direction[1] > _SQUARE) & long_enough))
+
+    def free_width(origin: np.ndarray, u: np.ndarray) -> float:
+        ang = math.atan2(u[1], u[0])
+        r = cast_rays(tuple(origin), np.array([ang, ang + math.pi]), solid)
+        return float(r.sum())
+
+    for i, j in sorted(map(tuple, pairs), key=lambda ij: dist[ij[0], ij[1]]):
+        a, b = graph.points[cand[i]], graph.points[cand[j]]
+        if not (convex(cand[i], b) and convex(cand[j], a)):
+            continue
+        width = float(dist[i, j])
+        u = (b - a) / width
+        eps = 1e-3
+        if cast_rays(tuple(a + u * eps), np.array([math.atan2(u[1], u[0])]), solid)[0] < width - 2 * eps:
+            continue  # something solid between the two corners
+        mid, n = (a + b) / 2, np.array([-u[1], u[0]])
+        ahead = math.atan2(n[1], n[0])
+        if cast_rays(tuple(mid), np.array([ahead, ahead + math.pi]), solid).min() < probe:
+            continue  # not free on both sides: the line runs along (or into) a wall
+        sides = [free_width(mid + s * probe * n, u) for s in (1.0, -1.0)]
+        narrow, wide = min(sides), max(sides)
+        if not (narrow <= width + margin and wide >= width + lo):
+            continue
+        inward = n if sides[0] <= sides[1] else -n  # towards the passage
+        if not (along(cand[i], inward) and along(cand[j], inward)):
+            continue  # the passage is not walled at both corners: two unrelated corners
+        if any(float(np.hypot(*(mid - (f[:2] + f[2:]) / 2))) < lo / 2 for f in found + out):
+            continue
+        out.append(np.concatenate([a, b]))
+    return out
 
 
 def _door_centre_line(v: np.ndarray) -> np.ndarray:

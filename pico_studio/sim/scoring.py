@@ -305,7 +305,7 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     corners = transform_points(np.asarray(wm.corners, dtype=float).reshape(-1, 2), z)
     doors = transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4), z)
     vc = truth.visible_corners()
-    visible_doors = _jambs_in_view(truth.visible_doors(), true_pose, truth.segments(), tol.jamb_reach)
+    visible_doors = truth.visible_doors()
     s = score_arrays(
         walls=walls,
         endpoint_property=np.asarray(wm.local_map.endpoint_property),

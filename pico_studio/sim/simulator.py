@@ -38,12 +38,6 @@ Pose = tuple[float, float, float]
 _EPS_T = 1e-9  # events this close to the end of a step belong to it
 
 
-def load_any_map(path: str | Path, map_params: HeightmapParams | None = None) -> GlobalMap:
-    """A JSON map, or a heightmap image / map_server YAML vectorised with `map_params`
-    (cfg.map.heightmap): `json_map.load_map`."""
-    return load_map(path, map_params)
-
-
 def _legacy_start_center(m: GlobalMap) -> tuple[float, float] | None:
     """Centre of a `start` polygon (the form of `start_area` some team maps use), if it is a
     well-formed list of [i, j] point-index pairs; None otherwise."""
@@ -79,7 +73,7 @@ class Simulator:
         self._check_start_free(start, initial_pose)
         self.laser = Laser(params.laser, np.random.default_rng(laser_seq))
         self.odometry = Odometry(params.odometry, np.random.default_rng(odom_seq), uncertain=self.sim_config.uncertain_odom)
-        self.truth = GroundTruth(self)
+        self.truth = GroundTruth(self.world, self.base, self.laser, self.odometry, params.truth)
         self._t = 0.0
         self._laser_k = 0
         self._odom_k = 0
@@ -110,7 +104,7 @@ class Simulator:
         """A simulator for a map file (JSON or heightmap, vectorised with `map_params`) and
         an optional official simulator config JSON."""
         sim_config = load_sim_config(sim_config_path) if sim_config_path is not None else None
-        return cls(load_any_map(map_path, map_params), params, sim_config, seed=seed)
+        return cls(load_map(map_path, map_params), params, sim_config, seed=seed)
 
     # ----- start pose -----------------------------------------------------------------------
     def _start_pose(self, explicit: Pose | None) -> Pose:

@@ -8,30 +8,38 @@ Visibility, two definitions (each method says which it uses):
   run of at least `min_wall_beams` consecutive beams on one segment is one visible piece,
   from the first to the last hit point (so a piece is shorter than the truth by less than a
   beam spacing at each end);
-- *in view*: a point (corner, door jamb) is visible when it lies within the laser's range and
+- *in view*: a point (corner) is visible when it lies within the laser's range and
   field of view and the ray from the laser to it is not blocked more than `visible_tolerance`
   before it.
 
+A door opening is visible when beams of the latest scan (noise-free) hit the wall at each of
+its jambs over at least `jamb_min_seen` (counted within `jamb_reach` of the jamb), and its
+middle is *in view* (doors themselves, open or closed, do not occlude) — so a jamb whose
+single corner peeks into view does not make a door visible.
+
 Corners are those of the static geometry (walls, cabinets/tables), classified convex/concave
 as seen from the robot (see `map_features`); door openings are `map_features.door_openings`
-of the map (its doors plus the gaps between wall ends of a door's width).
+of the map (its doors, the gaps between wall ends of a door's width, and passage mouths).
+
+The truth is given the parts of the simulator it reads (world, base, laser, odometry and the
+truth parameters), so `sim.truth` does not import `sim.simulator`.
 """
 
 from __future__ import annotations
 
 import math
 from functools import cached_property
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
-from pico_studio.sim.base import CollisionEvent
+from pico_studio.config.sim_params import TruthParams
+from pico_studio.sim.base import Base, CollisionEvent
+from pico_studio.sim.laser import Laser
 from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
+from pico_studio.sim.odometry import Odometry
 from pico_studio.sim.raycast import cast_rays
-from pico_studio.sim.world import KIND_DOOR
-
-if TYPE_CHECKING:
-    from pico_studio.sim.simulator import Simulator
+from pico_studio.sim.world import KIND_DOOR, World
 
 Pose = tuple[float, float, float]
 
@@ -43,52 +51,53 @@ class Corners(NamedTuple):
 
 
 class GroundTruth:
-    def __init__(self, sim: Simulator):
-        self._sim = sim
+    def __init__(self, world: World, base: Base, laser: Laser, odometry: Odometry, params: TruthParams):
+        self._world, self._base, self._laser, self._odometry = world, base, laser, odometry
+        self._params = params
 
     @property
     def pose(self) -> Pose:
         """The robot's true pose (x, y, a) in the map frame."""
-        return self._sim.base.pose
+        return self._base.pose
 
     @property
     def collisions(self) -> int:
         """How many times the robot ran into something (one per contact)."""
-        return len(self._sim.base.collisions)
+        return len(self._base.collisions)
 
     @property
     def collision_events(self) -> list[CollisionEvent]:
-        return list(self._sim.base.collisions)
+        return list(self._base.collisions)
 
     @property
     def in_contact(self) -> bool:
-        return self._sim.base.in_contact
+        return self._base.in_contact
 
     @property
     def distance(self) -> float:
         """True path length travelled, metres."""
-        return self._sim.base.distance
+        return self._base.distance
 
     @property
     def odometry_pose(self) -> Pose:
         """The odometry's current pose in its own frame (whatever the reading form)."""
-        return self._sim.odometry.pose
+        return self._odometry.pose
 
     def segments(self) -> np.ndarray:
         """Every solid segment of the world as it is now (walls, objects, doors, moving objects)."""
-        return self._sim.world.segments().copy()
+        return self._world.segments().copy()
 
     def doors(self) -> list[tuple[np.ndarray, bool]]:
         """Every sliding door as it is now: (outline vertices (K, 2), opened?)."""
-        return [(d.vertices + d.offset * d.slide, d.opening) for d in self._sim.world.doors]
+        return [(d.vertices + d.offset * d.slide, d.opening) for d in self._world.doors]
 
     def moving_objects(self) -> list[np.ndarray]:
         """Every moving object's box as it is now: corners (4, 2)."""
-        return [m.corners() for m in self._sim.world.moving]
+        return [m.corners() for m in self._world.moving]
 
     def scan_hits(self) -> tuple[np.ndarray, np.ndarray]:
         """Noise-free ranges of the latest scan and the world segment index each beam hit (-1: none)."""
-        return self._sim.laser.true_ranges.copy(), self._sim.laser.true_hits.copy()
+        return self._laser.true_ranges.copy(), self._laser.true_hits.copy()
 
     # ----- what the robot sees --------------------------------------------------------------
     def visible_walls(self) -> np.ndarray:
@@ -102,10 +111,9 @@ class GroundTruth:
 
     def visible_corners(self) -> Corners:
         """Corners of the static geometry *in view* from the robot, convex/concave from there."""
-        sim = self._sim
-        idx, convex, loose = classify_corners(self._graph, self.pose[:2], sim.params.truth.straight_tolerance)
+        idx, convex, loose = classify_corners(self._graph, self.pose[:2], self._params.straight_tolerance)
         pts = self._graph.points[idx]
-        seen = self._in_view(pts, sim.world.segments())
+        seen = self._in_view(pts, self._world.segments())
         return Corners(pts[seen], convex[seen], loose[seen])
 
     def door_openings(self) -> np.ndarray:
@@ -113,35 +121,60 @@ class GroundTruth:
         return self._openings.copy()
 
     def visible_doors(self) -> np.ndarray:
-        """(D, 4) door openings whose both jambs and middle are within range and field of view,
-        and whose middle is *in view* (doors themselves, open or closed, do not occlude)."""
+        """(D, 4) door openings seen in the latest scan: beams hit the wall at each jamb over
+        at least `jamb_min_seen`, and the middle is *in view* (doors do not occlude)."""
         o = self._openings
         if len(o) == 0:
             return o.copy()
-        segs = self._sim.world.segments()
-        not_doors = segs[self._sim.world.kinds() != KIND_DOOR]
-        mids = (o[:, :2] + o[:, 2:]) / 2
-        seen = self._in_view(mids, not_doors)
-        seen &= self._in_fov(o[:, :2]) & self._in_fov(o[:, 2:])
+        segs = self._world.segments()
+        not_doors = segs[self._world.kinds() != KIND_DOOR]
+        seen = self._in_view((o[:, :2] + o[:, 2:]) / 2, not_doors)
+        seen &= self.jamb_seen_length(o[:, :2]) >= self._params.jamb_min_seen
+        seen &= self.jamb_seen_length(o[:, 2:]) >= self._params.jamb_min_seen
         return o[seen]
+
+    def jamb_seen_length(self, jambs: np.ndarray) -> np.ndarray:
+        """(J,) for each jamb point: how long a stretch of the walls touching it (within
+        `max_wall_thickness / 2`: a thin wall's end, or a thick wall's end cap and the faces
+        next to it) the latest scan's beams hit, within `jamb_reach` of the jamb — per wall
+        segment from its first to its last hit point, summed over the segments."""
+        t = self._params
+        xy, hits = self._hit_points()
+        walls = self._world.walls
+        out = np.zeros(len(jambs))
+        on_wall = (hits >= 0) & (hits < len(walls))  # walls come first in world.segments()
+        if not on_wall.any() or len(walls) == 0:
+            return out
+        xy, hits = xy[on_wall], hits[on_wall]
+        a, ab = walls[:, 0:2], walls[:, 2:4] - walls[:, 0:2]
+        length2 = np.maximum((ab * ab).sum(1), 1e-18)
+        for j, p in enumerate(np.asarray(jambs, dtype=float).reshape(-1, 2)):
+            u = np.clip(((p - a) * ab).sum(1) / length2, 0.0, 1.0)
+            near = np.hypot(*(a + u[:, None] * ab - p).T) <= t.max_wall_thickness / 2 + 1e-3
+            close = np.isin(hits, np.flatnonzero(near)) & (np.hypot(*(xy - p).T) <= t.jamb_reach)
+            for k in np.unique(hits[close]):
+                along = (xy[close & (hits == k)] - a[k]) @ ab[k] / math.sqrt(length2[k])
+                out[j] += float(along.max() - along.min())
+        return out
 
     @cached_property
     def _graph(self) -> Vertices:
-        return vertex_graph(self._sim.world.static)
+        return vertex_graph(self._world.static)
 
     @cached_property
     def _openings(self) -> np.ndarray:
-        w = self._sim.world
-        t = self._sim.params.truth
+        w = self._world
+        t = self._params
         return door_openings(
             w.walls, w.map.door_polygons, obstacles=w.objects,
             min_width=t.door_min_width, max_width=t.door_max_width, max_thickness=t.max_wall_thickness,
+            mouth_probe=t.mouth_probe, mouth_margin=t.mouth_margin, mouth_wall_length=t.mouth_wall_length, straight_tolerance=t.straight_tolerance,
         )
 
     def _in_fov(self, points: np.ndarray) -> np.ndarray:
         """Within the laser's range and angular field of view from the current pose."""
         x, y, a = self.pose
-        p = self._sim.laser.profile
+        p = self._laser.profile
         d = points - (x, y)
         dist = np.hypot(d[:, 0], d[:, 1])
         bearing = np.mod(np.arctan2(d[:, 1], d[:, 0]) - a + math.pi, 2 * math.pi) - math.pi
@@ -156,24 +189,29 @@ class GroundTruth:
         d = points[seen] - (x, y)
         dist = np.hypot(d[:, 0], d[:, 1])
         free = cast_rays((x, y), np.arctan2(d[:, 1], d[:, 0]), segments)
-        seen[seen] = free >= dist - self._sim.params.truth.visible_tolerance
+        seen[seen] = free >= dist - self._params.visible_tolerance
         return seen
 
-    def _visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
-        laser = self._sim.laser
-        ranges, hits = laser.true_ranges, laser.true_hits
+    def _hit_points(self) -> tuple[np.ndarray, np.ndarray]:
+        """(B, 2) map-frame noise-free end points of the latest scan's beams and (B,) the
+        segment each hit (-1: none, its point then at infinity)."""
+        laser = self._laser
         pose = laser.last_pose
+        n = len(laser.true_hits)
+        angles = laser.fan.angle_min + np.arange(n) * laser.fan.increment + pose[2]
+        r = laser.true_ranges
+        return np.column_stack([pose[0] + r * np.cos(angles), pose[1] + r * np.sin(angles)]), laser.true_hits
+
+    def _visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
+        xy, hits = self._hit_points()
         n = len(hits)
         # runs of consecutive beams on the same segment
         change = np.flatnonzero(np.diff(hits) != 0) + 1
         starts = np.concatenate([[0], change])
         stops = np.concatenate([change, [n]]) - 1
-        keep = (hits[starts] >= 0) & (stops - starts + 1 >= self._sim.params.truth.min_wall_beams)
+        keep = (hits[starts] >= 0) & (stops - starts + 1 >= self._params.min_wall_beams)
         starts, stops = starts[keep], stops[keep]
-        angles = laser.fan.angle_min + np.arange(n) * laser.fan.increment + pose[2]
-        px = pose[0] + ranges * np.cos(angles)
-        py = pose[1] + ranges * np.sin(angles)
-        pieces = np.column_stack([px[starts], py[starts], px[stops], py[stops]])
+        pieces = np.column_stack([xy[starts], xy[stops]])
         return pieces, hits[starts]
 
     def as_dict(self) -> dict[str, object]:

@@ -10,12 +10,13 @@ file); an invalid one is reverted on the page and reported.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import Any
 
 import viser
 
 from pico_studio.config import Config, ParamInfo, SectionInfo, walk
+from pico_studio.ui.gui_values import on_user
 
 # When a section's values take effect (the rest apply at once, re-processing the frame shown).
 APPLIES = {
@@ -47,7 +48,6 @@ class ConfigPanel:
         expand: tuple[str, ...] = ("perception",),
     ):
         self.inputs: dict[str, Any] = {}
-        self.syncing = False  # set while the server itself writes values (no callbacks then)
         self._on_change = on_change
         folders: dict[str, Any] = {}
         for item in walk(cfg):
@@ -80,26 +80,11 @@ class ConfigPanel:
             else:
                 h = gui.add_slider(label, float(spec.lo), float(spec.hi), float(_step(info)), float(info.value), hint=hint)
         path = info.path
-
-        @h.on_update
-        def _(event: viser.GuiEvent) -> None:
-            if self.syncing:
-                return
-            self._on_change(event, path)
-
+        on_user(h, lambda event: self._on_change(event, path))  # the server's writes are quiet
         return h
-
-    @contextlib.contextmanager
-    def quiet(self) -> Iterator[None]:
-        self.syncing = True
-        try:
-            yield
-        finally:
-            self.syncing = False
 
     def show(self, cfg: Config) -> None:
         """Make every input show the value in `cfg` (after import, reset or a rejected edit)."""
-        with self.quiet():
-            for item in walk(cfg):
-                if isinstance(item, ParamInfo) and item.path in self.inputs:
-                    self.inputs[item.path].value = item.value
+        for item in walk(cfg):
+            if isinstance(item, ParamInfo) and item.path in self.inputs:
+                self.inputs[item.path].value = item.value

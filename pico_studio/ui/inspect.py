@@ -1,8 +1,8 @@
 """Click-to-inspect and measuring, as plain geometry in the map frame (no viser here).
 
-`nearest_feature` looks at everything drawn that has numbers worth reading — global-map
-walls and doors, local-map walls, corners, detected and possible doors — and returns the one
-nearest the clicked point with a short description.
+`features_near` looks at everything drawn that has numbers worth reading — global-map
+walls and doors, local-map walls, corners, detected and possible doors — and returns every
+one under the clicked point, nearest first, each with a short description.
 """
 
 from __future__ import annotations
@@ -58,41 +58,49 @@ class Feature:
         return text + f"; {self.distance:.3f} m from the click"
 
 
-def nearest_feature(xy: tuple[float, float], prims: dict[str, Prim], max_distance: float = 1.0) -> Feature | None:
-    """The inspectable feature nearest `xy` within `max_distance`, points preferred on a tie."""
+def features_near(xy: tuple[float, float], prims: dict[str, Prim], radius: float = 0.25,
+                  max_distance: float = 1.0) -> list[Feature]:
+    """Every inspectable feature under the click (within `radius`), nearest first; when none
+    is that close, the one nearest within `max_distance`."""
     p = np.array([xy], dtype=float)
-    best: Feature | None = None
-    for name, kind in POINT_KINDS.items():
+    found: list[Feature] = []
+    for name, kind in (POINT_KINDS | SEGMENT_KINDS).items():
         prim = prims.get(name)
         if prim is None or not len(prim):
             continue
-        d = np.hypot(*(prim.data - p).T)
-        i = int(np.argmin(d))
-        # a point within 5 cm wins over any segment it sits on
-        if d[i] <= max_distance and (best is None or d[i] - 0.05 < best.distance):
-            detail = ""
-            if prim.colors is not None:
-                detail = _endpoint_kind(prim.colors[i])
-            best = Feature(kind, float(d[i]), point=prim.data[i].copy(), detail=detail)
-    for name, kind in SEGMENT_KINDS.items():
-        prim = prims.get(name)
-        if prim is None or not len(prim):
-            continue
-        d = point_segment_distance(p, np.asarray(prim.data, dtype=float))[0]
-        i = int(np.argmin(d))
-        if d[i] <= max_distance and (best is None or d[i] < best.distance - (0.05 if best.point is not None else 0.0)):
-            detail = ""
-            if name == "combined" and prim.colors is not None:
-                detail = "matched" if tuple(prim.colors[i]) == _matched_colour() else "unmatched"
-            if name in ("doors", "possible_doors", "map_doors"):
-                s = prim.data[i]
-                detail = f"width {math.hypot(s[2] - s[0], s[3] - s[1]):.3f} m"
-            best = Feature(kind, float(d[i]), segment=np.asarray(prim.data[i], dtype=float).copy(), detail=detail)
-    return best
+        data = np.asarray(prim.data, dtype=float)
+        if name in POINT_KINDS:
+            d = np.hypot(*(data - p).T)
+        else:
+            d = point_segment_distance(p, data)[0]
+        hits = np.flatnonzero(d <= radius)
+        if not len(hits):
+            hits = np.array([int(np.argmin(d))]) if d.min() <= max_distance else hits
+        for i in hits:
+            found.append(_feature(name, kind, prim, int(i), float(d[i])))
+    found.sort(key=lambda f: (f.distance - (0.05 if f.point is not None else 0.0)))
+    close = [f for f in found if f.distance <= radius]
+    return close if close else found[:1]
 
 
-def _matched_colour() -> tuple[int, int, int]:
-    return style.COMBINED_MATCHED
+def nearest_feature(xy: tuple[float, float], prims: dict[str, Prim], max_distance: float = 1.0) -> Feature | None:
+    """The inspectable feature nearest `xy` within `max_distance` (a point within 5 cm of a
+    segment wins over it)."""
+    found = features_near(xy, prims, radius=0.0, max_distance=max_distance)
+    return found[0] if found else None
+
+
+def _feature(name: str, kind: str, prim: Prim, i: int, distance: float) -> Feature:
+    if name in POINT_KINDS:
+        detail = _endpoint_kind(prim.colors[i]) if prim.colors is not None else ""
+        return Feature(kind, distance, point=np.asarray(prim.data[i], dtype=float).copy(), detail=detail)
+    s = np.asarray(prim.data[i], dtype=float)
+    detail = ""
+    if name == "combined" and prim.colors is not None:
+        detail = "matched" if tuple(int(v) for v in prim.colors[i]) == style.COMBINED_MATCHED else "unmatched"
+    if name in ("doors", "possible_doors", "map_doors"):
+        detail = f"width {math.hypot(s[2] - s[0], s[3] - s[1]):.3f} m"
+    return Feature(kind, distance, segment=s.copy(), detail=detail)
 
 
 def _endpoint_kind(colour: np.ndarray) -> str:

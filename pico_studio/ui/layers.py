@@ -32,7 +32,9 @@ _Z_ORDER = [spec.name for layer in LAYERS for spec in layer.prims]
 
 
 def _z_of(prim: str) -> float:
-    return 0.001 * _Z_ORDER.index(prim)
+    """Height above the floor: the draw order of LAYERS, markers (points) above every line."""
+    spec = PRIM_SPECS[prim]
+    return 0.002 * _Z_ORDER.index(prim) + (0.05 if spec.kind == "points" else 0.0)
 
 
 class SceneLayers:
@@ -54,7 +56,8 @@ class SceneLayers:
         scene = self.server.scene
         if spec.kind == "segments":
             return scene.add_line_segments(
-                name, _DUMMY_SEG, line_uniform(spec.color), thickness=spec.thickness, position=pos, visible=False
+                name, _DUMMY_SEG, line_uniform(spec.color), thickness=spec.thickness, thickness_units="screen",
+                position=pos, visible=False,
             )
         if spec.kind == "label":
             return scene.add_label(name, "", position=pos, visible=False, anchor="bottom-left", font_screen_scale=0.8)
@@ -62,9 +65,6 @@ class SceneLayers:
             name, _DUMMY_PT, np.array(spec.color, dtype=np.uint8), point_size=spec.point_size,
             point_shape="circle", precision="float32", point_shading="flat", position=pos, visible=False,
         )
-
-    def layer_of(self, prim: str) -> str:
-        return LAYER_OF[prim]
 
     def update(self, prims: dict[str, Prim]) -> None:
         """Assign new geometry to the existing nodes (nothing is re-created)."""

@@ -4,11 +4,8 @@
   odometry, base references, open-door requests, and the true pose when simulated) into
   the export folder; a reset or map switch ends the recording (the session it recorded
   is gone). The file plays back with `--source bag:FILE` and in ROS tools.
-* **Recording position** (replays only): a slider over the whole file. Moving it restarts
-  the perceptor at that scan (the recording's own timeline; the Timeline slider above
-  scrubs the frames played since, re-processing each with the current config).
-* The status line gets the source's own state: the live robot's (stale data, no master)
-  or the replay's position in its file.
+* A replay's position in its file is the Run tab's one scrubber (`seek`); what the replay
+  skipped while reading its file goes to the log.
 """
 
 from __future__ import annotations
@@ -20,6 +17,8 @@ from typing import Any
 import viser
 
 from pico_studio.sources.recorder import BagRecorder
+from pico_studio.ui.clock import is_replay
+from pico_studio.ui.page import Page, Panel, Shown
 from pico_studio.ui.runtime import Studio
 
 
@@ -79,50 +78,29 @@ class RunRecorder:
         return "Record the run as a ROS 1 bag (plays back with `--source bag:FILE` and in ROS)."
 
 
-def source_status(studio: Studio) -> str:
-    """The source's own state for the status line: live robot or replay position; '' for the sim."""
-    source = studio.source
-    status = getattr(source, "status", None)
-    if callable(status):
-        s = status()
-        text = s.message
-        return f"**{text}**" if (s.stale or not s.master_up) else text
-    count = getattr(source, "frame_count", None)
-    if count:
-        t0, t1 = source.time_span
-        return (f"recording frame {max(source.frame_index, 0) + 1} / {count} · "
-                f"{source.now() - t0:.2f} / {t1 - t0:.2f} s")
-    return ""
+class RecordingControls(Panel):
+    """The record toggle, and a replay's seek."""
 
+    name = "recording"
 
-class RecordingControls:
-    """The widgets: the record toggle and, for a replay, the position slider."""
-
-    def __init__(self, studio: Studio, gui: viser.GuiApi, folder: Path, changed: Any, guard: Any):
-        self.studio = studio
-        self.recorder = RunRecorder(studio, folder)
-        self.changed = changed  # the page re-syncs its play button and redraws
-        self._quiet = False
-        with gui.add_folder("Recording"):
+    def __init__(self, page: Page, gui: viser.GuiApi, folder: Path):
+        super().__init__(page)
+        self.studio = page.studio
+        self.recorder = RunRecorder(page.studio, folder)
+        with gui.add_folder("Recording", expand_by_default=False):
             self.button = gui.add_button("Record", icon=viser.Icon.PLAYER_RECORD,
                                          hint="Write the run as a ROS 1 bag into the export folder")
-            self.button.on_click(guard("record", lambda e: self.toggle()))
-            self.position: Any = None
-            count = getattr(studio.source, "frame_count", None)
-            if count:
-                self.position = gui.add_slider(
-                    "Recording position", 0, max(count - 1, 1), 1, 0,
-                    hint="Jump within the whole recording: the perceptor starts afresh at that scan",
-                )
-                self.position.on_update(guard("recording position", self._on_position))
+            self.button.on_click(page.guard("record", lambda e: self.toggle()))
             self.text = gui.add_markdown(self.recorder.describe())
+        page.hooks["seek"] = self.seek
+        self._logged_warnings = 0
 
     def toggle(self) -> None:
         if self.recorder.active:
             self.recorder.stop()
         else:
             self.recorder.start()
-        self.refresh()
+        self.refresh(None)
 
     def seek(self, index: int) -> None:
         """Restart at scan `index` of the recording (paused, that frame perceived and shown)."""
@@ -132,30 +110,24 @@ class RecordingControls:
             s.source.seek(min(max(int(index), 0), s.source.frame_count - 1))
             s.playing = False
             s.tick(1.0 / s.cfg.ui.rate_hz)
-        self.changed()
+        self.page.redraw()
 
-    def _on_position(self, event: viser.GuiEvent) -> None:
-        if not self._quiet:
-            self.seek(int(event.target.value))
-
-    def refresh(self) -> None:
-        """Follow the studio: end a recording whose session is gone, move the position slider."""
+    def refresh(self, shown: Shown | None) -> None:
+        """Follow the studio: end a recording whose session is gone; log what a replay skipped."""
         self.recorder.check()
         recording = self.recorder.active
         self.button.label = "Stop recording" if recording else "Record"
         self.button.icon = viser.Icon.PLAYER_STOP if recording else viser.Icon.PLAYER_RECORD
         self.text.content = self.recorder.describe() + _replay_warnings(self.studio.source)
-        if self.position is not None and getattr(self.studio.source, "frame_index", -1) >= 0:
-            self._quiet = True
-            try:
-                self.position.value = int(self.studio.source.frame_index)
-            finally:
-                self._quiet = False
+        warnings = getattr(self.studio.source, "warnings", None) if is_replay(self.studio.source) else None
+        for w in (warnings or [])[self._logged_warnings:]:
+            self.page.log.add("warning", "source", str(w), frame=None)
+        self._logged_warnings = len(warnings or [])
 
 
 def _replay_warnings(source: Any) -> str:
     """What a replay skipped while reading its file (corrupt messages, bad lines)."""
-    warnings = getattr(source, "warnings", None) if hasattr(source, "frame_count") else None
+    warnings = getattr(source, "warnings", None) if is_replay(source) else None
     if not warnings:
         return ""
     shown = "\n".join(f"- {w}" for w in warnings[:3])

@@ -3,7 +3,8 @@
 The page's view is the global map's frame. Robot-frame data (laser points, current map,
 proximity) is placed at `Studio.robot_pose_in_map`; zero-frame data (local map, corners,
 doors, behaviour target/plan) at `Studio.zero_frame_in_map`. Every field of the WorldModel
-contract that is None (or absent) draws nothing.
+contract (`core.world_model.WorldModel`, typed: no guessing at fields) that is None or
+empty draws nothing.
 """
 
 from __future__ import annotations
@@ -14,14 +15,15 @@ from typing import Any
 
 import numpy as np
 
+from pico_studio.config import Config
 from pico_studio.core.geometry import compose, invert, transform_points, transform_segments
+from pico_studio.core.localisation.combined import CombinedMap
+from pico_studio.core.world_model import WorldModel
 from pico_studio.json_map import GlobalMap
 from pico_studio.ui import style
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.timeline import FrameRecord
 
-# PICO's footprint (DESIGN: about 0.4 m x 0.2 m), used when the config has no simulator section
-PICO_FOOTPRINT = (0.4, 0.2)
 CIRCLE_SIDES = 48
 
 
@@ -57,52 +59,54 @@ class LayerSpec:
 
 
 S, P, L = "segments", "points", "label"
+# Drawn from the bottom up in this order (markers last, on top); line thickness in screen
+# pixels, point sizes in metres.
 LAYERS: tuple[LayerSpec, ...] = (
     LayerSpec("map", "Global map", (
-        PrimSpec("map_start", S, style.MAP_START, style.THICK_MAP),
+        PrimSpec("map_start", S, style.MAP_START, 3.0),
         PrimSpec("map_walls", S, style.MAP_WALL, style.THICK_MAP),
-        PrimSpec("map_objects", S, style.MAP_OBJECT, style.THICK_MAP),
-        PrimSpec("map_fronts", S, style.MAP_OBJECT_FRONT, 2 * style.THICK_MAP),
-        PrimSpec("map_doors", S, style.MAP_DOOR, style.THICK_MAP),
+        PrimSpec("map_objects", S, style.MAP_OBJECT, 3.0),
+        PrimSpec("map_fronts", S, style.MAP_OBJECT_FRONT, style.THICK_MAP),
+        PrimSpec("map_doors", S, style.MAP_DOOR, 3.0),
     ), static=True),
-    LayerSpec("sim_world", "Simulated doors / moving objects", (PrimSpec("sim_world", S, style.SIM_WORLD, 0.05),)),
-    LayerSpec("trail", "Trail", (PrimSpec("trail", S, style.TRAIL, 0.02),)),
+    LayerSpec("sim_world", "Simulated doors / moving objects", (PrimSpec("sim_world", S, style.SIM_WORLD, 3.0),)),
+    LayerSpec("trail", "Trail", (PrimSpec("trail", S, style.TRAIL, 2.0),)),
     LayerSpec("combined", "Combined map", (
-        # thicker than the map's walls, so that its dashes hide the wall under them
-        PrimSpec("combined_unseen", S, style.COMBINED_UNSEEN, 1.5 * style.THICK_MAP),
-        PrimSpec("combined", S, style.COMBINED_MATCHED, 0.06),
+        # as thick as the map's walls, so that its dashes hide the wall under them
+        PrimSpec("combined_unseen", S, style.COMBINED_UNSEEN, style.THICK_MAP),
+        PrimSpec("combined", S, style.COMBINED_MATCHED, 3.0),
     )),
     LayerSpec("local", "Local map", (
-        PrimSpec("local_walls", S, style.LOCAL_WALL),
-        PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=0.07),
-        PrimSpec("corners", P, style.ENDPOINT[2], point_size=0.11),
+        PrimSpec("local_walls", S, style.LOCAL_WALL, 1.5),
+        PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=0.05),
+        PrimSpec("corners", P, style.ENDPOINT[2], point_size=0.08),
     )),
-    LayerSpec("current", "Current map segments", (PrimSpec("current", S, style.CURRENT_MAP),)),
-    LayerSpec("scan_corners", "Scan corners (spike / vector)", (
-        PrimSpec("spike_corners", P, style.SPIKE_CORNER, point_size=0.1),
-        PrimSpec("vector_corners", P, style.VECTOR_CORNER_INNER, point_size=0.08),
-    ), default_on=False),
+    LayerSpec("current", "Current map segments", (PrimSpec("current", S, style.CURRENT_MAP, 2.0),)),
     LayerSpec("doors", "Doors and possible doors", (
-        PrimSpec("doors", S, style.DOOR, 0.08),
-        PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 0.06),
+        PrimSpec("doors", S, style.DOOR, 4.0),
+        PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 3.0),
     )),
-    LayerSpec("laser", "Laser points", (PrimSpec("laser", P, style.LASER, point_size=0.04),)),
     LayerSpec("proximity", "Proximity bubble", (
-        PrimSpec("bubble", S, style.PROXIMITY, 0.02),
-        PrimSpec("flagged", S, style.PROXIMITY_FLAGGED, 0.015),
+        PrimSpec("bubble", S, style.PROXIMITY, 1.5),
+        PrimSpec("flagged", S, style.PROXIMITY_FLAGGED, 1.0),
+    )),
+    LayerSpec("laser", "Laser points", (PrimSpec("laser", P, style.LASER, point_size=0.025),)),
+    LayerSpec("entrance", "Entrance estimate / hallway", (PrimSpec("entrance", S, style.ENTRANCE, 3.0),)),
+    LayerSpec("room", "Side room watch", (
+        PrimSpec("room_side", S, style.ROOM_SIDE, 1.5),
+        PrimSpec("room_label", L, style.ROOM_SIDE),
+    )),
+    LayerSpec("scan_corners", "Scan corners (spike / vector)", (
+        PrimSpec("spike_corners", P, style.SPIKE_CORNER, point_size=0.07),
+        PrimSpec("vector_corners", P, style.VECTOR_CORNER_INNER, point_size=0.06),
+    ), default_on=False),
+    LayerSpec("behaviour", "Behaviour target / plan", (
+        PrimSpec("plan", S, style.BEHAVIOUR_PLAN, 2.0),
+        PrimSpec("target", P, style.BEHAVIOUR_TARGET, point_size=0.15),
     )),
     LayerSpec("robot", "Robot footprint", (
-        PrimSpec("robot_true", S, style.ROBOT_TRUE, 0.03),
-        PrimSpec("robot_estimate", S, style.ROBOT_ESTIMATE, 0.03),
-    )),
-    LayerSpec("behaviour", "Behaviour target / plan", (
-        PrimSpec("plan", S, style.BEHAVIOUR_PLAN, 0.03),
-        PrimSpec("target", P, style.BEHAVIOUR_TARGET, point_size=0.2),
-    )),
-    LayerSpec("entrance", "Entrance estimate / hallway", (PrimSpec("entrance", S, style.ENTRANCE, 0.05),)),
-    LayerSpec("room", "Side room watch", (
-        PrimSpec("room_side", S, style.ROOM_SIDE, 0.02),
-        PrimSpec("room_label", L, style.ROOM_SIDE),
+        PrimSpec("robot_true", S, style.ROBOT_TRUE, 2.0),
+        PrimSpec("robot_estimate", S, style.ROBOT_ESTIMATE, 2.0),
     )),
 )
 PRIM_SPECS = {p.name: p for layer in LAYERS for p in layer.prims}
@@ -120,19 +124,6 @@ def _pts(a: Any) -> np.ndarray:
         return np.zeros((0, 2))
     a = np.asarray(a, dtype=float)
     return a.reshape(-1, 2) if a.size else np.zeros((0, 2))
-
-
-def field(obj: Any, name: str, index: int | None = None) -> Any:
-    """A field of a WorldModel part that may be an object, a dict or a tuple."""
-    if obj is None:
-        return None
-    if isinstance(obj, dict):
-        return obj.get(name)
-    if hasattr(obj, name):
-        return getattr(obj, name)
-    if index is not None and isinstance(obj, (tuple, list)) and len(obj) > index:
-        return obj[index]
-    return None
 
 
 def polygon_segments(vertices: np.ndarray) -> np.ndarray:
@@ -175,9 +166,8 @@ def circle_segments(radius: float, sides: int = CIRCLE_SIDES) -> np.ndarray:
 def laser_points_robot(frame: FrameRecord) -> np.ndarray:
     """The scan's points in the robot frame: the WorldModel's when there is one, else the raw
     valid returns."""
-    pts = field(frame.wm, "points")
-    if pts is not None:
-        return _pts(pts)
+    if frame.wm is not None:
+        return _pts(frame.wm.points)
     laser = frame.laser
     if laser is None:
         return np.zeros((0, 2))
@@ -187,21 +177,10 @@ def laser_points_robot(frame: FrameRecord) -> np.ndarray:
     return np.column_stack([r[ok] * np.cos(a), r[ok] * np.sin(a)])
 
 
-def _param(cfg: Any, path: str) -> Any:
-    obj = cfg
-    for part in path.split("."):
-        if not hasattr(obj, part):
-            return None
-        obj = getattr(obj, part)
-    return obj
-
-
-def footprint_size(cfg: Any) -> tuple[float, float]:
-    length = _param(cfg, "sim.base.footprint_length")
-    width = _param(cfg, "sim.base.footprint_width")
-    if isinstance(length, float) and isinstance(width, float):
-        return (length, width)
-    return PICO_FOOTPRINT
+def footprint_size(cfg: Config) -> tuple[float, float]:
+    """PICO's footprint as the simulator's base declares it."""
+    base = cfg.sim.base
+    return (float(base.footprint_length), float(base.footprint_width))
 
 
 def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
@@ -222,7 +201,7 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
         out["sim_world"] = Prim(S, frame.sim_world)
     if frame.truth_pose is not None:
         out["robot_true"] = Prim(S, footprint_segments(frame.truth_pose, length, width))
-    g = field(wm, "global_pose")
+    g = wm.global_pose if wm is not None else None
     if g is not None:
         out["robot_estimate"] = Prim(S, footprint_segments(tuple(map(float, g)), length, width))
     elif frame.truth_pose is None:
@@ -238,22 +217,20 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
 
     if wm is None:
         return out
-    out["current"] = Prim(S, transform_segments(_segs(field(wm, "current_map")), robot))
+    out["current"] = Prim(S, transform_segments(_segs(wm.current_map), robot))
     out.update(_scan_corner_prims(wm, robot))
     if zero is not None:
-        lm = field(wm, "local_map")
-        walls = _segs(field(lm, "walls", 0))
+        lm = wm.local_map
+        walls = _segs(lm.walls)
         out["local_walls"] = Prim(S, transform_segments(walls, zero))
-        prop = field(lm, "endpoint_property", 1)
         if len(walls):
             ends = transform_points(walls.reshape(-1, 2), zero)
-            kinds = np.asarray(prop, dtype=int).reshape(-1) if prop is not None else np.zeros(len(ends), int)
+            kinds = np.asarray(lm.endpoint_property, dtype=int).reshape(-1)
             kinds = kinds if len(kinds) == len(ends) else np.zeros(len(ends), int)
             out["local_endpoints"] = Prim(P, ends, _palette(kinds, style.ENDPOINT))
-        corners = _pts(field(wm, "corners"))
+        corners = _pts(wm.corners)
         if len(corners):
-            convex = field(wm, "corner_convex")
-            flags = np.asarray(convex, dtype=bool).reshape(-1) if convex is not None else np.ones(len(corners), bool)
+            flags = np.asarray(wm.corner_convex, dtype=bool).reshape(-1)
             kinds = np.where(flags, 2, 3) if len(flags) == len(corners) else np.full(len(corners), 2)
             out["corners"] = Prim(P, transform_points(corners, zero), _palette(kinds, style.ENDPOINT))
     out.update(_door_prims(wm, zero))
@@ -266,11 +243,11 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
             if len(plan) >= 2:
                 out["plan"] = Prim(S, np.hstack([plan[:-1], plan[1:]]))
 
-    out.update(_combined_prims(field(wm, "combined"), studio.global_map))
+    out.update(_combined_prims(wm.combined, studio.global_map))
 
-    flags = field(wm, "proximity")
-    radius = _param(studio.cfg, "perception.proximity.radius")
-    if isinstance(radius, float):
+    flags = wm.proximity
+    radius = float(studio.cfg.perception.proximity.radius)
+    if radius > 0:
         out["bubble"] = Prim(S, transform_segments(circle_segments(radius), robot))
     if flags is not None and frame.laser is not None:
         f = np.asarray(flags, dtype=bool).reshape(-1)
@@ -281,41 +258,41 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
             beams = np.hstack([np.zeros_like(ends), ends])
             out["flagged"] = Prim(S, transform_segments(beams, robot))
 
-    entrance = field(wm, "entrance")
+    entrance = wm.entrance
     if entrance is not None:
         angle, dist = float(entrance[0]), float(entrance[1])
         seg = np.array([[0.0, 0.0, dist * math.cos(angle), dist * math.sin(angle)]])
-        colour = style.HALLWAY if field(wm, "hallway") else style.ENTRANCE
+        colour = style.HALLWAY if wm.hallway else style.ENTRANCE
         out["entrance"] = Prim(S, transform_segments(seg, robot), np.array([colour], np.uint8))
-    out.update(_room_prims(field(wm, "room"), robot, _param(studio.cfg, "perception.rooms.side_angle")))
+    out.update(_room_prims(wm.room, robot, float(studio.cfg.perception.rooms.side_angle)))
     return out
 
 
-def _scan_corner_prims(wm: Any, robot: tuple[float, float, float]) -> dict[str, Prim]:
+def _scan_corner_prims(wm: WorldModel, robot: tuple[float, float, float]) -> dict[str, Prim]:
     """Seed 002's corner detectors on this scan (robot frame): spikes, and vector corners
     coloured inner / outer."""
-    out = {"spike_corners": Prim(P, transform_points(_pts(field(wm, "spike_corners")), robot))}
-    vc = _pts(field(wm, "vector_corners"))
-    inner = field(wm, "vector_corner_inner")
-    flags = np.asarray(inner if inner is not None else [], dtype=bool).reshape(-1)
+    out = {"spike_corners": Prim(P, transform_points(_pts(wm.spike_corners), robot))}
+    vc = _pts(wm.vector_corners)
+    flags = np.asarray(wm.vector_corner_inner, dtype=bool).reshape(-1)
     flags = flags if len(flags) == len(vc) else np.ones(len(vc), bool)
     colours = np.where(flags[:, None], style.VECTOR_CORNER_INNER, style.VECTOR_CORNER_OUTER).astype(np.uint8)
     out["vector_corners"] = Prim(P, transform_points(vc, robot), colours)
     return out
 
 
-def _door_prims(wm: Any, zero: tuple[float, float, float] | None) -> dict[str, Prim]:
+def _door_prims(wm: WorldModel, zero: tuple[float, float, float] | None) -> dict[str, Prim]:
     """Doors and possible doors (coloured by kind): the combined map's, in the global frame,
     when localised; else the perceptor's, zero frame placed on the map."""
-    combined = field(wm, "combined")
-    if combined is not None and field(combined, "doors") is not None:
-        doors = _segs(field(combined, "doors"))
-        possible = _segs(field(combined, "possible_doors"))
-        kinds = field(combined, "possible_door_kind")
+    combined = wm.combined
+    kinds: Any
+    if combined is not None:
+        doors = _segs(combined.doors)
+        possible = _segs(combined.possible_doors)
+        kinds = combined.possible_door_kind
     elif zero is not None:
-        doors = transform_segments(_segs(field(wm, "doors")), zero)
-        possible = transform_segments(_segs(field(wm, "possible_doors")), zero)
-        kinds = field(wm, "possible_door_kind")
+        doors = transform_segments(_segs(wm.doors), zero)
+        possible = transform_segments(_segs(wm.possible_doors), zero)
+        kinds = wm.possible_door_kind
     else:
         return {}
     names = [str(k) for k in (kinds if kinds is not None else [])]
@@ -324,18 +301,17 @@ def _door_prims(wm: Any, zero: tuple[float, float, float] | None) -> dict[str, P
     return {"doors": Prim(S, doors), "possible_doors": Prim(S, possible, colours)}
 
 
-def _combined_prims(combined: Any, global_map: GlobalMap | None) -> dict[str, Prim]:
+def _combined_prims(combined: CombinedMap | None, global_map: GlobalMap | None) -> dict[str, Prim]:
     """The combined map: local walls in the global frame (matched / unmatched), and the map's
     walls never seen so far, dashed."""
     if combined is None:
         return {}
-    cw = _segs(field(combined, "walls", 0))
-    matched = field(combined, "wall_matched", 1)
-    matched = np.asarray(matched, dtype=bool).reshape(-1) if matched is not None else np.ones(len(cw), bool)
+    cw = _segs(combined.walls)
+    matched = np.asarray(combined.wall_matched, dtype=bool).reshape(-1)
     matched = matched if len(matched) == len(cw) else np.ones(len(cw), bool)
     colors = np.where(matched[:, None], style.COMBINED_MATCHED, style.COMBINED_UNMATCHED).astype(np.uint8)
     out = {"combined": Prim(S, cw, colors)}
-    seen = field(combined, "map_wall_seen", 2)
+    seen = combined.map_wall_seen
     if global_map is not None and seen is not None:
         seen = np.asarray(seen, dtype=bool).reshape(-1)
         if len(seen) == len(global_map.walls):
@@ -379,27 +355,27 @@ def dash_segments(segs: np.ndarray, dash: float, gap: float) -> tuple[np.ndarray
     return np.hstack([mid + lo[:, None] * unit, mid + hi[:, None] * unit]), owner
 
 
-def room_text(room: Any) -> str:
+def room_text(room: dict[str, Any]) -> str:
     """Seed 000's side-room watch in one line: side range, its jump, objects in view."""
-    side, jump = field(room, "side_range"), field(room, "jump")
+    side, jump = room.get("side_range"), room.get("jump")
     parts = [f"side {side:.2f} m" if side is not None else "side –"]
     parts.append(f"jump {round(jump, 2) + 0.0:+.2f} m" if jump is not None else "jump –")  # no "-0.00"
-    parts.append(f"objects {int(field(room, 'objects') or 0)}")
-    if field(room, "room"):
+    parts.append(f"objects {int(room.get('objects') or 0)}")
+    if room.get("room"):
         parts.append("ROOM")
     return " · ".join(parts)
 
 
-def _room_prims(room: Any, robot: tuple[float, float, float], side_angle: Any) -> dict[str, Prim]:
+def _room_prims(room: dict[str, Any], robot: tuple[float, float, float], side_angle: float) -> dict[str, Prim]:
     """The watched side beam (coloured when its range jumped) and the watch's label beside
     the robot."""
     if not room:
         return {}
     out = {"room_label": Prim(L, np.array([[robot[0] + 0.3, robot[1] + 0.3]]), text=room_text(room))}
-    side = field(room, "side_range")
-    if side is not None and isinstance(side_angle, float):
+    side = room.get("side_range")
+    if side is not None:
         beam = np.array([[0.0, 0.0, side * math.cos(side_angle), side * math.sin(side_angle)]])
-        colour = style.ROOM_JUMP if field(room, "room") else style.ROOM_SIDE
+        colour = style.ROOM_JUMP if room.get("room") else style.ROOM_SIDE
         out["room_side"] = Prim(S, transform_segments(beam, robot), np.array([colour], np.uint8))
     return out
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from pico_studio.config import Config
 from pico_studio.errors import MapError
-from pico_studio.json_map import GlobalMap, load_map
+from pico_studio.json_map import GlobalMap
 from pico_studio.ui.runtime import SourceBundle, SourceFactory
 
 EXAMPLES_DIR = Path(__file__).resolve().parents[1] / "data" / "maps"
@@ -33,12 +33,6 @@ def sim_config_for(map_path: Path) -> Path | None:
     """The example's simulator config (`<map>_sim.json`) when there is one."""
     candidate = map_path.with_name(map_path.stem + "_sim.json")
     return candidate if candidate.exists() else None
-
-
-def load_any_map(path: str | Path, cfg: Config) -> GlobalMap:
-    """A JSON map or a heightmap image (PNG/PGM, or its map_server YAML), vectorised with
-    the config's map parameters."""
-    return load_map(path, cfg.map)
 
 
 def make_source_factory(spec: str, sim_config: str | Path | None, seed: int | None = None) -> SourceFactory:

@@ -9,61 +9,70 @@ from __future__ import annotations
 
 RGB = tuple[int, int, int]
 
+# Okabe & Ito's colour-blind-safe set (black, orange, sky blue, bluish green, yellow, blue,
+# vermillion, reddish purple), stretched with darker / lighter shades of the same hues and
+# greys; every layer's colour differs from every other's (tests/test_ui_style.py checks).
+OI_BLACK, OI_ORANGE, OI_SKY, OI_GREEN = (0, 0, 0), (230, 159, 0), (86, 180, 233), (0, 158, 115)
+OI_YELLOW, OI_BLUE, OI_VERMILLION, OI_PURPLE = (240, 228, 66), (0, 114, 178), (213, 94, 0), (204, 121, 167)
+
 # global map
-MAP_WALL: RGB = (40, 40, 40)
-MAP_OBJECT: RGB = (150, 100, 50)
-MAP_OBJECT_FRONT: RGB = (240, 135, 30)
-MAP_DOOR: RGB = (0, 150, 150)
-MAP_START: RGB = (60, 150, 225)
-SIM_WORLD: RGB = (120, 90, 190)  # the simulator's doors (as they slide) and moving objects
+MAP_WALL: RGB = OI_BLACK
+MAP_OBJECT: RGB = (125, 85, 45)  # brown
+MAP_OBJECT_FRONT: RGB = (230, 159, 32)  # Okabe-Ito orange as the page can show it
+MAP_DOOR: RGB = (0, 60, 100)  # dark blue
+MAP_START: RGB = (135, 220, 225)  # pale sky blue
+SIM_WORLD: RGB = (110, 60, 150)  # violet: the simulator's doors (as they slide) and moving objects
 # perception
-LASER: RGB = (230, 30, 30)
-CURRENT_MAP: RGB = (200, 0, 200)
-LOCAL_WALL: RGB = (30, 90, 220)
+LASER: RGB = OI_PURPLE
+CURRENT_MAP: RGB = (225, 0, 225)  # magenta
+LOCAL_WALL: RGB = OI_BLUE
 ENDPOINT: dict[int, RGB] = {
-    0: (150, 150, 150),  # floating
-    1: (0, 170, 200),  # connected
-    2: (255, 120, 0),  # convex
-    3: (130, 40, 200),  # concave
+    0: (120, 120, 120),  # floating: mid grey
+    1: OI_SKY,  # connected
+    2: OI_VERMILLION,  # convex
+    3: (0, 100, 40),  # concave: dark green
 }
 ENDPOINT_NAMES = {0: "floating", 1: "connected", 2: "convex", 3: "concave"}
-COMBINED_MATCHED: RGB = (0, 170, 0)
-COMBINED_UNMATCHED: RGB = (220, 0, 80)
-COMBINED_UNSEEN: RGB = (160, 160, 225)  # dashed over a map wall the robot has not seen yet
-DOOR: RGB = (60, 190, 40)
-POSSIBLE_DOOR: RGB = (220, 180, 40)
+COMBINED_MATCHED: RGB = OI_GREEN
+COMBINED_UNMATCHED: RGB = (200, 0, 60)  # crimson
+COMBINED_UNSEEN: RGB = (161, 164, 226)  # periwinkle dashes over a map wall not seen yet
+DOOR: RGB = (165, 190, 36)  # lime (the tone curve cannot show Okabe-Ito's yellow on lines)
+POSSIBLE_DOOR: RGB = (240, 140, 115)  # salmon
 POSSIBLE_DOOR_KIND: dict[str, RGB] = {  # core.perception.identify.POSSIBLE_DOOR_KINDS
     "convex_loose": POSSIBLE_DOOR,
-    "loose_loose": (235, 120, 60),
-    "loose_wall": (170, 130, 210),
+    "loose_loose": (170, 29, 3),  # dark vermillion
+    "loose_wall": (236, 157, 226),  # pink
 }
 POSSIBLE_DOOR_KIND_NAMES = {
     "convex_loose": "possible door: convex corner - loose end",
     "loose_loose": "possible door: loose end - loose end",
     "loose_wall": "possible door: loose end - wall",
 }
-SPIKE_CORNER: RGB = (140, 70, 0)
-VECTOR_CORNER_INNER: RGB = (0, 160, 110)
-VECTOR_CORNER_OUTER: RGB = (235, 50, 140)
-ROBOT_TRUE: RGB = (0, 0, 0)
-ROBOT_ESTIMATE: RGB = (20, 90, 225)
-TRAIL: RGB = (170, 170, 170)
-PROXIMITY: RGB = (240, 95, 150)
-PROXIMITY_FLAGGED: RGB = (245, 20, 20)
-BEHAVIOUR_TARGET: RGB = (160, 0, 255)
-BEHAVIOUR_PLAN: RGB = (0, 120, 60)
-ENTRANCE: RGB = (50, 180, 190)
-HALLWAY: RGB = (0, 120, 120)  # the entrance estimate when it comes from a hallway's two walls
-ROOM_SIDE: RGB = (150, 150, 150)  # the watched side beam
-ROOM_JUMP: RGB = (200, 60, 10)  # ... when its range jumped: a side room's opening
-MEASURE: RGB = (230, 40, 220)
-INSPECT: RGB = (230, 200, 80)
+SPIKE_CORNER: RGB = (90, 50, 0)  # dark brown
+VECTOR_CORNER_INNER: RGB = (0, 200, 200)  # cyan
+VECTOR_CORNER_OUTER: RGB = (170, 0, 110)  # wine
+ROBOT_TRUE: RGB = (60, 60, 60)  # dark grey
+ROBOT_ESTIMATE: RGB = (40, 40, 220)  # strong blue
+TRAIL: RGB = (215, 215, 215)  # light grey
+PROXIMITY: RGB = (230, 200, 129)  # peach
+PROXIMITY_FLAGGED: RGB = (250, 30, 38)  # red
+BEHAVIOUR_TARGET: RGB = (140, 0, 240)  # purple
+BEHAVIOUR_PLAN: RGB = (100, 160, 0)  # olive green
+ENTRANCE: RGB = (60, 130, 170)  # steel blue
+HALLWAY: RGB = (120, 200, 160)  # pale green
+ROOM_SIDE: RGB = (148, 100, 227)  # lilac: the watched side beam
+ROOM_JUMP: RGB = (150, 130, 0)  # ... when its range jumped: a side room's opening
+MEASURE: RGB = (249, 22, 139)
+INSPECT: RGB = (230, 213, 82)
 
-# line thickness in metres (world units: stays put when zooming)
-THICK_MAP = 0.05
-THICK_LAYER = 0.035
-POINT_SIZE = 0.05
+# line thickness in screen pixels (the same on screen at any zoom); drawn from the bottom up
+# in LAYERS order, so the map's thick black walls show either side of the thinner local and
+# combined walls drawn on them
+THICK_MAP = 5.0
+THICK_LAYER = 2.0
+POINT_SIZE = 0.04  # metres (viser's points are world-sized): small, so walls stay visible
 DASH, DASH_GAP = 0.15, 0.1  # never-seen map walls: dash and gap, metres
+LEGEND_BOX = (250, 150)  # the on-canvas legend's largest size (px), bottom left
 
 
 def swatch(rgb: RGB, text: str) -> str:
@@ -86,7 +95,7 @@ LEGEND: list[tuple[str, list[tuple[RGB, str]]]] = [
     ("Doors (global frame when localised)", [(DOOR, "door")] + [(c, POSSIBLE_DOOR_KIND_NAMES[k]) for k, c in POSSIBLE_DOOR_KIND.items()]),
     ("Scan corners (seed 002)", [(SPIKE_CORNER, "spike corner"), (VECTOR_CORNER_INNER, "vector corner, inner"),
                                  (VECTOR_CORNER_OUTER, "vector corner, outer")]),
-    ("Robot", [(ROBOT_TRUE, "true pose (simulated)"), (ROBOT_ESTIMATE, "estimated pose")]),
+    ("Robot", [(ROBOT_TRUE, "true pose (simulated, or a recording's corrected poses)"), (ROBOT_ESTIMATE, "estimated pose")]),
     ("Trail", [(TRAIL, "path driven")]),
     ("Proximity", [(PROXIMITY, "bubble"), (PROXIMITY_FLAGGED, "flagged beams")]),
     ("Behaviour", [(BEHAVIOUR_TARGET, "target"), (BEHAVIOUR_PLAN, "plan")]),
@@ -101,3 +110,46 @@ def legend_html() -> str:
     for title, items in LEGEND:
         rows.append(f"<div><b>{title}</b>: " + " &nbsp; ".join(swatch(c, t) for c, t in items) + "</div>")
     return '<div style="font-size:0.8em;line-height:1.5">' + "".join(rows) + "</div>"
+
+
+def swatches(colours: list[RGB]) -> str:
+    return "".join(swatch(c, "") for c in colours)
+
+
+# colours drawn as points (point clouds are not tone-mapped: they show as declared)
+POINT_COLOURS = {LASER, *ENDPOINT.values(), SPIKE_CORNER, VECTOR_CORNER_INNER, VECTOR_CORNER_OUTER, BEHAVIOUR_TARGET}
+
+# the layer key -> its colours as the Layers tab shows them beside the toggle
+LAYER_COLOURS: dict[str, list[RGB]] = {
+    "map": [MAP_WALL, MAP_OBJECT, MAP_OBJECT_FRONT, MAP_DOOR, MAP_START],
+    "sim_world": [SIM_WORLD],
+    "trail": [TRAIL],
+    "combined": [COMBINED_MATCHED, COMBINED_UNMATCHED, COMBINED_UNSEEN],
+    "local": [LOCAL_WALL, *ENDPOINT.values()],
+    "current": [CURRENT_MAP],
+    "scan_corners": [SPIKE_CORNER, VECTOR_CORNER_INNER, VECTOR_CORNER_OUTER],
+    "doors": [DOOR, *POSSIBLE_DOOR_KIND.values()],
+    "laser": [LASER],
+    "proximity": [PROXIMITY, PROXIMITY_FLAGGED],
+    "robot": [ROBOT_TRUE, ROBOT_ESTIMATE],
+    "behaviour": [BEHAVIOUR_TARGET, BEHAVIOUR_PLAN],
+    "entrance": [ENTRANCE, HALLWAY],
+    "room": [ROOM_SIDE, ROOM_JUMP],
+}
+
+
+def swatch_row(layer: str) -> str:
+    """The colour swatches shown just above a layer's toggle."""
+    return f'<div style="margin:2px 0 -6px 2px;line-height:1">{swatches(LAYER_COLOURS.get(layer, []))}</div>'
+
+
+SHORT_LEGEND: list[tuple[RGB, str]] = [
+    (MAP_WALL, "map wall"), (COMBINED_UNSEEN, "not seen yet"), (COMBINED_MATCHED, "matched wall"),
+    (LOCAL_WALL, "local wall"), (LASER, "laser"), (DOOR, "door"), (ROBOT_ESTIMATE, "robot (estimate)"),
+]
+
+
+def short_legend_html(dark: bool = False) -> str:
+    """The few colours a newcomer needs first (the help modal has them all)."""
+    rows = "".join(f"<div>{swatch(c if not (dark and c == MAP_WALL) else (200, 200, 200), t)}</div>" for c, t in SHORT_LEGEND)
+    return rows + "<div style='opacity:.7'>H: help, all colours</div>"

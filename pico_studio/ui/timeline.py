@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from pico_studio.core.io import BaseReference, LaserData, OdometryData
+from pico_studio.core.world_model import WorldModel
 
 Pose = tuple[float, float, float]
 
@@ -25,7 +26,7 @@ class FrameRecord:
     odometry: OdometryData | None
     truth_pose: Pose | None  # map frame, when the source knows it
     state_before: Any  # perceptor state going into this frame (None without a perceptor)
-    wm: Any = None  # the WorldModel last computed for this frame
+    wm: WorldModel | None = None  # the WorldModel last computed for this frame
     command: BaseReference | None = None  # what was sent to the base after this frame
     behaviour_state: str = ""
     behaviour_target: tuple[float, float] | None = None  # when the behaviour has one

@@ -1,0 +1,67 @@
+"""Truth door openings: passage mouths (a corridor opening into a room or the outside) count,
+room corners and lines along walls do not."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from worlds import escape_world
+
+from pico_studio.json_map import load_map
+from pico_studio.sim import Simulator
+from pico_studio.sim.map_features import door_openings
+
+
+def _unit(seg: np.ndarray) -> np.ndarray:
+    d = seg[2:] - seg[:2]
+    return d / np.hypot(*d)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3, 4])
+def test_an_escape_corridor_has_an_opening_at_each_end(seed: int) -> None:
+    w = escape_world(seed)
+    o = Simulator(w.map, initial_pose=w.start).truth.door_openings()
+    exit_ = w.map.finish_segments[0]
+    width = np.hypot(*(exit_[2:] - exit_[:2]))
+    assert len(o) == 2
+    mids = (o[:, :2] + o[:, 2:]) / 2
+    at_exit = np.hypot(*(mids - (exit_[:2] + exit_[2:]) / 2).T) < 1e-6
+    assert at_exit.sum() == 1  # the corridor's far end, onto the open outside
+    mouth = o[~at_exit][0]  # where the corridor meets the room
+    assert np.hypot(*(mouth[2:] - mouth[:2])) == pytest.approx(width)
+    assert abs(float(_unit(mouth) @ _unit(exit_))) == pytest.approx(1.0)
+    # its two ends are wall corners of the room (vertices of the map), not points in the air
+    for end in (mouth[:2], mouth[2:]):
+        assert np.hypot(*(w.map.points - end).T).min() < 1e-9
+
+
+def test_the_escape_room_image_has_its_corridor_mouth_and_exit() -> None:
+    m = load_map("examples/maps/escape_room.png")
+    o = door_openings(m.wall_segments, m.door_polygons)
+    widths = np.hypot(o[:, 2] - o[:, 0], o[:, 3] - o[:, 1])
+    mids = (o[:, :2] + o[:, 2:]) / 2
+    assert len(o) == 2
+    assert np.allclose(widths, 0.64, atol=0.03)
+    assert np.allclose(mids[:, 0], mids[0, 0], atol=0.02)  # one above the other: one corridor
+
+
+def test_a_room_corner_is_not_a_mouth() -> None:
+    # a 4 x 4 room with a 0.9 m doorway in its right wall, near the top corner: the corner
+    # and the doorway's jamb are 0.9-1.3 m apart but no passage runs between them
+    pts = [(0, 0), (4, 0), (4, 2.6), (4, 3.5), (4, 4), (0, 4)]
+    segs = np.array([[*pts[0], *pts[1]], [*pts[1], *pts[2]], [*pts[3], *pts[4]], [*pts[4], *pts[5]], [*pts[5], *pts[0]]],
+                    dtype=float)
+    o = door_openings(segs)
+    mids = np.round((o[:, :2] + o[:, 2:]) / 2, 3)
+    assert mids.tolist() == [[4.0, 3.05]]  # the doorway (two loose ends), nothing else
+
+
+def test_a_corridor_joining_a_hall_has_a_mouth_and_a_closed_corridor_has_none() -> None:
+    # a 0.8 m corridor from y = 0 (closed there) up into a 4 x 3 hall at y in [3, 6]
+    segs = np.array([
+        (1.6, 0, 2.4, 0), (1.6, 0, 1.6, 3), (2.4, 0, 2.4, 3),  # the corridor, closed at the bottom
+        (1.6, 3, 0, 3), (0, 3, 0, 6), (0, 6, 4, 6), (4, 6, 4, 3), (4, 3, 2.4, 3),  # the hall
+    ], dtype=float)
+    o = door_openings(segs)
+    mids = np.round((o[:, :2] + o[:, 2:]) / 2, 3).tolist()
+    assert mids == [[2.0, 3.0]]
