@@ -12,7 +12,15 @@ from plugin_helpers import unload_all, write_plugin
 
 from pico_studio import plugins
 from pico_studio.ui import style
-from tests.ui_browser_helpers import CHROMIUM, CHROMIUM_ARGS, VIEWPORT, count_colour, free_port, screenshot, wait_until
+from tests.ui_browser_helpers import (
+    CHROMIUM,
+    CHROMIUM_ARGS,
+    VIEWPORT,
+    count_colour,
+    free_port,
+    screenshot,
+    wait_until,
+)
 
 pytestmark = pytest.mark.browser
 sync_api = pytest.importorskip("playwright.sync_api")
