@@ -1,6 +1,6 @@
 """The behaviours' quality matrix (issue 7), measured in the simulator against its truth.
 
-- escape room: the 20 generated escape rooms (tests/worlds.py, seeds 0-19) and
+- escape room: the 20 generated escape rooms (pico_studio/evaluation/worlds.py, seeds 0-19) and
   `escape_room.png` (the simulator's start and 4 random starts inside the room, 0.5 m from
   the walls), uncertain odometry, 120 simulated s:
   escaped with 0 collisions in >= 19 of 20 is the bar;
@@ -20,23 +20,21 @@ import argparse
 import dataclasses
 import json
 import statistics
-import sys
 import time
 from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
 
 import numpy as np  # noqa: E402
-from worlds import escape_world, room_finder_world  # noqa: E402
 
-from pico_studio.cli.behaviour_run import make_perception, run_behaviour  # noqa: E402
 from pico_studio.config.tree import Config  # noqa: E402
 from pico_studio.core.behaviours.escape_room import EscapeRoom  # noqa: E402
 from pico_studio.core.behaviours.hospital import HospitalTour  # noqa: E402
 from pico_studio.core.behaviours.room_finder import RoomFinder  # noqa: E402
 from pico_studio.core.geometry import point_segment_distance  # noqa: E402
+from pico_studio.evaluation.runner import make_perceptor, run_behaviour  # noqa: E402
+from pico_studio.evaluation.worlds import escape_world, room_finder_world  # noqa: E402
 from pico_studio.json_map import load_json_map  # noqa: E402
 from pico_studio.sim import Simulator  # noqa: E402
 from pico_studio.sim.sim_config import SimConfigFile, load_sim_config  # noqa: E402
@@ -120,7 +118,7 @@ def hospital_matrix(cfg: Config, seeds: int, localise: bool) -> list[dict[str, A
         for seed in range(seeds):
             sim = Simulator(m, cfg.sim, sc, seed=seed)
             start = sim.truth.pose
-            perceptor = make_perception(cfg, m, start, localise=True) if localise else None
+            perceptor = make_perceptor(cfg, m, start, localise=True) if localise else None
             b = HospitalTour(cfg.behaviour, m, order, initial_pose=start)
             t0 = time.perf_counter()
             r = run_behaviour(sim, b, seconds=400.0, perceptor=perceptor)

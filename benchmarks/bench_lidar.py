@@ -135,8 +135,8 @@ class Wander:
         clear = front[front > scan.range_min].min(initial=np.inf) > 0.6
         return (0.4, 0.0, 0.0) if clear else (0.0, 0.0, 1.0)
 
-    def __call__(self, frame, world_model) -> Command:
-        return Command() if frame.laser is None else Command(*self.command(frame.laser))
+    def step(self, world_model, laser, odometry, now, *, ok=True) -> Command:  # the behaviour protocol
+        return Command() if laser is None else Command(*self.command(laser))
 
 
 def bench_run(seconds: float, repeats: int) -> dict[str, tuple[float, float]]:
@@ -157,7 +157,7 @@ def bench_run(seconds: float, repeats: int) -> dict[str, tuple[float, float]]:
                     scan, _odom = sim.read_laser(), sim.read_odometry()
                     sim.send_base_reference(*wander.command(scan))
             else:
-                Session(sim, behaviour=wander, history=1).run(seconds, 0.05)
+                Session(sim, behaviour=wander).run(seconds, 0.05)
             wall.append(sim.now() / (time.perf_counter() - t))
             cpu.append(sim.now() / (time.process_time() - c))
         out[mode] = (statistics.median(wall), statistics.median(cpu))

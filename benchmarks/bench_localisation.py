@@ -27,6 +27,7 @@ from pico_studio.config import Config, with_value
 from pico_studio.core.geometry import compose, relative, wrap_angle
 from pico_studio.core.localisation import Localiser
 from pico_studio.core.localisation.inputs import odometry_pose
+from pico_studio.jit import uncompiled
 from pico_studio.json_map import load_json_map
 from pico_studio.sim import Simulator, load_sim_config
 
@@ -276,10 +277,12 @@ def kick_trials(name: str, *, kicks: int, seed: int = 0) -> dict:
             "steps_with_a_wrong_fix": false_fix}
 
 
-def cost(name: str, *, seconds: float = 20.0, repeats: int = 5, seed: int = 0) -> dict:
+def cost(name: str, *, seconds: float = 20.0, repeats: int = 5, seed: int = 0, python_steps: int = 45) -> dict:
     """Cost per step on recorded frames: the same scans replayed `repeats` times through a
     fresh localiser; per step the median over the repeats, then the median and 95th
-    percentile over the steps. A lost-recovery search (1 m box, any heading) likewise."""
+    percentile over the steps. A lost-recovery search (1 m box, any heading) likewise. The
+    first `python_steps` steps once more with every compiled loop as its Python
+    (`jit.uncompiled`): their CPU cost, and the largest pose difference (the same answers)."""
     from pico_studio.core.localisation.tracker import _search_around
 
     route = ROUTES[name]
@@ -299,15 +302,30 @@ def cost(name: str, *, seconds: float = 20.0, repeats: int = 5, seed: int = 0) -
     start = sim.truth.pose
     times = np.zeros((repeats, len(frames)))
     cpu = np.zeros((repeats, len(frames)))  # CPU time: less disturbed by other jobs on the machine
+    poses = []
     for r in range(repeats):
         loc = Localiser(cfg.localisation, world_map, initial_pose=route["start"] or (6.0, 3.5, 3.14))
         for k, (pts, o) in enumerate(frames):
             t0, c0 = time.perf_counter(), time.process_time()
-            loc.step(pts, o)
+            res = loc.step(pts, o)
             times[r, k] = (time.perf_counter() - t0) * 1000
             cpu[r, k] = (time.process_time() - c0) * 1000
+            if r == 0:
+                poses.append(res.pose)
     per_step = np.median(times, axis=0)[5:]  # the first steps search from the prior
     per_step_cpu = np.median(cpu, axis=0)[5:]
+    # the peer: the same steps with every compiled loop as its Python (first `python_steps`)
+    slow_cpu, diff = [], 0.0
+    with uncompiled():
+        loc = Localiser(cfg.localisation, world_map, initial_pose=route["start"] or (6.0, 3.5, 3.14))
+        for k, (pts, o) in enumerate(frames[:python_steps]):
+            c0 = time.process_time()
+            res = loc.step(pts, o)
+            slow_cpu.append((time.process_time() - c0) * 1000)
+            if (res.pose is None) != (poses[k] is None):
+                diff = math.inf
+            elif res.pose is not None:
+                diff = max(diff, float(np.abs(np.subtract(res.pose, poses[k])).max()))
     search_ms = []
     pts = frames[-1][0]
     for _ in range(repeats):
@@ -319,6 +337,9 @@ def cost(name: str, *, seconds: float = 20.0, repeats: int = 5, seed: int = 0) -
             "ms_per_step_p95": round(float(np.percentile(per_step, 95)), 2),
             "cpu_ms_per_step_median": round(float(np.median(per_step_cpu)), 2),
             "cpu_ms_per_step_p95": round(float(np.percentile(per_step_cpu, 95)), 2),
+            "cpu_ms_per_step_py_func": round(float(np.median(slow_cpu[5:])), 2),
+            "compiled_speedup": round(float(np.median(slow_cpu[5:]) / np.median(per_step_cpu[: python_steps - 5])), 1),
+            "same_poses_as_py_func_within": diff,
             "ms_per_recovery_search_median": round(float(np.median(search_ms)), 1)}
 
 

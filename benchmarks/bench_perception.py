@@ -5,8 +5,9 @@ local map is realistic. Each recorded sequence is then perceived `--repeats` tim
 figure per stage is the median over all steps of all repeats. Segmentation alone (scan
 stage + segmenter + refit) is timed per segmenter and reported as scans per second. The
 peer for split-and-merge is OpenCV's `cv2.approxPolyDP` (Douglas-Peucker in C++) per
-cluster done naively (the production split uses it too, see segment_split_merge.py), timed
-in the same process. `step_cpu` is the step's process CPU time: on a machine shared with
+cluster done naively (the production split did until it became a compiled loop of the same
+arithmetic, see segment_split_merge.py), timed in the same process; the whole step is also
+timed uncompiled (every compiled loop as its plain Python, `pico_studio.jit.uncompiled`). `step_cpu` is the step's process CPU time: on a machine shared with
 other jobs the wall-clock step also counts the time the process waited for a core.
 
     python benchmarks/bench_perception.py [--poses 10] [--frames 20] [--repeats 5]
@@ -19,6 +20,7 @@ recorded scans (all three segmenters) to F, and `--same-as F` checks them agains
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import pickle
 import statistics
@@ -27,13 +29,15 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+from timing import load
 
-from pico_studio.cli.eval_cmd import random_free_poses
 from pico_studio.config import Config, with_value
-from pico_studio.core.io import Command
+from pico_studio.core.behaviours.registry import Drive
 from pico_studio.core.perception import STAGES, Perceptor
 from pico_studio.core.perception.scan import process_scan
 from pico_studio.core.perception.segment import finish_pieces, segment_scan
+from pico_studio.evaluation.poses import random_free_poses
+from pico_studio.jit import uncompiled
 from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
@@ -51,11 +55,9 @@ def record(poses: int, frames: int, seed: int) -> list[list[tuple]]:
     runs = []
     for k, pose in enumerate(starts):
         sim = Simulator(gmap, cfg.sim, seed=seed + k, initial_pose=pose)
-        session = Session(sim, behaviour=lambda f, wm: Command(0.05, 0.0, 0.4), history=1)
-        seq = []
-        for _ in range(frames):
-            session.tick(0.05)
-            seq.append((session.last_laser, session.last_odometry))
+        session = Session(sim, behaviour=Drive(0.05, 0.0, 0.4))
+        seq = [(session.last_laser, session.last_odometry)
+               for _ in itertools.islice(session.frames(dt=0.05), frames)]
         runs.append(seq)
     return runs
 
@@ -162,7 +164,7 @@ def main() -> None:
         raise SystemExit(0 if diff is None else 1)
     n = sum(len(r) for r in runs)
     beams = len(runs[0][0][0].ranges)
-    print(f"hospital_2019: {n} simulated scans of {beams} beams, {args.repeats} repeats")
+    print(f"hospital_2019: {n} simulated scans of {beams} beams, {args.repeats} repeats; {load()}")
     cfg = Config()
     timings = time_steps(runs, cfg.perception, args.repeats)
     print("\nsplit_merge (default), median ms per scan per stage:")
@@ -171,6 +173,10 @@ def main() -> None:
     step = statistics.median(timings["step_cpu"])
     print(f"  whole step (process CPU time, robust to other jobs on the machine): {1000 / step:.0f} scans/s "
           f"({1000 / step / 20:.0f}x the 20 Hz loop); wall-clock 'step' includes time the process waited")
+    with uncompiled():  # the peer: the same step with every compiled loop as plain Python
+        slow = statistics.median(time_steps(runs[:2], cfg.perception, 1)["step_cpu"])
+    print(f"  the same step uncompiled (.py_func of every kernel, {sum(len(r) for r in runs[:2])} scans): "
+          f"{slow:.3f} ms ({slow / step:.1f}x the compiled step)")
     scans = [laser for seq in runs for laser, _ in seq]
     print("\nsegmentation alone (filter, resample, cluster, segment, refit):")
     for name in ("split_merge", "angle", "ransac"):

@@ -8,7 +8,7 @@
    core), and its CPU milliseconds per streamed frame (times 20 Hz = the share it needs at
    full rate), next to the same loop headless (studio tick + layer geometry, no viser).
 3. The metrics the page reads every redraw, after a long run (10 minutes of frames scored
-   at 4 Hz): the studio's running score sum next to the peer `scoring.RunScore.summary()`,
+   at 4 Hz): the studio's running score sum next to the peer `RunScore(kept).summary()`,
    which sums every scored frame again (what the page did before).
 
     .venv/bin/python benchmarks/bench_ui.py [--edits 30] [--seconds 10]
@@ -66,28 +66,35 @@ def headless_share(seconds: float) -> tuple[float, float]:
 
 
 def long_run_metrics(scored: int = 2400, repeats: int = 50) -> tuple[float, float]:
-    """(ms per `Studio.metrics()`, ms per `RunScore.summary()` peer) with `scored` frames."""
-    from pico_studio.sim import scoring
+    """(ms per `Studio.metrics()`, ms per peer: summing every kept `FrameScore` again) with
+    `scored` frames."""
+    from pico_studio.evaluation.frame_score import FrameScore
+    from pico_studio.evaluation.run_score import RunScore
 
     studio = Studio(Config(), load_json_map(DEFAULT_MAP), make_source_factory("sim", None, 1), map_name="h")
     for _ in range(10):
         studio.tick(0.05)
-    peer = scoring.RunScore()
-    frame = studio.run_score.last or scoring.FrameScore()
+    run = studio.scorer.run
+    frame = run.last or FrameScore()
+    kept = []
     for _ in range(scored):
-        studio.run_score.add(frame)
-        peer.add(frame)
+        run.add(frame)
+        kept.append(frame)
+
+    def peer() -> dict:
+        return RunScore(kept).summary()
 
     def median_ms(fn) -> float:  # noqa: ANN001
         times = []
         for _ in range(repeats):
-            studio.run_score.add(frame)  # a new scored frame each redraw, the worst case
+            run.add(frame)  # a new scored frame each redraw, the worst case
+            kept.append(frame)
             t0 = time.perf_counter()
             fn()
             times.append((time.perf_counter() - t0) * 1000.0)
         return statistics.median(times)
 
-    return median_ms(studio.metrics), median_ms(peer.summary)
+    return median_ms(studio.metrics), median_ms(peer)
 
 
 def main() -> int:
@@ -143,7 +150,7 @@ def main() -> int:
     print(f"peer, the same loop headless (no viser): {peer_frame_ms:.1f} ms CPU per frame; "
           f"page/headless ratio {frame_ms / peer_frame_ms:.2f}")
     print(f"after 10 minutes scored at 4 Hz: the page's metrics {metrics_ms:.2f} ms per redraw; "
-          f"peer RunScore.summary() {summary_ms:.2f} ms ({summary_ms / metrics_ms:.0f}x)")
+          f"peer RunScore(kept).summary() {summary_ms:.2f} ms ({summary_ms / metrics_ms:.0f}x)")
     return 0
 
 

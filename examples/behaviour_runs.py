@@ -1,6 +1,6 @@
 """Draw the reference behaviours' runs: true trajectories over the maps -> docs/behaviours.png.
 
-Four panels: the escape room of `escape_room.png`, a generated escape room (tests/worlds.py,
+Four panels: the escape room of `escape_room.png`, a generated escape room (pico_studio/evaluation/worlds.py,
 seed 4), a generated room-finder world (seed 6) with the counts found, and the hospital tour
 0, 3, 1 on hospital_2019 (perceptor + localisation, a moving box in the corridor). Each
 panel's title gives the outcome: escaped / rooms / visited, collisions, simulated time.
@@ -11,20 +11,17 @@ panel's title gives the outcome: escaped / rooms / visited, collisions, simulate
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 import cv2
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
 
-from worlds import escape_world, room_finder_world  # noqa: E402
-
-from pico_studio.cli.behaviour_run import make_perception, run_behaviour  # noqa: E402
 from pico_studio.config.tree import Config  # noqa: E402
 from pico_studio.core.behaviours.registry import make_behaviour  # noqa: E402
+from pico_studio.evaluation.runner import make_perceptor, run_behaviour  # noqa: E402
+from pico_studio.evaluation.worlds import escape_world, room_finder_world  # noqa: E402
 from pico_studio.json_map import GlobalMap, load_map  # noqa: E402
 from pico_studio.json_map.draw import _TOP as TITLE_PX  # noqa: E402
 from pico_studio.json_map.draw import draw_map  # noqa: E402
@@ -51,9 +48,9 @@ class Recorder:
         else:
             setattr(self.b, name, value)
 
-    def __call__(self, frame, wm):
+    def step(self, wm, laser, odometry, now, *, ok=True):  # the behaviour protocol
         self.xy.append(self.sim.truth.pose[:2])
-        return self.b(frame, wm)
+        return self.b.step(wm, laser, odometry, now, ok=ok)
 
 
 def panel(m: GlobalMap, xy: list, title: str) -> np.ndarray:
@@ -75,7 +72,7 @@ def panel(m: GlobalMap, xy: list, title: str) -> np.ndarray:
 def run(m: GlobalMap, spec: str, sim: Simulator, seconds: float, cfg: Config, localise: bool = False):
     start = sim.truth.pose
     rec = Recorder(make_behaviour(spec, cfg.behaviour, m, start), sim)
-    perceptor = make_perception(cfg, m, start, localise=True) if localise else None
+    perceptor = make_perceptor(cfg, m, start, localise=True) if localise else None
     r = run_behaviour(sim, rec, seconds=seconds, perceptor=perceptor)
     return r, rec.xy
 

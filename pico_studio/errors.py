@@ -6,7 +6,19 @@ Anything that is *not* a `UserError` is a bug and keeps its traceback.
 
 from __future__ import annotations
 
+import reprlib
 from pathlib import Path
+from typing import Any
+
+_SHORT = reprlib.Repr()
+_SHORT.maxlevel, _SHORT.maxtuple, _SHORT.maxlist, _SHORT.maxdict, _SHORT.maxset = 2, 4, 4, 4, 4
+_SHORT.maxstring, _SHORT.maxlong, _SHORT.maxother = 60, 40, 60
+
+
+def short(value: Any) -> str:
+    """A bounded repr of a user's value for an error message: a 5 MB string, a 4000-digit
+    number or a YAML alias bomb (exponential when printed in full) stay one short line."""
+    return _SHORT.repr(value)
 
 
 class UserError(Exception):

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import TextIO
+from typing import Any, TextIO
 
 
 class Progress:
@@ -64,3 +64,23 @@ class Progress:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+class ProgressObserver:
+    """A session observer that shows the source time since `start` on a `Progress` bar (or,
+    with `count=True`, the frames seen: for loops whose total is a number of frames)."""
+
+    name = "progress"
+
+    def __init__(self, progress: Progress, start: float = 0.0, *, count: bool = False):
+        self.progress = progress
+        self.start = start
+        self.count = count
+        self.frames = 0
+
+    def on_frame(self, sf: Any) -> None:
+        self.frames += 1
+        self.progress.set(self.frames if self.count else sf.frame.time - self.start)
+
+    def summary(self) -> dict[str, Any]:
+        return {"done": self.progress.done, "total": self.progress.total, "frames": self.frames}

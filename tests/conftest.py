@@ -19,3 +19,12 @@ def maps_dir() -> Path:
 @pytest.fixture
 def recordings_dir() -> Path:
     return RECORDINGS
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _compiled_kernels() -> None:
+    """Compile (or load from numba's cache) every compiled loop once per test session, so no
+    test pays the compile time (pico_studio/jit.py)."""
+    from pico_studio.jit import warm_up
+
+    warm_up()

@@ -8,16 +8,17 @@ import math
 
 import numpy as np
 import pytest
-from worlds import escape_world, room_finder_world
 
 from pico_studio.cli import main
-from pico_studio.cli.behaviour_run import EscapeJudge, run_behaviour
 from pico_studio.config.tree import Config
 from pico_studio.core.behaviours.escape_room import EscapeRoom
 from pico_studio.core.behaviours.hospital import HospitalTour, object_spots
 from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.behaviours.room_finder import RoomFinder
 from pico_studio.errors import UserError
+from pico_studio.evaluation.judges import EscapeJudge
+from pico_studio.evaluation.runner import run_behaviour
+from pico_studio.evaluation.worlds import escape_world, room_finder_world
 from pico_studio.json_map import GlobalMap, load_json_map
 from pico_studio.sim import Simulator
 from pico_studio.sim.sim_config import SimConfigFile
@@ -125,6 +126,20 @@ def test_run_command_reports_a_behaviour_as_json(capsys, maps_dir):
     for key in ("escaped", "escape_seconds", "rooms", "cabinets_visited", "collisions", "state"):
         assert key in r
     assert r["cabinets_visited"] == [1] and r["state"] == "done" and r["collisions"] == 0
+    # it localises on the map: the error against the truth, as the median and the maximum
+    loc = r["localisation"]
+    assert loc["frames"] > 0 and loc["pose_error_m"]["max"] < 0.1 and loc["heading_error_rad"]["median"] < 0.02
+    assert set(loc["pose_error_m"]) == {"median", "max"}
+
+
+def test_a_behaviour_that_does_not_localise_reports_no_pose_error_unless_asked(capsys, maps_dir):
+    args = ["run", "--map", str(maps_dir / "emc_example.json"), "--behaviour", "escape-room", "--seconds", "2",
+            "--json"]
+    assert main(args) == 0
+    assert "localisation" not in json.loads(capsys.readouterr().out)
+    assert main([*args, "--localise"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    assert r["localisation"]["frames"] == 40 and r["localisation"]["pose_error_m"]["median"] < 0.05
 
 
 def test_run_command_rejects_a_bad_behaviour(capsys, maps_dir):
@@ -173,3 +188,37 @@ def test_hospital_asks_the_door_on_its_plan_to_open_and_goes_through():
     r = run_behaviour(sim, HospitalTour(CFG.behaviour, m, [0], initial_pose=(1.0, 1.5, 0.0)), seconds=120)
     assert r["cabinets_visited"] == [0] and r["collisions"] == 0 and r["state"] == "done"
     assert sim.truth.pose[0] > 4.5
+
+
+def test_one_registry_makes_every_behaviour_with_the_step_protocol():
+    from pico_studio.core.behaviours.registry import BEHAVIOURS, Drive, register_behaviour
+    from pico_studio.core.behaviours.wander import Wander
+    from pico_studio.core.io import STOP, Command
+
+    m = load_json_map("pico_studio/data/maps/hospital_2019.json")
+    for name in BEHAVIOURS:
+        spec = "drive:0.1,0,0.2" if name == "drive" else name
+        b = make_behaviour(spec, CFG, m, (1.0, 1.0, 0.0))
+        cmd = b.step(None, None, None, 0.0, ok=True)
+        assert cmd is None or isinstance(cmd, Command), name
+        assert isinstance(b.result(), dict) and b.name == name
+    assert make_behaviour("drive:0.1,0,0.2", CFG).step(None, None, None, 0.0) == Command(0.1, 0.0, 0.2)
+    assert make_behaviour("drive:0.1,0,0.2", CFG).step(None, None, None, 0.0, ok=False) == STOP
+    assert make_behaviour("idle", CFG).step(None, None, None, 0.0) is None
+    assert make_behaviour("stop", CFG).step(None, None, None, 0.0) == STOP
+    # the whole config gives wander its section; bare behaviour params give it the defaults
+    tuned = CFG.ui.wander.__class__(speed=0.11)
+    from dataclasses import replace
+
+    cfg = replace(CFG, ui=replace(CFG.ui, wander=tuned))
+    assert make_behaviour("wander", cfg).params.speed == 0.11
+    assert isinstance(make_behaviour("wander", CFG.behaviour), Wander)
+    for bad, words in (("drive:1,2", "three numbers"), ("drive:1,nan,0", "finite"), ("idle:3", "no argument")):
+        with pytest.raises(UserError, match=words) as e:
+            make_behaviour(bad, CFG)
+        assert e.value.field == "--behaviour"
+    register_behaviour("creep", lambda arg, s, m, pose: Drive(0.05, 0, 0), help="slowly ahead")
+    try:
+        assert make_behaviour("creep", CFG).step(None, None, None, 0.0) == Command(0.05, 0.0, 0.0)
+    finally:
+        del BEHAVIOURS["creep"]

@@ -9,12 +9,12 @@ import math
 import numpy as np
 
 from pico_studio.config import Config
-from pico_studio.core.io import Command
+from pico_studio.core.behaviours.registry import Drive
 from pico_studio.core.localisation import Localiser
 from pico_studio.core.localisation.combined import CombinedMap
-from pico_studio.core.localisation.score import PoseScore
 from pico_studio.core.localisation.stage import LocalisingPerceptor
 from pico_studio.core.perception import Perceptor
+from pico_studio.evaluation.run_score import PoseScore
 from pico_studio.json_map import load_json_map
 from pico_studio.session import Session
 from pico_studio.sim import MovingObjectSpec, Simulator
@@ -29,7 +29,7 @@ def test_session_fills_the_world_model_and_tags_an_unknown_box(maps_dir):
                            velocity=0.0, trigger_radius=0.0, repeat=False)
     sim = Simulator(gmap, cfg.sim, SimConfigFile(objects=(box,)), seed=0, initial_pose=start)
     perceptor = LocalisingPerceptor(Perceptor(cfg.perception), Localiser(cfg.localisation, gmap, start))
-    session = Session(sim, perceptor=perceptor, behaviour=lambda f, wm: Command(0.0, 0.0, 0.3))
+    session = Session(sim, perceptor=perceptor, behaviour=Drive(0.0, 0.0, 0.3))
     score = PoseScore()
     for _ in range(60):  # 3 s turning on the spot, facing the box now and then
         session.tick(0.05)

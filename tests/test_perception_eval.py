@@ -8,8 +8,10 @@ import numpy as np
 import pytest
 
 from pico_studio.cli import main
-from pico_studio.cli.eval_cmd import evaluate
-from pico_studio.sim.scoring import FrameScore, RunScore, Tolerances, score_arrays
+from pico_studio.config import load_config
+from pico_studio.evaluation.frame_score import FrameScore, Tolerances, score_arrays
+from pico_studio.evaluation.run_score import RunScore
+from pico_studio.evaluation.runner import evaluate_map
 
 SQ = np.array([[0, 0, 4, 0], [4, 0, 4, 4], [4, 4, 0, 4], [0, 4, 0, 0]], dtype=float)
 
@@ -57,7 +59,7 @@ def test_empty_run_is_not_a_division_by_zero():
 
 def test_hospital_bar_with_the_default_config(maps_dir):
     """The done-when bar, exactly as `pico-studio eval --map hospital_2019.json` runs it."""
-    r = evaluate(str(maps_dir / "hospital_2019.json"))
+    r = evaluate_map(str(maps_dir / "hospital_2019.json"))
     assert r["poses"] == 50 and r["doors_visible"] >= 40
     assert r["wall_precision"] >= 0.95 and r["wall_recall"] >= 0.95
     assert r["door_precision"] >= 0.9 and r["door_recall"] >= 0.9
@@ -69,7 +71,7 @@ def test_a_broken_perceptor_fails_the_bar(maps_dir, tmp_path):
     cfg = tmp_path / "bad.yaml"
     cfg.write_text("perception:\n  identify:\n    door_min_width: 2.0\n    door_max_width: 3.0\n"
                    "  scan:\n    min_length: 2.0\n")
-    r = evaluate(str(maps_dir / "hospital_2019.json"), poses=5, seed=0, config=str(cfg))
+    r = evaluate_map(str(maps_dir / "hospital_2019.json"), load_config(cfg), poses=5, seed=0)
     assert r["door_recall"] < 0.5 and r["wall_recall"] < 0.9
 
 

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from pico_studio.sim.scoring import Tolerances, covered
+from pico_studio.evaluation.frame_score import Tolerances, covered
 
 
 def _brute_force(points: np.ndarray, dirs: np.ndarray, segments: np.ndarray, tol: Tolerances) -> np.ndarray:

@@ -23,6 +23,16 @@ class NearestRange:
         return float(r[(r >= laser.range_min) & (r <= laser.range_max)].min())
 
 
+class Steps:
+    """A behaviour from a function of (time, world model), speaking the `step` protocol."""
+
+    def __init__(self, fn) -> None:  # noqa: ANN001
+        self.fn = fn
+
+    def step(self, world_model, laser, odometry, now, *, ok=True):  # noqa: ANN001, ANN201
+        return self.fn(now, world_model)
+
+
 class ListRecorder:
     def __init__(self) -> None:
         self.rows: list[tuple[Frame, Command | None]] = []
@@ -35,10 +45,10 @@ def test_session_perceives_behaves_records() -> None:
     sim = Simulator(box_map(), initial_pose=(2.0, 5.0, 0.0))
     perceptor, recorder = NearestRange(), ListRecorder()
 
-    def stop_near_wall(frame: Frame, nearest: float | None) -> Command:
+    def stop_near_wall(now: float, nearest: float | None) -> Command:
         return Command(0.5 if nearest is None or nearest > 1.0 else 0.0)
 
-    session = Session(sim, perceptor=perceptor, behaviour=stop_near_wall, recorder=recorder, history=50)
+    session = Session(sim, perceptor=perceptor, behaviour=Steps(stop_near_wall), recorder=recorder, history=50)
     session.run(30.0, 0.05)
     assert session.ticks == 600 and len(session.history) == 50  # bounded timeline
     assert perceptor.calls == 600  # a scan every 20 Hz tick
@@ -53,7 +63,7 @@ def test_session_perceives_behaves_records() -> None:
 def test_session_accepts_tuples_and_base_references_and_opens_doors() -> None:
     sim = Simulator(door_map(), initial_pose=(4.1, 4.5, 0.0))
     commands = iter([(0.0, 0.0, 0.5), BaseReference(0.0, 0.0, -0.5), Command(open_door=True)])
-    session = Session(sim, behaviour=lambda frame, wm: next(commands, None))
+    session = Session(sim, behaviour=Steps(lambda now, wm: next(commands, None)))
     for _ in range(3):
         session.tick(0.1)
     session.tick(4.0)
@@ -62,7 +72,7 @@ def test_session_accepts_tuples_and_base_references_and_opens_doors() -> None:
 
 
 def test_session_rejects_a_bad_command() -> None:
-    session = Session(Simulator(box_map(), initial_pose=(5, 5, 0)), behaviour=lambda f, wm: "forward")
+    session = Session(Simulator(box_map(), initial_pose=(5, 5, 0)), behaviour=Steps(lambda now, wm: "forward"))
     with pytest.raises(TypeError, match="behaviour must return"):
         session.tick(0.05)
 
@@ -78,10 +88,10 @@ def test_session_run_stops_when_the_source_closes() -> None:
     sim = Simulator(box_map(), initial_pose=(5, 5, 0))
     calls = []
 
-    def close_after_ten(frame: Frame, wm: object) -> None:
-        calls.append(frame.time)
+    def close_after_ten(now: float, wm: object) -> None:
+        calls.append(now)
         if len(calls) == 10:
             sim.close()
 
-    assert Session(sim, behaviour=close_after_ten).run(60.0, 0.05) == 10
+    assert Session(sim, behaviour=Steps(close_after_ten)).run(60.0, 0.05) == 10
     assert not sim.ok()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 import shutil
 from pathlib import Path
 
@@ -246,3 +247,57 @@ def test_truncated_compressed_bag_replays_what_is_left(real_bag: Path, tmp_path:
     replay = open_bag(cut)
     assert 0 < replay.frame_count < 243
     assert np.array_equal(replay.frame(0).laser.ranges, src.frame(0).laser.ranges)
+
+
+def _damaged_copy(real_bag: Path, tmp_path: Path, name: str, change) -> Path:
+    data = bytearray(real_bag.read_bytes())
+    change(data)
+    data[-200:] = b"\xff" * 200  # and the index, so the chunks are walked
+    path = tmp_path / name
+    path.write_bytes(bytes(data))
+    return path
+
+
+def test_message_record_without_its_time_field_is_skipped_naming_the_offset(real_bag: Path, tmp_path: Path) -> None:
+    def change(b: bytearray) -> None:
+        i = b.find(b"time=", 5000)
+        b[i : i + 4] = b"tyme"
+
+    replay = open_bag(_damaged_copy(real_bag, tmp_path, "no_time.bag", change))
+    assert replay.frame_count == 242  # was: KeyError 'time'
+    assert any("of the chunk at byte 4117: header has no 'time' field; skipped" in w for w in replay.warnings)
+
+
+def test_chunk_with_a_damaged_header_is_skipped_and_the_next_one_read(real_bag: Path, tmp_path: Path) -> None:
+    whole = open_bag(real_bag)
+
+    def change(b: bytearray) -> None:
+        j = b.find(b"\x04\x00\x00\x00op=\x05", 100_000)  # the second chunk's op field
+        b[j - 30 : j] = b"\xee" * 30  # its header length and first field
+
+    replay = open_bag(_damaged_copy(real_bag, tmp_path, "bad_chunk.bag", change))
+    assert 0 < replay.frame_count < whole.frame_count
+    assert any("is damaged" in w and "resumed at the chunk at byte" in w for w in replay.warnings), replay.warnings
+    last = replay.frame(replay.frame_count - 1)  # chunks after the damaged one are still read
+    assert np.array_equal(last.laser.ranges, whole.frame(whole.frame_count - 1).laser.ranges)
+
+
+def test_junk_inside_a_chunk_skips_the_rest_of_that_chunk_only(real_bag: Path, tmp_path: Path) -> None:
+    whole = open_bag(real_bag)
+
+    def change(b: bytearray) -> None:
+        j = b.find(b"\x04\x00\x00\x00op=\x05", 100_000)
+        b[j + 40 : j + 2040] = b"\xaa" * 2000
+
+    replay = open_bag(_damaged_copy(real_bag, tmp_path, "junk_chunk.bag", change))
+    assert 0 < replay.frame_count < whole.frame_count
+    assert any("framing lost" in w and "rest of the chunk skipped" in w for w in replay.warnings), replay.warnings
+
+
+def test_bag_that_is_not_a_regular_file_is_refused_unopened(tmp_path: Path) -> None:
+    fifo = tmp_path / "pipe.bag"
+    os.mkfifo(fifo)
+    with pytest.raises(SourceError, match="is a FIFO"):
+        open_bag(fifo)  # would block for ever if opened for reading
+    with pytest.raises(SourceError, match="is a directory"):
+        open_bag(tmp_path)

@@ -188,3 +188,44 @@ def test_raw_logs_offer_no_truth(intel: Path) -> None:
     params = SourcesParams(carmen=CarmenParams(pose_is_truth=False))
     replay = open_carmen(intel, params)
     assert not replay.has_truth and replay.truth_pose() is None and replay.frame(3).truth == {}
+
+
+def test_gzip_bomb_is_cut_off_at_the_decompressed_cap(tmp_path: Path) -> None:
+    bomb = tmp_path / "bomb.log.gz"
+    bomb.write_bytes(gzip.compress(b"\0" * (1 << 20), compresslevel=9) * 1024)  # 1 GiB of zeros in ~1 MB
+    with pytest.raises(SourceError, match="decompressed beyond"):
+        open_carmen(bomb)
+
+
+def test_good_lines_before_a_bomb_are_replayed(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PICO_STUDIO_MAX_DECOMPRESSED_FLOOR_MB", "1")
+    monkeypatch.setenv("PICO_STUDIO_MAX_DECOMPRESSED_RATIO", "1")
+    scan = " ".join(["1.0"] * 180)
+    good = "".join(f"FLASER 180 {scan} 1 1 0 1 1 0 {t / 10} host 0\n" for t in range(5)).encode()
+    log = tmp_path / "then_bomb.log.gz"
+    log.write_bytes(gzip.compress(good) + gzip.compress(b"\0" * (1 << 20)) * 200)
+    replay = open_carmen(log)
+    assert replay.frame_count == 5
+    assert any("decompressed beyond" in w for w in replay.warnings)
+
+
+def test_overlong_line_is_skipped_naming_it(tmp_path: Path) -> None:
+    scan = " ".join(["1.0"] * 180)
+    log = tmp_path / "long.log"
+    log.write_text(
+        f"FLASER 180 {scan} 1 1 0 1 1 0 0.0 host 0\n" + "FLASER " + "1 " * (3 << 20) + "\n"
+        + f"FLASER 180 {scan} 1 1 0 1 1 0 0.1 host 0\n"
+    )
+    replay = open_carmen(log)
+    assert replay.frame_count == 2
+    assert any("line 2: longer than 4 MB; line skipped" in w for w in replay.warnings)
+
+
+def test_scan_with_a_damaged_stamp_is_dropped(tmp_path: Path) -> None:
+    scan = " ".join(["1.0"] * 180)
+    stamps = [0.0, 0.1, 0.2, 1e12, 0.3, 0.4]
+    log = tmp_path / "stamp.log"
+    log.write_text("".join(f"FLASER 180 {scan} 1 1 0 1 1 0 {t} host 0\n" for t in stamps))
+    replay = open_carmen(log)
+    assert replay.frame_count == 5 and replay.time_span == (0.0, 0.4)
+    assert any("scans 3 (1e+12 s)" in w for w in replay.warnings)

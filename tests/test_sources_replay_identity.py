@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from pico_studio.config import Config
-from pico_studio.core.io import Command
+from pico_studio.core.behaviours.registry import Drive
 from pico_studio.core.perception import Perceptor
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
@@ -55,7 +55,7 @@ def _record_and_replay(tmp_path: Path) -> tuple[list, list, dict]:
     with BagRecorder(bag, cfg.sources.topics) as recorder:
         live = Session(
             sim, perceptor=Perceptor(cfg.perception),
-            behaviour=lambda frame, wm: Command(0.2, 0.0, 0.15), recorder=recorder, history=TICKS,
+            behaviour=Drive(0.2, 0.0, 0.15), recorder=recorder, history=TICKS,
         )
         for _ in range(TICKS):
             live.tick(0.05)

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from worlds import escape_world
 
+from pico_studio.evaluation.worlds import escape_world
 from pico_studio.json_map import load_map
 from pico_studio.sim import Simulator
 from pico_studio.sim.map_features import door_openings

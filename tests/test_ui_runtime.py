@@ -317,18 +317,3 @@ def test_doors_scan_corners_entrance_and_room_watch_are_drawn_from_the_world_mod
     from pico_studio.core.geometry import transform_segments
 
     assert frame_prims(s, frame)["doors"].data == pytest.approx(transform_segments(wm.doors, zero))
-
-
-def test_running_score_sums_like_the_run_score() -> None:
-    from pico_studio.sim import scoring
-    from pico_studio.ui.runtime import RunningScore
-
-    rng = np.random.default_rng(0)
-    running, run = RunningScore(), scoring.RunScore()
-    for _ in range(20):
-        f = scoring.FrameScore(wall_len=rng.random(), wall_len_ok=rng.random() / 2, truth_len=rng.random(),
-                               truth_len_ok=rng.random() / 3, doors=int(rng.integers(0, 3)), doors_ok=1,
-                               pose_err_m=rng.random(), pose_err_rad=rng.random())
-        running.add(f)
-        run.add(f)
-    assert running.summary() == pytest.approx(run.summary())

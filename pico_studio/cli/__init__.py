@@ -32,7 +32,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:  # argparse refused an argument (ranges: cli/limits.py); --help exits as usual
+        if e.code in (0, None):
+            raise
+        return e.code if isinstance(e.code, int) else 2
     try:
         load_requested(args)  # user code first: its stages and parameters exist for the config
         return int(args.func(args) or 0)

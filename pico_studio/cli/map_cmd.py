@@ -7,9 +7,12 @@ import json
 from pathlib import Path
 from typing import Any
 
+from pico_studio.cli import limits
 from pico_studio.config import Config, load_config
+from pico_studio.errors import MapError
 from pico_studio.json_map import GlobalMap, convert, load_map
 from pico_studio.json_map.draw import draw_map, save_png
+from pico_studio.user_files import check_output
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -43,7 +46,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _common(p: argparse.ArgumentParser, resolution_help: str) -> None:
-    p.add_argument("--resolution", type=float, metavar="R", help=resolution_help)
+    p.add_argument("--resolution", type=limits.RESOLUTION, metavar="R", help=resolution_help)
     p.add_argument("--config", metavar="YAML", help="config file (map.heightmap / map.raster values)")
 
 
@@ -68,6 +71,8 @@ def map_summary(m: GlobalMap, file: str) -> dict[str, Any]:
 
 
 def _info(args: argparse.Namespace) -> int:
+    if args.png:
+        check_output(args.png, MapError)
     cfg = _config(args)
     m = load_map(args.file, cfg.map.heightmap, resolution=args.resolution)
     info = map_summary(m, args.file)
@@ -96,7 +101,19 @@ def _info(args: argparse.Namespace) -> int:
     return 0
 
 
+def _outputs(dst: Path) -> list[Path]:
+    """The files `convert` writes for `dst`: an image comes with its map_server YAML."""
+    suffix = dst.suffix.lower()
+    if suffix in (".png", ".pgm"):
+        return [dst, dst.with_suffix(".yaml")]
+    if suffix in (".yaml", ".yml"):
+        return [dst, dst.with_suffix(".png")]
+    return [dst]
+
+
 def _convert(args: argparse.Namespace) -> int:
+    for out in _outputs(Path(args.output)):
+        check_output(out, MapError)
     cfg = _config(args)
     result = convert(args.input, args.output, resolution=args.resolution, params=cfg.map)
     chk = result.check

@@ -15,8 +15,8 @@ import time
 from typing import Any
 
 from pico_studio.config import Config
-from pico_studio.core.perception import Perceptor
 from pico_studio.errors import UserError
+from pico_studio.evaluation.runner import make_perceptor
 from pico_studio.progress import Progress
 from pico_studio.session import Session
 from pico_studio.sources import SourceSpec, open_source
@@ -37,10 +37,6 @@ def recorded(recorder: BagRecorder | None) -> dict[str, Any] | None:
     return {"file": str(recorder.path), "messages": dict(sorted(recorder.counts.items()))}
 
 
-def make_perceptor(cfg: Config) -> Perceptor:
-    return Perceptor(cfg.perception)
-
-
 def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviour: Any) -> int:
     """Run a replay or the live robot; print the report (one JSON object with --json)."""
     source = open_source(spec, cfg.sources)
@@ -52,7 +48,7 @@ def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviou
         if spec.kind == "ros":
             result = _run_live(args, source, perceptor, behaviour, recorder)
         else:
-            session = Session(source, perceptor=perceptor, recorder=recorder, history=1)
+            session = Session(source, perceptor=perceptor, recorder=recorder)
             t0_rec, t1_rec = source.time_span
             total = t1_rec - t0_rec if args.seconds is None else min(args.seconds, t1_rec - t0_rec)
             with Progress(total, f"replaying {spec}", "s") as progress:
@@ -72,21 +68,38 @@ def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviou
 
 def _run_live(args: argparse.Namespace, source: Any, perceptor: Any, behaviour: Any, recorder: Any) -> dict[str, Any]:
     source.wait_connected(source.params.ros.connect_timeout)
-    session = Session(source, perceptor=perceptor, behaviour=behaviour, recorder=recorder, history=1)
+    live = _LiveStatus(source)
+    session = Session(source, perceptor=perceptor, behaviour=behaviour, recorder=recorder, observers=[live])
     dt = args.dt or 0.05
     seconds = 10.0 if args.seconds is None else args.seconds
-    scans = ticks = stale_ticks = 0
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        out = session.tick(dt)
-        ticks += 1
-        scans += out.frame.laser is not None
-        stale_ticks += source.status().stale
+    end = time.monotonic() + seconds  # the robot's clock is the wall's: run for wall seconds
+    if time.monotonic() < end:
+        for _ in session.frames(dt=dt):
+            if time.monotonic() >= end:
+                break
     status = source.status()
     return {
-        "ticks": ticks, "frames_read": scans, "stale_ticks": stale_ticks,
+        **live.summary(),
         "status": status.message, "master_up": status.master_up, "warnings": source.warnings[:20],
     }
+
+
+class _LiveStatus:
+    """Counts ticks, scans read and ticks with stale data (an observer of the live run)."""
+
+    name = "live"
+
+    def __init__(self, source: Any):
+        self.source = source
+        self.ticks = self.scans = self.stale_ticks = 0
+
+    def on_frame(self, sf: Any) -> None:
+        self.ticks += 1
+        self.scans += sf.frame.laser is not None
+        self.stale_ticks += self.source.status().stale
+
+    def summary(self) -> dict[str, Any]:
+        return {"ticks": self.ticks, "frames_read": self.scans, "stale_ticks": self.stale_ticks}
 
 
 def _print_report(r: dict[str, Any]) -> None:

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import argparse
 import logging
+import threading
 import time
 from pathlib import Path
 
 from pico_studio.cli.plugin_args import add_plugin_argument
+from pico_studio.core.behaviours.registry import behaviour_help
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -15,7 +17,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--map", help="a JSON map or heightmap image (default: the built-in hospital_2019.json)")
     p.add_argument("--sim-config", help="simulator config JSON (initial pose, moving objects, ...)")
     p.add_argument("--config", help="a (partial) config YAML to start from")
-    p.add_argument("--behaviour", default="wander", help="what drives the robot: wander (default), escape-room, room-finder, hospital[:I,J,K] (cabinet order), teleop, stop")
+    p.add_argument("--behaviour", default="wander", help="what drives the robot: " + behaviour_help() + " | teleop (default wander)")
     p.add_argument("--source", default="sim", help="sim (default), bag:FILE, carmen:FILE or ros (a replay drives nothing: behaviours are ignored)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
     p.add_argument("--port", type=int, default=8080, help="port (default 8080)")
@@ -48,13 +50,35 @@ def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioAp
 
 
 def _serve(args: argparse.Namespace) -> int:
+    from pico_studio import jit
+
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     logging.getLogger("websockets").setLevel(logging.WARNING)  # not a line per tab
     app = build_app(args, verbose=False)
+    # the compiled loops load from numba's cache (warm: about a second) or compile (cold: the
+    # first start after an install or update) in a background thread started once the page is
+    # up (every module is imported by then: no import races); the loop is held until they are
+    # ready, so no tick holds the page while the compiler runs. (A cold simulator compiles its
+    # raycast for its first scan inside build_app: a few seconds more before the URL.)
+    play, app.studio.playing = app.studio.playing, False
     app.start()
     print(f"pico-studio: serving {app.studio.map_name} at {app.url}  (Ctrl-C stops)", flush=True)
+    warm = jit.warm_up_in_background()
+    threading.Thread(target=_play_when_warm, args=(app, warm, play), daemon=True).start()
     try:
         while True:
             time.sleep(3600)
     finally:
         app.stop()
+
+
+def _play_when_warm(app, warm: threading.Thread, play: bool) -> None:  # noqa: ANN001 (a StudioApp)
+    warm.join(timeout=1.5)
+    if warm.is_alive():
+        print("pico-studio: compiling the fast paths (first start after an install or update; cached "
+              "afterwards): the robot starts when that is done", flush=True)
+        warm.join()
+        print("pico-studio: fast paths compiled", flush=True)
+    if play and not app.studio.playing:
+        app.studio.playing = True
+        app._sync_play_button()

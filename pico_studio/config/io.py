@@ -15,8 +15,8 @@ from typing import Any, TypeVar
 import yaml
 
 from pico_studio.config.plugin_params import section_class
-from pico_studio.config.spec import ParamInfo, SectionInfo, coerce, params, walk
-from pico_studio.errors import ConfigError
+from pico_studio.config.spec import ParamInfo, ParamSpec, SectionInfo, coerce, params, walk
+from pico_studio.errors import ConfigError, short
 from pico_studio.user_files import parse_yaml, read_text
 
 T = TypeVar("T")
@@ -33,7 +33,7 @@ def from_dict(cls: type[T], data: Any, *, file: str | Path | None = None, prefix
     if data is None:
         data = {}
     if not isinstance(data, dict):
-        raise ConfigError(f"must be a mapping of keys to values, got {data!r}", file=file, field=here)
+        raise ConfigError(f"must be a mapping of keys to values, got {short(data)}", file=file, field=here)
     fields = {f.name: f for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
     kwargs: dict[str, Any] = {}
     for key, value in data.items():
@@ -46,13 +46,32 @@ def from_dict(cls: type[T], data: Any, *, file: str | Path | None = None, prefix
         if "pico_studio.section" in f.metadata:
             kwargs[key] = from_dict(section_class(f), value, file=file, prefix=path + ".")
         else:
-            try:
-                kwargs[key] = coerce(f.metadata["pico_studio.param"], value)
-            except ValueError as e:
-                raise ConfigError(str(e), file=file, field=path) from None
+            kwargs[key] = _coerce(f.metadata["pico_studio.param"], value, file=file, field=path)
     obj = cls(**kwargs)
     _check(obj, file=file, prefix=prefix)
     return obj
+
+
+def _coerce(spec: ParamSpec, value: Any, *, file: str | Path | None, field: str) -> Any:
+    """`spec.coerce` with its ValueError as a ConfigError; an integer too large for a float
+    (a 400-digit seed: `float()` overflows before the range check) is out of range too."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 2**63:
+        digits = len(str(abs(value)))
+        raise ConfigError(
+            f"a {digits}-digit number is out of range; allowed {spec.lo:g} .. {spec.hi:g}"
+            if spec.lo is not None and spec.hi is not None else f"a {digits}-digit number is too large",
+            file=file, field=field,
+        )
+    if isinstance(value, (list, dict, set, tuple)) or (
+        isinstance(value, str) and len(value) > 200 and spec.kind != "str"
+    ):  # spec.coerce prints the value in full: a YAML alias bomb would never finish printing
+        wanted = {"bool": "true or false", "choice": "one of " + ", ".join(spec.choices or ()),
+                  "str": "a string"}.get(spec.kind, "a number")
+        raise ConfigError(f"must be {wanted}, got {short(value)}", file=file, field=field)
+    try:
+        return coerce(spec, value)
+    except (ValueError, OverflowError) as e:
+        raise ConfigError(str(e), file=file, field=field) from None
 
 
 def _check(obj: Any, *, file: str | Path | None, prefix: str) -> None:
@@ -124,10 +143,7 @@ def with_value(obj: T, path: str, value: Any) -> T:
     info = {p.path: p for p in params(obj)}.get(path)
     if info is None:
         raise ConfigError("unknown parameter" + _did_you_mean(path, [p.path for p in params(obj)]), field=path)
-    try:
-        new_value = coerce(info.spec, value)
-    except ValueError as e:
-        raise ConfigError(str(e), field=path) from None
+    new_value = _coerce(info.spec, value, file=None, field=path)
     return _replace_path(obj, path.split("."), new_value, prefix="")
 
 

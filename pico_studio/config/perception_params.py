@@ -37,6 +37,14 @@ class LocateParams:
     laser_motion_without_odometry: bool = param(
         True, help="Without odometry, move the pose by the motion estimated from the laser",
     )
+    jump_speed: float = param(
+        2.0, lo=0.0, hi=50.0, step=0.1, unit="m/s",
+        help="The jump distance grows by this per second between odometry readings (slow logs)",
+    )
+    jump_turn_rate: float = param(
+        3.0, lo=0.0, hi=50.0, step=0.1, unit="rad/s",
+        help="The jump angle grows by this per second between odometry readings",
+    )
 
 
 @dataclass(frozen=True)
@@ -248,6 +256,38 @@ class IdentifyParams:
         1.3, lo=0.1, hi=5.0, step=0.01, unit="m",
         help="A loose end facing a wall: the wall is hit within this along the loose wall's direction",
     )
+    jamb_cap_max: float = param(
+        0.35, lo=0.0, hi=5.0, step=0.01, unit="m",
+        help="A door jamb is a wall's end: the wall joined there (its end cap) is at most this long (a wall's "
+        "thickness); a corner with a longer wall is a block's corner (a table against a wall), no jamb",
+    )
+    door_depth: float = param(
+        1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
+        help="A door is an opening you can see through: a beam (or the local map) through the gap "
+        "must reach at least this far past the gap line, else the gap is a bay (e.g. between two tables)",
+    )
+    door_backed_share: float = param(
+        0.5, lo=0.0, hi=1.0, step=0.05,
+        help="A gap is backed (no door) when at least this share of the informative rays through it end "
+        "in its shadow (within door_depth behind it, between its jambs)",
+    )
+    door_occlusion: float = param(
+        0.1, lo=0.0, hi=2.0, step=0.01, unit="m",
+        help="A ray stopping this far before the gap was blocked in front of it: it says nothing about the gap",
+    )
+    end_face_doors: bool = param(
+        True, help="A convex wall end facing another wall's face across a door's width is a door (a T-opening)",
+    )
+    object_max_size: float = param(
+        1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
+        help="Connected local walls spanning at most this (bounding-box diagonal) are an object (a cabinet, "
+        "a person), not a building: no door jamb",
+    )
+    object_min_depth: float = param(
+        0.25, lo=0.0, hi=5.0, step=0.01, unit="m",
+        help="...when they span at least this across their main direction too (a piece of a thick wall "
+        "with its end cap is long and thin)",
+    )
 
     def check(self) -> list[tuple[str, str]]:
         if self.door_min_width >= self.door_max_width:
@@ -317,6 +357,100 @@ class LaserMotionParams:
 
 
 @dataclass(frozen=True)
+class ObjectParams:
+    enabled: bool = param(True, help="Track small free-standing clusters as objects; keep moving ones out of the map")
+    max_size: float = param(
+        1.0, lo=0.05, hi=5.0, step=0.05, unit="m",
+        help="A cluster whose points span at most this, with both ends seen past, is an object candidate",
+    )
+    min_points: int = param(3, lo=1, hi=100, step=1, help="...with at least this many points")
+    match_radius: float = param(
+        0.4, lo=0.01, hi=5.0, step=0.01, unit="m",
+        help="A candidate within this of a track's last centroid is that track again",
+    )
+    min_motion: float = param(
+        0.15, lo=0.01, hi=5.0, step=0.01, unit="m",
+        help="A track that moved this far from where it was first seen is a dynamic obstacle",
+    )
+    confirm_scans: int = param(
+        8, lo=1, hi=1000, step=1,
+        help="An object is merged into the local map only once seen in this many scans without moving",
+    )
+    forget_scans: int = param(
+        20, lo=1, hi=10000, step=1, help="A track not seen for this many scans is forgotten",
+    )
+
+
+@dataclass(frozen=True)
+class ScanMatchParams:
+    enabled: bool = param(
+        True, help="Before merging, correct the pose by matching the scan to the local map (point to line)",
+    )
+    max_points: int = param(
+        200, lo=10, hi=5000, step=10, help="At most this many scan points are matched (evenly spread)",
+    )
+    iterations: int = param(
+        8, lo=1, hi=50, step=1, help="Gauss-Newton iterations (re-associating each time)",
+    )
+    gate: float = param(
+        0.4, lo=0.02, hi=3.0, step=0.01, unit="m",
+        help="A point farther than this from every local wall is not matched (shrinks to inlier_distance)",
+    )
+    inlier_distance: float = param(
+        0.05, lo=0.005, hi=1.0, step=0.005, unit="m",
+        help="A point this close to a local wall is explained by it (the quality figure)",
+    )
+    min_matches: int = param(
+        30, lo=3, hi=1000, step=1, help="Fewer matched points than this: the pose is not corrected",
+    )
+    min_quality: float = param(
+        0.3, lo=0.0, hi=1.0, step=0.01,
+        help="A correction is kept when at least this share of the matched points are inliers after it",
+    )
+    min_gain: float = param(
+        0.05, lo=0.0, hi=1.0, step=0.01,
+        help="A correction is kept only when it explains this much more of the scan than the "
+        "odometry pose did (good odometry is left alone)",
+    )
+    max_correction: float = param(
+        0.5, lo=0.0, hi=10.0, step=0.01, unit="m",
+        help="A correction moving the pose farther than this is distrusted (kept as odometry)",
+    )
+    max_correction_angle: float = param(
+        0.35, lo=0.0, hi=3.14159, step=0.01, unit="rad",
+        help="A correction turning the pose more than this is distrusted",
+    )
+    point_sigma: float = param(
+        0.03, lo=0.001, hi=1.0, step=0.001, unit="m",
+        help="Noise of one scan point against its wall: weighs the points against the odometry",
+    )
+    odometry_sigma: float = param(
+        0.02, lo=0.0001, hi=10.0, step=0.001, unit="m",
+        help="Position noise of odometry over one step, plus odometry_sigma_per_m per metre moved",
+    )
+    odometry_sigma_per_m: float = param(
+        0.1, lo=0.0, hi=10.0, step=0.01, unit="m/m", help="Odometry position noise per metre moved",
+    )
+    odometry_sigma_angle: float = param(
+        0.01, lo=0.0001, hi=3.0, step=0.001, unit="rad",
+        help="Heading noise of odometry over one step, plus odometry_sigma_per_rad per radian turned",
+    )
+    odometry_sigma_per_rad: float = param(
+        0.1, lo=0.0, hi=10.0, step=0.01, unit="rad/rad", help="Odometry heading noise per radian turned",
+    )
+    search_angle: float = param(
+        0.3, lo=0.0, hi=3.14159, step=0.01, unit="rad",
+        help="Before refining, headings within this of the odometry's are tried (the best start wins)",
+    )
+    search_step: float = param(
+        0.02, lo=0.001, hi=1.0, step=0.001, unit="rad", help="...in steps of this",
+    )
+    min_wall_hits: int = param(
+        2, lo=1, hi=100, step=1, help="Only local walls seen in at least this many scans are matched against",
+    )
+
+
+@dataclass(frozen=True)
 class PerceptionParams:
     perceptor: str = param(
         "builtin", choices=PERCEPTOR_NAMES,
@@ -334,4 +468,6 @@ class PerceptionParams:
     entrance: EntranceParams = section(EntranceParams, "Entrance and hallway detection (seed 003)")
     rooms: RoomParams = section(RoomParams, "Side rooms and their content (seed 000)")
     laser_motion: LaserMotionParams = section(LaserMotionParams, "Motion from matched corners (seed 002)")
+    objects: ObjectParams = section(ObjectParams, "Objects and people: small free-standing clusters, tracked")
+    scan_match: ScanMatchParams = section(ScanMatchParams, "Pose correction: scan to local map, point to line")
     plugins: PluginSections = plugin_area(PERCEPTION_PLUGINS, "Parameters of the loaded perception plugins")

@@ -53,6 +53,11 @@ class WorldModel:
     corners: np.ndarray = field(default_factory=lambda: _empty(2))  # (C, 2)
     corner_convex: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (C,)
     doors: np.ndarray = field(default_factory=lambda: _empty(4))  # (D, 4)
+    door_kind: list[str] = field(default_factory=list)  # (D,) "jambs" (two convex ends) or "end_face" (T-opening)
+    object_walls: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (W,) local wall is a small object's
+    objects: np.ndarray = field(default_factory=lambda: _empty(4))  # (O, 4) static objects' boxes xmin, ymin, xmax, ymax
+    dynamic_obstacles: np.ndarray = field(default_factory=lambda: _empty(4))  # (K, 4) moving objects' boxes
+    dynamic_points: np.ndarray = field(default_factory=lambda: _empty(2))  # (M, 2) their points, robot frame
     possible_doors: np.ndarray = field(default_factory=lambda: _empty(4))  # (E, 4)
     possible_door_kind: list[str] = field(default_factory=list)  # (E,) one of POSSIBLE_DOOR_KINDS
     # higher-level estimates
@@ -61,6 +66,8 @@ class WorldModel:
     room: dict[str, Any] = field(default_factory=dict)  # seed 000: side jump, edges, objects
     laser_motion: Pose | None = None  # robot motion since the previous scan, from the laser
     laser_motion_matches: int = 0
+    pose_correction_quality: float = 0.0  # share of the scan explained by the local map after matching
+    pose_corrected: bool = False  # the pose was corrected by matching the scan to the local map
     # filled by localisation, not by the perceptor
     global_pose: Pose | None = None
     localisation_quality: float = 0.0

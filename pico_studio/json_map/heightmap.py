@@ -66,11 +66,11 @@ from typing import Any
 
 import cv2
 import numpy as np
-import yaml
 
 from pico_studio.config.map_params import HeightmapParams
 from pico_studio.errors import MapError
 from pico_studio.json_map.grid import GridFrame
+from pico_studio.json_map.image_header import read_image_bytes
 from pico_studio.json_map.model import GlobalMap
 from pico_studio.user_files import parse_yaml, read_text
 
@@ -119,8 +119,8 @@ def read_heightmap(
 
 def _yaml_names_image(yaml_path: Path, image: Path) -> bool:
     try:
-        data = yaml.safe_load(yaml_path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError):
+        data = parse_yaml(read_text(yaml_path, MapError, "a map_server YAML"), MapError, yaml_path)
+    except MapError:
         return False
     if not isinstance(data, dict) or not isinstance(data.get("image"), str):
         return False
@@ -194,10 +194,7 @@ def _read_via_yaml(yaml_path: Path) -> HeightmapImage:
 
 def _read_grey(path: Path, *, file: Path) -> tuple[np.ndarray, list[str]]:
     """8-bit grey pixels of an image file, transparent pixels as free (255)."""
-    try:
-        raw = np.fromfile(path, dtype=np.uint8)
-    except OSError as e:
-        raise MapError(f"cannot read image {path}: {e.strerror or e}", file=file) from None
+    raw = np.frombuffer(read_image_bytes(path, file=file), dtype=np.uint8)  # size checked from the header
     img = cv2.imdecode(raw, cv2.IMREAD_UNCHANGED) if raw.size else None
     if img is None:
         raise MapError(f"cannot read image {path}: not a PNG/PGM image, or corrupt", file=file)

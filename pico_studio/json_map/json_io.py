@@ -1,9 +1,11 @@
 """Reading and writing the challenge's JSON map format, with validation that names the path.
 
 Errors (MapError, naming file and JSON path): unreadable or non-JSON file, missing or empty
-`walls`, missing/non-numeric/NaN coordinates, an index out of range, a zero-length wall, a
-polygon that does not close. Warnings (listed on the map, never silently fixed): duplicate
-points, unused points, duplicate walls.
+`walls`, missing/non-numeric/NaN coordinates or one beyond `MAX_COORDINATE_M` (10 km), an
+index out of range, a zero-length wall, a polygon that does not close. Warnings (listed on
+the map, never silently fixed): duplicate points, unused points, duplicate walls, a
+self-intersecting wall loop or polygon (it still loads: the simulator draws the segments as
+they are, but a rasteriser's even-odd fill of such a loop is not what was meant).
 """
 
 from __future__ import annotations
@@ -15,8 +17,14 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.errors import MapError
-from pico_studio.json_map.model import GlobalMap, cycle_vertices
+from pico_studio.errors import MapError, short
+from pico_studio.json_map.model import (
+    MAX_COORDINATE_M,
+    GlobalMap,
+    cycle_vertices,
+    first_crossing,
+    wall_loops,
+)
 from pico_studio.user_files import read_json
 
 OBJECT_KEYS = ("cabinets", "tables")
@@ -78,15 +86,21 @@ def _points(data: dict[str, Any], file: str | Path | None) -> tuple[np.ndarray, 
     extras: list[dict[str, Any]] = []
     for i, p in enumerate(raw):
         if not isinstance(p, dict):
-            raise MapError(f"must be an object {{x, y}}, got {p!r}", file=file, field=f"points[{i}]")
+            raise MapError(f"must be an object {{x, y}}, got {short(p)}", file=file, field=f"points[{i}]")
         for j, key in enumerate(("x", "y")):
             if key not in p:
                 raise MapError("missing coordinate", file=file, field=f"points[{i}].{key}")
             v = p[key]
             if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise MapError(f"must be a number, got {v!r}", file=file, field=f"points[{i}].{key}")
-            if not math.isfinite(v):
+                raise MapError(f"must be a number, got {short(v)}", file=file, field=f"points[{i}].{key}")
+            if isinstance(v, float) and not math.isfinite(v):
                 raise MapError(f"must be finite, got {v!r}", file=file, field=f"points[{i}].{key}")
+            if abs(v) > MAX_COORDINATE_M:  # before float(): a 400-digit integer overflows it
+                raise MapError(
+                    f"{short(v) if isinstance(v, int) else f'{v:g}'} m is beyond the "
+                    f"{MAX_COORDINATE_M / 1000:g} km a map may extend from the origin",
+                    file=file, field=f"points[{i}].{key}",
+                )
             pts[i, j] = float(v)
         extras.append({k: v for k, v in p.items() if k not in ("x", "y")})
     return pts, extras
@@ -98,13 +112,13 @@ def _pairs(raw: Any, where: str, n_points: int, file: str | Path | None) -> np.n
     out = np.zeros((len(raw), 2), dtype=np.int64)
     for k, pair in enumerate(raw):
         if not isinstance(pair, list) or len(pair) != 2:
-            raise MapError(f"must be a pair [i, j], got {pair!r}", file=file, field=f"{where}[{k}]")
+            raise MapError(f"must be a pair [i, j], got {short(pair)}", file=file, field=f"{where}[{k}]")
         for j, idx in enumerate(pair):
             if isinstance(idx, bool) or not isinstance(idx, int):
-                raise MapError(f"must be a point index, got {idx!r}", file=file, field=f"{where}[{k}][{j}]")
+                raise MapError(f"must be a point index, got {short(idx)}", file=file, field=f"{where}[{k}][{j}]")
             if not 0 <= idx < n_points:
                 raise MapError(
-                    f"point index {idx} out of range (the map has {n_points} points)",
+                    f"point index {short(idx)} out of range (the map has {n_points} points)",
                     file=file,
                     field=f"{where}[{k}][{j}]",
                 )
@@ -147,29 +161,65 @@ def _polygons(
     return polys
 
 
+MAX_LISTED = 20  # a generated map can hold 10^5 duplicates: list these, count the rest
+
+
 def map_warnings(m: GlobalMap) -> list[str]:
-    """Problems worth listing but not fatal: duplicate points, unused points, duplicate walls."""
+    """Problems worth listing but not fatal: duplicate points, unused points, duplicate
+    walls, self-intersecting loops. Vectorised: linear-ish in the map's size."""
     out: list[str] = []
-    seen: dict[tuple[float, float], int] = {}
-    for i, (x, y) in enumerate(np.round(m.points, 9)):
-        key = (float(x), float(y))
-        if key in seen:
-            out.append(f"points[{i}] duplicates points[{seen[key]}] at ({x:g}, {y:g})")
-        else:
-            seen[key] = i
-    used = set(m.used_point_indices().tolist())
-    unused = [i for i in range(len(m.points)) if i not in used]
-    if unused:
-        out.append(f"unused points: {', '.join(f'points[{i}]' for i in unused)}")
+    dup, first = _repeats(np.round(m.points, 9))
+    for i in dup[:MAX_LISTED]:
+        x, y = np.round(m.points[i], 9)
+        out.append(f"points[{i}] duplicates points[{first[i]}] at ({x:g}, {y:g})")
+    if len(dup) > MAX_LISTED:
+        out.append(f"{len(dup) - MAX_LISTED} more duplicate points")
+    unused = np.setdiff1d(np.arange(len(m.points)), m.used_point_indices())
+    if len(unused):
+        listed = ", ".join(f"points[{i}]" for i in unused[:MAX_LISTED])
+        more = f" and {len(unused) - MAX_LISTED} more" if len(unused) > MAX_LISTED else ""
+        out.append(f"unused points: {listed}{more}")
     # duplicate walls: same end coordinates in either direction
-    wall_seen: dict[tuple[float, ...], int] = {}
-    for k, seg in enumerate(np.round(m.wall_segments, 9)):
-        a, b = (float(seg[0]), float(seg[1])), (float(seg[2]), float(seg[3]))
-        key = (*min(a, b), *max(a, b))
-        if key in wall_seen:
-            out.append(f"walls[{k}] duplicates walls[{wall_seen[key]}]")
-        else:
-            wall_seen[key] = k
+    seg = np.round(m.wall_segments, 9)
+    a, b = seg[:, :2], seg[:, 2:]
+    swap = (a[:, 0] > b[:, 0]) | ((a[:, 0] == b[:, 0]) & (a[:, 1] > b[:, 1]))
+    key = np.hstack([np.where(swap[:, None], b, a), np.where(swap[:, None], a, b)])
+    dup, first = _repeats(key)
+    out += [f"walls[{k}] duplicates walls[{first[k]}]" for k in dup[:MAX_LISTED]]
+    if len(dup) > MAX_LISTED:
+        out.append(f"{len(dup) - MAX_LISTED} more duplicate walls")
+    out += _crossing_warnings(m)
+    return out
+
+
+def _repeats(rows: np.ndarray) -> tuple[list[int], np.ndarray]:
+    """Indices of the rows equal to an earlier row, in order, and for every row the index of
+    the first row equal to it."""
+    if len(rows) == 0:
+        return [], np.zeros(0, dtype=np.int64)
+    _, first, inverse = np.unique(rows, axis=0, return_index=True, return_inverse=True)
+    first_of = first[inverse.reshape(-1)]
+    return np.flatnonzero(first_of != np.arange(len(rows))).tolist(), first_of
+
+
+def _crossing_warnings(m: GlobalMap) -> list[str]:
+    """A loop of walls, or a polygon, whose segments cross each other."""
+    out: list[str] = []
+    for loop in wall_loops(m.walls):
+        hit = first_crossing(m.points, m.walls[loop])
+        if hit is not None:
+            k, j, x, y = hit
+            out.append(
+                f"walls[{int(loop[k])}] and walls[{int(loop[j])}] of a closed wall loop cross at "
+                f"({x:.3f}, {y:.3f}): the loop intersects itself"
+            )
+    groups = [(m.object_key, m.objects), ("doors", m.doors), ("start_area", m.start_area)]
+    for key, polys in groups:
+        for n, pairs in enumerate(polys):
+            hit = first_crossing(m.points, pairs)
+            if hit is not None:
+                k, j, x, y = hit
+                out.append(f"{key}[{n}]: segments {k} and {j} cross at ({x:.3f}, {y:.3f}): the polygon intersects itself")
     return out
 
 

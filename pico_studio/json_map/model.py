@@ -14,6 +14,14 @@ from typing import Any
 
 import numpy as np
 
+# A map coordinate beyond 10 km is a typo or junk (the challenge's buildings are < 100 m):
+# refused at validation, before 1e308 overflows a raster size or a distance somewhere later.
+MAX_COORDINATE_M = 10_000.0
+# Self-crossing checks compare every pair of a loop's edges: bounded by checking only loops
+# up to this many edges (hand-drawn loops have a few dozen).
+MAX_CHECKED_LOOP = 1000
+MAX_CHECKED_WALLS = 20_000  # and only in maps up to this many walls (finding the loops is a Python walk)
+
 
 @dataclass
 class GlobalMap:
@@ -119,21 +127,89 @@ class GlobalMap:
 
 def cycle_vertices(pairs: np.ndarray) -> np.ndarray | None:
     """Point indices of the one closed loop the segments form (from the first segment on),
-    or None when they do not form exactly one loop."""
+    or None when they do not form exactly one loop. Linear in the number of segments (a
+    50 MB map may hold a polygon of 10^5 of them)."""
     if len(pairs) < 3:
         return None
-    remaining = [tuple(map(int, p)) for p in pairs[1:]]
+    at: dict[int, list[int]] = {}  # point -> the segments that use it
+    for k, (a, b) in enumerate(pairs.tolist()):
+        at.setdefault(a, []).append(k)
+        at.setdefault(b, []).append(k)
+    if any(len(v) != 2 for v in at.values()):
+        return None  # a loop uses every point exactly twice
+    used = np.zeros(len(pairs), bool)
+    used[0] = True
     order = [int(pairs[0, 0]), int(pairs[0, 1])]
-    while remaining:
+    while len(order) <= len(pairs):
         tail = order[-1]
-        for k, (a, b) in enumerate(remaining):
-            if tail in (a, b):
-                order.append(b if a == tail else a)
-                remaining.pop(k)
-                break
-        else:
-            return None
+        nxt = [k for k in at[tail] if not used[k]]
+        if not nxt:
+            break
+        used[nxt[0]] = True
+        a, b = (int(v) for v in pairs[nxt[0]])
+        order.append(b if a == tail else a)
     if order[-1] != order[0] or len(set(order[:-1])) != len(pairs):
         return None
     return np.array(order[:-1], dtype=np.int64)
 
+
+def wall_loops(walls: np.ndarray) -> list[np.ndarray]:
+    """The simple closed loops among the walls: connected groups of walls in which every
+    point is used by exactly two of them, each as (K,) wall indices (in no set order).
+    None are looked for in a map of more than `MAX_CHECKED_WALLS` walls."""
+    if len(walls) == 0 or len(walls) > MAX_CHECKED_WALLS:
+        return []
+    pairs = walls.tolist()
+    degree = np.bincount(walls.reshape(-1)).tolist()
+    by_point: dict[int, list[int]] = {}
+    for k, (i, j) in enumerate(pairs):
+        by_point.setdefault(i, []).append(k)
+        by_point.setdefault(j, []).append(k)
+    seen = [False] * len(pairs)
+    loops: list[np.ndarray] = []
+    for start in range(len(pairs)):
+        if seen[start]:
+            continue
+        # walk the component, collecting its walls; it is a loop when all its points have degree 2
+        group, stack, ok = [], [start], True
+        seen[start] = True
+        while stack:
+            k = stack.pop()
+            group.append(k)
+            for p in pairs[k]:
+                ok = ok and degree[p] == 2
+                for nxt in by_point[p]:
+                    if not seen[nxt]:
+                        seen[nxt] = True
+                        stack.append(nxt)
+        if ok and len(group) >= 3:  # connected, every point used twice: one simple loop
+            loops.append(np.array(group))
+    return loops
+
+
+def first_crossing(points: np.ndarray, pairs: np.ndarray) -> tuple[int, int, float, float] | None:
+    """The first two segments (indices into `pairs`) of one closed loop whose interiors
+    cross — a self-intersecting loop — as (k, l, x, y), or None. Neighbouring segments,
+    which share an end point, are not a crossing; touching without crossing is not either."""
+    k = len(pairs)
+    if k < 4 or k > MAX_CHECKED_LOOP:
+        return None
+    a, b = points[pairs[:, 0]], points[pairs[:, 1]]
+    d = b - a
+    # for every pair (i, j): solve a_i + t d_i = a_j + u d_j
+    den = d[:, None, 0] * d[None, :, 1] - d[:, None, 1] * d[None, :, 0]
+    r = a[None, :, :] - a[:, None, :]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (r[..., 0] * d[None, :, 1] - r[..., 1] * d[None, :, 0]) / den
+        u = (r[..., 0] * d[:, None, 1] - r[..., 1] * d[:, None, 0]) / den
+    eps = 1e-9
+    cross = (np.abs(den) > 1e-12) & (t > eps) & (t < 1 - eps) & (u > eps) & (u < 1 - eps)
+    shares = (pairs[:, None, :, None] == pairs[None, :, None, :]).any(axis=(2, 3))
+    cross &= ~shares
+    cross = np.triu(cross, 1)
+    hit = np.argwhere(cross)
+    if len(hit) == 0:
+        return None
+    i, j = (int(v) for v in hit[0])
+    x, y = a[i] + t[i, j] * d[i]
+    return i, j, float(x), float(y)

@@ -28,6 +28,7 @@ import numpy as np
 
 from pico_studio.config.map_params import RasterParams
 from pico_studio.json_map.grid import GridFrame
+from pico_studio.json_map.image_header import check_raster_size
 from pico_studio.json_map.model import GlobalMap
 
 FREE = 255
@@ -79,6 +80,7 @@ def frame_for(m: GlobalMap, resolution: float | None = None, params: RasterParam
     res = resolution if resolution is not None else params.resolution
     pts = m.points[m.used_point_indices()] if len(m.points) else np.zeros((1, 2))
     lo, hi = pts.min(axis=0), pts.max(axis=0)
+    check_raster_size(*(hi - lo + 2 * params.margin), res, file=m.source)  # before allocating it
     return GridFrame.covering((lo[0], lo[1], hi[0], hi[1]), res, params.margin)
 
 

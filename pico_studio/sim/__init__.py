@@ -10,7 +10,7 @@ collisions and ground truth, behind the emc-IO shaped `RobotIO` interface.
 Modules: `world` (solid segments, doors, moving objects, free start place), `raycast` (the
 laser fan), `laser`, `base` (kinematics, collisions), `odometry`, `doors`, `moving_objects`,
 `sim_config` (the official simulator's config JSON), `map_features` (corners, door openings),
-`truth`, `simulator`; `scoring` compares a perceptor's world model with the truth.
+`truth`, `simulator`; `pico_studio.evaluation` compares a perceptor's world model with the truth.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Vectorised 2D raycasting of a laser fan against line segments.
+"""2D raycasting of a laser fan against line segments, one compiled loop.
 
 The maths, in complex numbers (a point x + iy): seen from the sensor, a segment runs from z1
 to z2 (sensor frame), d = z2 - z1. A beam at angle b has direction e^{ib}; its point t e^{ib}
@@ -10,12 +10,14 @@ is on the segment's line when Im(conj(t e^{ib} - z1) d) = 0, so
 
 Only beams whose angle lies inside the angular span the segment subtends from the sensor can
 hit it, and for those the hit is on the segment itself. So instead of testing every beam
-against every segment (N x n), each segment contributes only the index range of beams inside
-its span, and all (segment, beam) pairs are built at once with `repeat`/`arange`; the nearest
-hit per beam is an `fmin.at`. A room seen from inside gives roughly 2-4 pairs per beam; per
-pair the work is a gather, one complex multiply and one reciprocal (no trigonometry: e^{-ib}
-is precomputed per beam), and per scan a fixed ~40 numpy calls whatever the number of
-segments.
+against every segment (N x n), each segment visits only the beams inside its span (a segment
+behind the sensor that crosses the +-pi cut: the two pieces either side of the cut), and
+per (segment, beam) pair the work is one complex multiply and one reciprocal (no
+trigonometry: e^{-ib} is precomputed per beam). The nearest hit per beam wins (NaN, a beam
+along a segment's own line, never does; a tie goes to the later piece), a negative nearest
+distance means no hit. `_cast` is that loop; the arithmetic is numpy's complex arithmetic
+written out, so the ranges are the ones the vectorised version (repeat/arange/fmin.at)
+gave.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+from pico_studio.jit import kernel
 
 Pose = tuple[float, float, float]
 _EPS = 1e-9  # a beam exactly through an end point still hits
@@ -40,54 +44,87 @@ class Fan:
         self._top = (math.pi - self.angle_min) / self.increment
         self._bottom = (-math.pi - self.angle_min) / self.increment
         self._half_turn = math.pi / self.increment
-        self._last: tuple[np.ndarray, np.ndarray, np.ndarray, int] | None = None
+        self._hits: np.ndarray | None = None  # the segment each beam of the last cast hit
 
     def cast(self, segments: np.ndarray, pose: Pose = (0.0, 0.0, 0.0)) -> np.ndarray:
         """Distance along every beam of a sensor at `pose` to the nearest of `segments`
         (N, 4, same frame as the pose); inf where a beam hits nothing."""
-        ranges = np.full(self.n, np.inf)
         if len(segments) == 0:
-            self._last = None
-            return ranges
-        # 1. end points as complex numbers in the sensor frame: (z - position) e^{-i heading}
-        x, y, th = pose
+            self._hits = np.full(self.n, -1)
+            return np.full(self.n, np.inf)
         if segments.dtype != np.float64 or not segments.flags.c_contiguous:
             segments = np.ascontiguousarray(segments, dtype=np.float64)
-        z = (segments.view(np.complex128) - complex(x, y)) * complex(math.cos(th), -math.sin(th))
-        z1, z2 = z[:, 0], z[:, 1]
-        # 2. the angular span of each in beam-index units: [lo, hi], or for a segment behind
-        #    the sensor that crosses the +-pi cut, the two pieces [hi, top] and [bottom, lo]
-        span = (np.arctan2(z.imag, z.real) - self.angle_min) * (1.0 / self.increment)
-        lo, hi = np.minimum(span[:, 0], span[:, 1]), np.maximum(span[:, 0], span[:, 1])
-        wrap = (hi - lo) > self._half_turn
-        start = np.concatenate([np.where(wrap, hi, lo), np.where(wrap, self._bottom, self._top)])
-        stop = np.concatenate([np.where(wrap, self._top, hi), np.where(wrap, lo, self._bottom)])
-        # 3. the beam index range [i0, i1) of every piece, and all (piece, beam) pairs
-        i0 = np.maximum(np.ceil(start - _EPS), 0.0)
-        counts = np.maximum(np.minimum(np.floor(stop + _EPS) + 1.0, self.n) - i0, 0.0).astype(np.int64)
-        ends = counts.cumsum()
-        beam = np.arange(int(ends[-1])) - np.repeat(ends - counts - i0.astype(np.int64), counts)
-        # 4. the distance along each beam to its segment's line: 1 / Im(e^{-ib} d / cross)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            q = (z2 - z1) / (np.conj(z1) * z2).imag
-            t = 1.0 / (self.turn[beam] * np.repeat(np.concatenate([q, q]), counts)).imag
-        # 5. the nearest per beam (fmin skips the NaN of a beam along a segment's own line)
-        np.fmin.at(ranges, beam, t)
-        ranges[ranges < 0.0] = np.inf
-        self._last = (beam, t, counts, len(segments))
+        x, y, th = pose
+        ranges, self._hits = _cast(segments, float(x), float(y), math.cos(th), math.sin(th), self.turn,
+                                   self.angle_min, self.increment, self._top, self._bottom, self._half_turn)
         return ranges
 
     def last_hits(self, ranges: np.ndarray) -> np.ndarray:
         """For the latest `cast` (whose result was `ranges`): the index of the segment each
-        beam hit, -1 where none."""
-        hits = np.full(self.n, -1)
-        if self._last is None:
-            return hits
-        beam, t, counts, n_seg = self._last
-        seg = np.repeat(np.concatenate([np.arange(n_seg), np.arange(n_seg)]), counts)
-        nearest = (t == ranges[beam]) & np.isfinite(t)
-        hits[beam[nearest]] = seg[nearest]
+        beam hit, -1 where none (or where `ranges` is no longer finite)."""
+        hits = np.full(self.n, -1) if self._hits is None else self._hits.copy()
+        hits[~np.isfinite(ranges)] = -1
         return hits
+
+
+def _cast_example() -> tuple:
+    fan = Fan(-2.0, 4.0 / 9, 10)
+    segs = np.array([[1.0, -1.0, 1.0, 1.0], [-1.0, 1.0, -1.0, -1.0]])
+    return segs, 0.0, 0.0, 1.0, 0.0, fan.turn, fan.angle_min, fan.increment, fan._top, fan._bottom, fan._half_turn
+
+
+@kernel(_cast_example)
+def _cast(segments: np.ndarray, x: float, y: float, cos_th: float, sin_th: float, turn: np.ndarray,
+          angle_min: float, increment: float, top: float, bottom: float, half_turn: float,
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """(ranges (n,), hit segment (n,) or -1) of the fan `turn` (e^{-ib} per beam) from (x, y)."""
+    n = turn.shape[0]
+    ns = segments.shape[0]
+    best = np.full(n, np.inf)
+    hit = np.full(n, -1, dtype=np.int64)
+    # 1. end points in the sensor frame, (z - position) e^{-i heading}, and q per segment
+    zr = np.empty((ns, 2))
+    zi = np.empty((ns, 2))
+    qr = np.empty(ns)
+    qi = np.empty(ns)
+    for k in range(ns):
+        for e in range(2):
+            ar, ai = segments[k, 2 * e] - x, segments[k, 2 * e + 1] - y
+            zr[k, e] = ar * cos_th - ai * -sin_th
+            zi[k, e] = ar * -sin_th + ai * cos_th
+        # q = (z2 - z1) / Im(conj(z1) z2); a zero cross divides as numpy's complex division
+        # does (by +0)
+        cross = zr[k, 0] * zi[k, 1] + -zi[k, 0] * zr[k, 1]
+        den = cross if cross != 0.0 else 0.0
+        qr[k] = (zr[k, 1] - zr[k, 0]) / den
+        qi[k] = (zi[k, 1] - zi[k, 0]) / den
+    # 2.-3. every piece's beams: first pieces, then second pieces (the order ties go by)
+    for piece in range(2 * ns):
+        k = piece % ns
+        s0 = (math.atan2(zi[k, 0], zr[k, 0]) - angle_min) * (1.0 / increment)
+        s1 = (math.atan2(zi[k, 1], zr[k, 1]) - angle_min) * (1.0 / increment)
+        lo, hi = min(s0, s1), max(s0, s1)
+        wrap = (hi - lo) > half_turn
+        if piece < ns:
+            start, stop = (hi, top) if wrap else (lo, hi)
+        else:
+            start, stop = (bottom, lo) if wrap else (top, bottom)
+        i0 = max(math.ceil(start - _EPS), 0.0)
+        count = int(max(min(math.floor(stop + _EPS) + 1.0, n) - i0, 0.0))
+        # 4. the distance along each beam to the segment's line: 1 / Im(e^{-ib} q); 5. the
+        # nearest per beam (NaN, a beam along the segment's own line, never wins; a tie: the
+        # later piece)
+        for b in range(int(i0), int(i0) + count):
+            t = 1.0 / (turn[b].real * qi[k] + turn[b].imag * qr[k])
+            if t <= best[b]:
+                best[b] = t
+                hit[b] = k
+    for b in range(n):
+        if best[b] < 0.0:
+            best[b] = np.inf
+        if not best[b] < np.inf:
+            hit[b] = -1
+    return best, hit
 
 
 def cast_rays(origin: tuple[float, float], angles: np.ndarray, segments: np.ndarray) -> np.ndarray:

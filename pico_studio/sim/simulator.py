@@ -30,7 +30,7 @@ from pico_studio.json_map import GlobalMap, load_map
 from pico_studio.sim.base import Base
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.odometry import Odometry
-from pico_studio.sim.sim_config import SimConfigFile, load_sim_config
+from pico_studio.sim.sim_config import SimConfigFile, check_start_pose, load_sim_config
 from pico_studio.sim.truth import GroundTruth
 from pico_studio.sim.world import World
 
@@ -69,6 +69,7 @@ class Simulator:
         self.world = World(global_map, params, self.sim_config)
         speed_cap = None if self.sim_config.disable_speedcap is None else not self.sim_config.disable_speedcap
         start = self._start_pose(initial_pose)
+        check_start_pose(start, global_map.bounds, self.sim_config, explicit=initial_pose is not None)
         self.base = Base(params.base, start, speed_cap=speed_cap)
         self._check_start_free(start, initial_pose)
         self.laser = Laser(params.laser, np.random.default_rng(laser_seq))

@@ -13,10 +13,14 @@ Times are the message header stamps where set, else the time the bag recorded th
 
 Bad input: a file that is not a bag, or that has no laser topic, is a `SourceError`. A bag
 whose index is missing or damaged (the recorder died: truncated file, `.bag.active`) is
-read by walking its chunks from the start, as `rosbag reindex` would, up to the first
-unreadable record; a message that cannot be decoded, or a scan whose angle fields disagree
-with its beam count, is skipped with a warning naming the file, the message index and the
-field. The replay goes on with what is left.
+read by walking its chunks from the start, as `rosbag reindex` would: a damaged record in a
+chunk (a header field missing or of the wrong size, a length past the end) is skipped, a
+chunk that cannot be decompressed or whose framing is lost is skipped to the next chunk
+header, each with a warning naming the byte offset; a message that cannot be decoded, or a
+scan whose angle fields disagree with its beam count, is skipped with a warning naming the
+file, the message index and the field. The replay goes on with what is left. The file must
+be a regular file within the recording size cap (`user_files`), and a chunk decompresses to
+at most the size its header declares.
 """
 
 from __future__ import annotations
@@ -28,10 +32,10 @@ import struct
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import IO, Any
 
 import numpy as np
-from rosbags.rosbag1 import Reader, ReaderError
+from rosbags.rosbag1 import Reader
 from rosbags.typesys import Stores, get_typestore
 
 from pico_studio.config.sources_params import ReplayParams, SourcesParams, TopicParams
@@ -39,6 +43,7 @@ from pico_studio.core.io import BaseReference, LaserData, OdometryData
 from pico_studio.errors import SourceError
 from pico_studio.sources.convert import beam_layout_problem, yaw_from_quaternion
 from pico_studio.sources.replay import Recording, Replay, TimedPose
+from pico_studio.user_files import check_file, limits, open_file
 
 LASER_TYPE = "sensor_msgs/msg/LaserScan"
 ODOMETRY_TYPE = "nav_msgs/msg/Odometry"
@@ -66,7 +71,7 @@ def read_bag(path: str | Path, params: SourcesParams | None = None) -> Recording
     """Decode the robot's topics of a ROS 1 bag into a `Recording`."""
     params = params or SourcesParams()
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise SourceError("no such bag file", file=path)
     warnings: list[str] = []
     messages, info = _read_messages(path, warnings)
@@ -96,12 +101,20 @@ def read_bag(path: str | Path, params: SourcesParams | None = None) -> Recording
 
 
 # --- reading the bag's records -----------------------------------------------------------
+_CHUNK_OP = b"\x04\x00\x00\x00op=\x05"  # the "op=5" field of a chunk record's header
+_RESYNC_WINDOW = 1 << 20  # bytes read at a time while looking for the next chunk
+MAX_LISTED_WARNINGS = 100  # damaged records listed; the rest are counted
+
+
+class _Damaged(Exception):
+    """A record whose framing or header fields are unusable."""
 
 
 def _read_messages(path: Path, warnings: list[str]) -> tuple[list[RawMessage], dict[str, Any]]:
     """All messages of the bag: through its index, or by walking its chunks when the index
     is missing or damaged."""
-    with path.open("rb") as f:
+    check_file(path, SourceError, "recording")
+    with open_file(path, SourceError, "recording") as f:
         magic = f.read(len(_MAGIC))
     if magic != _MAGIC:
         raise SourceError(
@@ -114,81 +127,159 @@ def _read_messages(path: Path, warnings: list[str]) -> tuple[list[RawMessage], d
                 for c, t, raw in reader.messages()
             ]
         return messages, {"indexed": True}
-    except (ReaderError, KeyError, struct.error, ValueError, EOFError, OSError) as e:
-        messages = list(_walk_chunks(path, warnings))
+    except Exception as e:  # noqa: BLE001 - rosbags fails on damage in many ways (KeyError, AssertionError, ...): walk instead
+        walker = _ChunkWalker(path)
+        messages = list(walker.messages())
+        warnings.extend(walker.report())
         warnings.append(
-            f"{path}: the bag's index is unusable ({e}); recovered {len(messages)} "
-            "messages by reading its chunks in order"
+            f"{path}: the bag's index is unusable ({type(e).__name__}: {e}); recovered "
+            f"{len(messages)} messages by reading its chunks in order"
         )
         return messages, {"indexed": False}
 
 
-def _walk_chunks(path: Path, warnings: list[str]) -> Iterator[RawMessage]:
-    """Messages of a bag read record by record from the start, without its index."""
-    connections: dict[int, tuple[str, str]] = {}
-    with path.open("rb") as f:
-        f.seek(len(_MAGIC))
-        while True:
-            pos = f.tell()
-            try:
-                header, data = _read_record(f)
-            except EOFError:
-                if f.tell() != pos:
-                    warnings.append(f"{path}: file ends inside the record at byte {pos}")
-                return
-            op = header.get("op", b"\xff")[0]
-            if op == 0x05:  # chunk
+class _ChunkWalker:
+    """Messages of a bag read record by record from the start, without its index, as
+    `rosbag reindex` would. A damaged record inside a chunk is skipped (its framing still
+    gives the next one); a chunk whose framing is lost, or that cannot be decompressed, is
+    skipped to the next chunk header found after it. Every skip is a warning naming the byte
+    offset in the file."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        self.size = path.stat().st_size
+        self.connections: dict[int, tuple[str, str]] = {}
+        self.problems: list[str] = []
+        self.unlisted = 0
+
+    def warn(self, text: str) -> None:
+        if len(self.problems) < MAX_LISTED_WARNINGS:
+            self.problems.append(f"{self.path}: {text}")
+        else:
+            self.unlisted += 1
+
+    def report(self) -> list[str]:
+        more = [f"{self.path}: {self.unlisted} more damaged records skipped"] if self.unlisted else []
+        return self.problems + more
+
+    def messages(self) -> Iterator[RawMessage]:
+        with open_file(self.path, SourceError, "recording") as f:
+            pos = len(_MAGIC)
+            while pos < self.size:
+                f.seek(pos)
                 try:
-                    chunk = _decompress(header.get("compression", b"none").decode(), data)
-                except (OSError, ValueError, EOFError, RuntimeError) as e:
-                    warnings.append(f"{path}: chunk at byte {pos} cannot be decompressed ({e})")
+                    header, data = _read_record(f, self.size - pos)
+                    op = _field(header, "op", 1)[0]
+                except EOFError:
+                    self.warn(f"file ends inside the record at byte {pos}")
                     return
-                yield from _chunk_messages(io.BytesIO(chunk), connections, path, pos, warnings)
-            elif op == 0x07:  # connection record outside a chunk (after the index)
-                _add_connection(connections, header, data)
+                except _Damaged as e:
+                    found = _find_chunk(f, pos + 1, self.size)
+                    if found is None:  # truncated, as a recorder that died leaves it, or damaged
+                        self.warn(f"file ends inside the record at byte {pos} ({e}), or it is damaged")
+                        return
+                    self.warn(f"record at byte {pos} is damaged ({e}); resumed at the chunk at byte {found}")
+                    pos = found
+                    continue
+                next_pos = f.tell()
+                if op == 0x05:  # chunk
+                    yield from self._chunk(header, data, pos)
+                elif op == 0x07:  # connection record outside a chunk (after the index)
+                    self._connection(header, data, pos)
+                pos = next_pos
 
-
-def _chunk_messages(
-    f: BinaryIO, connections: dict[int, tuple[str, str]], path: Path, pos: int, warnings: list[str]
-) -> Iterator[RawMessage]:
-    while True:
+    def _chunk(self, header: dict[str, bytes], data: bytes, pos: int) -> Iterator[RawMessage]:
         try:
-            header, data = _read_record(f)
-        except EOFError:
+            chunk = _decompress(header, data)
+        except (_Damaged, OSError, ValueError, EOFError, RuntimeError) as e:
+            self.warn(f"chunk at byte {pos} cannot be decompressed ({e}); chunk skipped")
             return
-        op = header.get("op", b"\xff")[0]
-        if op == 0x07:
-            _add_connection(connections, header, data)
-        elif op == 0x02:
-            conn = struct.unpack("<I", header["conn"])[0]
-            if conn not in connections:
-                warnings.append(f"{path}: message in chunk at byte {pos} has unknown connection {conn}")
-                continue
-            sec, nsec = struct.unpack("<II", header["time"])
-            topic, msgtype = connections[conn]
-            yield RawMessage(topic, msgtype, sec * 1_000_000_000 + nsec, data)
+        f = io.BytesIO(chunk)
+        while f.tell() < len(chunk):
+            inner = f.tell()
+            where = f"record at byte {inner} of the chunk at byte {pos}"
+            try:
+                rec_header, rec_data = _read_record(f, len(chunk) - inner)
+                op = _field(rec_header, "op", 1)[0]
+            except (EOFError, _Damaged) as e:
+                self.warn(f"{where}: framing lost ({e or 'ends early'}); rest of the chunk skipped")
+                return
+            try:
+                if op == 0x07:
+                    self._connection(rec_header, rec_data, pos)
+                elif op == 0x02:
+                    conn = struct.unpack("<I", _field(rec_header, "conn", 4))[0]
+                    if conn not in self.connections:
+                        self.warn(f"{where}: message has unknown connection {conn}; skipped")
+                        continue
+                    sec, nsec = struct.unpack("<II", _field(rec_header, "time", 8))
+                    topic, msgtype = self.connections[conn]
+                    yield RawMessage(topic, msgtype, sec * 1_000_000_000 + nsec, rec_data)
+            except _Damaged as e:
+                self.warn(f"{where}: {e}; skipped")
+
+    def _connection(self, header: dict[str, bytes], data: bytes, pos: int) -> None:
+        try:
+            conn = struct.unpack("<I", _field(header, "conn", 4))[0]
+            topic = _field(header, "topic").decode()
+            ros1_type = _field(_parse_header(data), "type").decode()
+        except (_Damaged, UnicodeDecodeError) as e:
+            self.warn(f"connection record in/at byte {pos}: {e}; skipped")
+            return
+        package, _, name = ros1_type.partition("/")
+        self.connections[conn] = (topic, f"{package}/msg/{name}")
 
 
-def _add_connection(connections: dict[int, tuple[str, str]], header: dict[str, bytes], data: bytes) -> None:
-    fields = _parse_header(data)
-    ros1_type = fields.get("type", b"").decode()
-    package, _, name = ros1_type.partition("/")
-    connections[struct.unpack("<I", header["conn"])[0]] = (
-        header["topic"].decode(), f"{package}/msg/{name}"
-    )
+def _field(header: dict[str, bytes], name: str, size: int | None = None) -> bytes:
+    """A header field, `_Damaged` when it is missing or (with `size`) of the wrong length."""
+    value = header.get(name)
+    if value is None:
+        raise _Damaged(f"header has no {name!r} field")
+    if size is not None and len(value) != size:
+        raise _Damaged(f"header field {name!r} has {len(value)} bytes, expected {size}")
+    return value
 
 
-def _read_record(f: BinaryIO) -> tuple[dict[str, bytes], bytes]:
-    """One record: (header fields, data). EOFError when the file ends inside it."""
-    header = _parse_header(_read_sized(f))
-    return header, _read_sized(f)
+def _find_chunk(f: IO[bytes], start: int, end: int) -> int | None:
+    """Byte offset of the next well-formed chunk record header at or after `start`."""
+    pos = start
+    while pos < end:
+        f.seek(pos)
+        window = f.read(_RESYNC_WINDOW + 64)
+        k = window.find(_CHUNK_OP)
+        while k >= 0:
+            # the record starts a little before its op field: its header length, then fields
+            for back in range(4, 68, 1):
+                c = pos + k - back
+                if c < start:
+                    break
+                f.seek(c)
+                try:
+                    header, _ = _read_record(f, end - c)
+                    if _field(header, "op", 1) == b"\x05":
+                        return c
+                except (EOFError, _Damaged):
+                    continue
+            k = window.find(_CHUNK_OP, k + 1)
+        pos += _RESYNC_WINDOW
+    return None
 
 
-def _read_sized(f: BinaryIO) -> bytes:
+def _read_record(f: IO[bytes], remaining: int) -> tuple[dict[str, bytes], bytes]:
+    """One record: (header fields, data). EOFError when the file ends inside it, `_Damaged`
+    when a length cannot be right (beyond what is left, or a header that does not parse)."""
+    head = _read_sized(f, remaining)
+    header = _parse_header(head)
+    return header, _read_sized(f, remaining - 4 - len(head))
+
+
+def _read_sized(f: IO[bytes], remaining: int) -> bytes:
     size_bytes = f.read(4)
     if len(size_bytes) < 4:
         raise EOFError
     (size,) = struct.unpack("<I", size_bytes)
+    if size > remaining - 4:  # truncated or damaged: the caller looks for a chunk after it
+        raise _Damaged(f"a length of {size} bytes runs past the end")
     data = f.read(size)
     if len(data) < size:
         raise EOFError
@@ -201,22 +292,38 @@ def _parse_header(buf: bytes) -> dict[str, bytes]:
     pos = 0
     while pos + 4 <= len(buf):
         (size,) = struct.unpack_from("<I", buf, pos)
-        name, _, value = buf[pos + 4 : pos + 4 + size].partition(b"=")
+        if pos + 4 + size > len(buf):
+            raise _Damaged(f"header field at {pos} of {size} bytes runs past the header's {len(buf)}")
+        name, eq, value = buf[pos + 4 : pos + 4 + size].partition(b"=")
+        if not eq:
+            raise _Damaged(f"header field at {pos} has no '='")
         fields[name.decode(errors="replace")] = value
         pos += 4 + size
+    if pos != len(buf):
+        raise _Damaged("header ends inside a field length")
     return fields
 
 
-def _decompress(compression: str, data: bytes) -> bytes:
+def _decompress(header: dict[str, bytes], data: bytes) -> bytes:
+    """A chunk's records, decompressed to at most its declared `size` (a chunk claiming more
+    than the recording cap, or inflating beyond its size, is damaged)."""
+    compression = header.get("compression", b"none").decode(errors="replace")
+    size = struct.unpack("<I", _field(header, "size", 4))[0] if "size" in header else len(data)
+    if size > limits().recording_bytes:
+        raise _Damaged(f"declares {size} bytes uncompressed")
     if compression == "none":
         return data
     if compression == "bz2":
-        return bz2.decompress(data)
-    if compression == "lz4":
-        from lz4.frame import decompress  # rosbags depends on lz4
+        out = bz2.BZ2Decompressor().decompress(data, max_length=size + 1)
+    elif compression == "lz4":
+        from lz4.frame import LZ4FrameDecompressor  # rosbags depends on lz4
 
-        return bytes(decompress(data))
-    raise ValueError(f"compression {compression!r} is not supported")
+        out = bytes(LZ4FrameDecompressor().decompress(data, max_length=size + 1))
+    else:
+        raise ValueError(f"compression {compression!r} is not supported")
+    if len(out) > size:
+        raise _Damaged(f"inflates beyond its declared {size} bytes")
+    return out
 
 
 # --- decoding the robot's messages -------------------------------------------------------

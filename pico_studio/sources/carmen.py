@@ -25,6 +25,13 @@ One message a line, the last three fields always `ipc_timestamp ipc_hostname log
 
 A line with the wrong number of fields or a field that is not a number is skipped with a
 warning naming the file, line and field; a gzip file that ends early replays what was read.
+
+Bounded reading (`user_files.FileLimits`): the log must be a regular file within the
+recording size cap; a gzip log is decompressed as a stream and stops, with a warning, once
+it grows beyond `decompressed_ratio` x its compressed size (at least `decompressed_floor`) —
+a gzip bomb (1 GiB of zeros in 1 MB) is cut off after ~100 MB instead of filling memory; a
+line longer than `line_bytes` is skipped unread. The first `MAX_LISTED_WARNINGS` skipped
+lines are listed, the rest counted.
 """
 
 from __future__ import annotations
@@ -34,6 +41,7 @@ import math
 import zlib
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -42,9 +50,11 @@ from pico_studio.core.geometry import wrap_angle
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.errors import SourceError
 from pico_studio.sources.replay import Recording, Replay, TimedPose
+from pico_studio.user_files import FileLimits, check_file, limits, open_file
 
 _TAIL = 3  # ipc_timestamp ipc_hostname logger_timestamp
 _ODOM_FIELDS = 1 + 6 + _TAIL
+MAX_LISTED_WARNINGS = 100  # a log of junk has a bad line per line: list these, count the rest
 
 
 class _BadLine(Exception):
@@ -61,9 +71,10 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
     """Decode the FLASER and ODOM lines of a CARMEN log into a `Recording`."""
     cfg = (params or SourcesParams()).carmen
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise SourceError("no such CARMEN log file", file=path)
     warnings: list[str] = []
+    skipped = 0
     scans: list[LaserData] = []
     truth: list[TimedPose] = []
     flaser_odometry: list[OdometryData] = []
@@ -91,7 +102,11 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
                     odometry.append(reading)
                     scans_before.append(len(scans))
         except _BadLine as e:
-            warnings.append(f"{path}: line {number}: {tokens[0]} {e}; line skipped")
+            skipped += 1
+            if skipped <= MAX_LISTED_WARNINGS:
+                warnings.append(f"{path}: line {number}: {tokens[0][:40]} {e}; line skipped")
+    if skipped > MAX_LISTED_WARNINGS:
+        warnings.append(f"{path}: {skipped - MAX_LISTED_WARNINGS} more damaged lines skipped")
     if not scans and not warnings:
         raise SourceError(
             "holds no FLASER or ROBOTLASER1 line: not a CARMEN log with front laser scans", file=path
@@ -113,17 +128,67 @@ def read_carmen(path: str | Path, params: SourcesParams | None = None) -> Record
 
 
 def _lines(path: Path, warnings: list[str]) -> Iterator[tuple[int, str]]:
-    """(line number, text) of a plain or gzip file; a damaged gzip ends the lines early."""
-    with path.open("rb") as f:
-        gzipped = f.read(2) == b"\x1f\x8b"
-    opener = gzip.open if gzipped else open
-    number = 0
-    try:
-        with opener(path, "rt", encoding="utf-8", errors="replace") as f:
-            for number, line in enumerate(f, start=1):  # noqa: B007 - number used after the loop
-                yield number, line
-    except (EOFError, OSError, zlib.error) as e:
-        warnings.append(f"{path}: the file is damaged after line {number} ({e}); replaying what was read")
+    """(line number, text) of a plain or gzip file, read as a bounded stream; a damaged
+    gzip, or one that decompresses beyond its cap, ends the lines early with a warning."""
+    lim = limits()
+    size = check_file(path, SourceError, "recording")
+    with open_file(path, SourceError, "recording") as raw:
+        gzipped = raw.read(2) == b"\x1f\x8b"
+        raw.seek(0)
+        stream = gzip.GzipFile(fileobj=raw, mode="rb") if gzipped else raw
+        cap = _decompressed_cap(size, lim) if gzipped else size + lim.line_bytes
+        reader = _BoundedLines(stream, cap, lim.line_bytes)
+        number = 0
+        try:
+            for number, line in enumerate(reader, start=1):  # noqa: B007 - number used after the loop
+                if line is None:
+                    warnings.append(f"{path}: line {number}: longer than {lim.line_bytes >> 20} MB; line skipped")
+                    continue
+                yield number, line.decode("utf-8", errors="replace")
+        except (EOFError, OSError, zlib.error) as e:
+            warnings.append(f"{path}: the file is damaged after line {number} ({e}); replaying what was read")
+        if reader.over_cap:
+            warnings.append(
+                f"{path}: decompressed beyond {cap >> 20} MB ({lim.decompressed_ratio} x its "
+                f"{size / (1 << 20):.1f} MB) after line {number}: not a plausible log (a gzip bomb?); "
+                "replaying what was read (PICO_STUDIO_MAX_DECOMPRESSED_RATIO raises the cap)"
+            )
+
+
+def _decompressed_cap(size: int, lim: FileLimits) -> int:
+    return min(lim.recording_bytes, max(lim.decompressed_floor, lim.decompressed_ratio * size))
+
+
+class _BoundedLines:
+    """Lines of a binary stream, at most `cap` bytes in all; a line longer than
+    `line_bytes` is consumed in pieces and yielded as None."""
+
+    def __init__(self, stream: Any, cap: int, line_bytes: int):
+        self.stream, self.cap, self.line_bytes = stream, cap, line_bytes
+        self.total = 0
+        self.over_cap = False
+
+    def _read(self) -> bytes:
+        piece = self.stream.readline(self.line_bytes + 1)
+        self.total += len(piece)
+        if self.total > self.cap:
+            self.over_cap = True
+            return b""
+        return piece
+
+    def __iter__(self) -> Iterator[bytes | None]:
+        while True:
+            line = self._read()
+            if not line:
+                return
+            if len(line) <= self.line_bytes or line.endswith(b"\n"):
+                yield line
+                continue
+            while line and not line.endswith(b"\n"):  # the rest of an overlong line
+                line = self._read()
+            yield None
+            if self.over_cap:
+                return
 
 
 def _flaser(tokens: list[str], cfg: CarmenParams) -> tuple[LaserData, tuple[float, float, float], OdometryData]:

@@ -11,6 +11,11 @@ knows it) the true pose, each sorted by time. A cursor (`now()`) moves through t
 * `seek(index)` / `seek_time(t)` jump anywhere; `frame(index)` reads a frame without moving.
 
 A *frame* of the timeline is one scan with the odometry and truth known at its time.
+
+Damaged stamps: a scan or odometry reading stamped NaN or infinite, or an hour or more away
+from both its neighbours in the file (a damaged header stamp: 1e9 s in a 7 s recording
+would make a loop stepping 0.05 s run 2e10 steps to reach it), is dropped with a warning
+naming its index in the file.
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ Pose = tuple[float, float, float]
 # Cursor and recorded stamps are compared with this slack, so that a loop stepping in
 # float seconds (0.05 + 0.05 + ...) still meets a stamp stored in integer nanoseconds.
 TIME_SLACK = 1e-6
+STAMP_OUTLIER_S = 3600.0  # a stamp this far from both neighbours in the file is damaged
 
 
 @dataclass(frozen=True)
@@ -48,10 +54,41 @@ class Recording:
     info: dict[str, object] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        self.scans = _drop_damaged_stamps(self.scans, [s.timestamp for s in self.scans], "scan", self)
+        self.odometry = _drop_damaged_stamps(
+            self.odometry, [o.timestamp for o in self.odometry], "odometry reading", self
+        )
         self.scans.sort(key=lambda s: s.timestamp)
         self.odometry.sort(key=lambda o: o.timestamp)
         self.base_references.sort(key=lambda b: b.timestamp)
         self.truth.sort(key=lambda p: p.time)
+
+
+def _drop_damaged_stamps(items: list, stamps: list[float], what: str, rec: Recording) -> list:
+    """`items` (in file order) without those whose stamp is not finite or lies more than
+    `STAMP_OUTLIER_S` from both neighbours; each dropped one is a warning."""
+    t = np.asarray(stamps, dtype=float)
+    if len(t) == 0:
+        return items
+    bad = ~np.isfinite(t)
+    if len(t) >= 3:
+        finite = np.where(bad, np.nan, t)
+        with np.errstate(invalid="ignore"):
+            gap_prev = np.abs(np.diff(finite, prepend=np.nan))
+            gap_next = np.abs(np.diff(finite, append=np.nan))
+        far_prev = np.nan_to_num(gap_prev, nan=np.inf) > STAMP_OUTLIER_S
+        far_next = np.nan_to_num(gap_next, nan=np.inf) > STAMP_OUTLIER_S
+        bad |= far_prev & far_next
+    if not bad.any():
+        return items
+    idx = np.flatnonzero(bad)
+    listed = ", ".join(f"{i} ({t[i]:g} s)" for i in idx[:10])
+    more = f" and {len(idx) - 10} more" if len(idx) > 10 else ""
+    rec.warnings.append(
+        f"{rec.name}: {what}s {listed}{more}: stamp not finite or more than "
+        f"{STAMP_OUTLIER_S:g} s from both neighbours (damaged); skipped"
+    )
+    return [x for x, b in zip(items, bad.tolist(), strict=True) if not b]
 
 
 class Replay:
@@ -162,6 +199,8 @@ class Replay:
 
     def seek_time(self, t: float) -> None:
         """Put the cursor at time `t`: the next reads return the newest readings at or before it."""
+        if not np.isfinite(t):
+            raise ValueError(f"seek_time(t) needs a finite time, got {t!r}")
         t0, t1 = self.time_span
         t = min(max(t, t0), t1)
         i = max(self._last_at(self._scan_t, t), 0)

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio.progress import Progress
+from pico_studio.progress import Progress, ProgressObserver
 from pico_studio.sources.replay import Replay
 
 
@@ -41,24 +41,21 @@ def run_replay(
     way a loop of that rate would on the robot.
     """
     steps: Iterator[float] = frame_steps(replay) if dt is None else _fixed(replay, dt)
-    end = None if seconds is None else replay.now() + seconds
-    figures = _Figures()
+    until = None if seconds is None else replay.now() + seconds
+    figures = ReplayFigures()
+    watch = ProgressObserver(progress, replay.time_span[0]) if progress is not None else None
     ticks = 0
-    for step in steps:
-        if end is not None and replay.now() + step > end + 1e-9:
-            break
-        out = session.tick(step)
+    for sf in session.frames(until=until, steps=steps):
         ticks += 1
-        if progress is not None:
-            progress.set(replay.now() - replay.time_span[0])
-        if out.frame.laser is not None:
-            figures.add(out.world_model, replay.truth_pose())
+        figures.on_frame(sf)
+        if watch is not None:
+            watch.on_frame(sf)
     report = replay.summary()
     report.update(
         ticks=ticks,
         frames_read=figures.frames,
         frames_dropped=replay.scans_dropped,
-        perceptor=figures.report() if figures.models else None,
+        perceptor=figures.summary() if figures.models else None,
     )
     return report
 
@@ -68,8 +65,11 @@ def _fixed(replay: Replay, dt: float) -> Iterator[float]:
         yield dt
 
 
-class _Figures:
-    """Per-frame counts from the world models, summarised as median / max."""
+class ReplayFigures:
+    """Per-frame counts from the world models, summarised as median / max (an observer of
+    the frames with a new scan; no truth needed, the true path length when there is one)."""
+
+    name = "perceptor"
 
     COUNTS = {
         "current_map_segments": lambda wm: len(wm.current_map),
@@ -91,6 +91,10 @@ class _Figures:
         self.truth_path = 0.0
         self._last_truth: tuple[float, float, float] | None = None
 
+    def on_frame(self, sf: Any) -> None:
+        if sf.frame.laser is not None:
+            self.add(sf.world_model, (sf.frame.truth or {}).get("pose"))
+
     def add(self, wm: Any, truth: tuple[float, float, float] | None) -> None:
         self.frames += 1
         if truth is not None:
@@ -110,7 +114,7 @@ class _Figures:
         self.warnings += len(getattr(wm, "warnings", []) or [])
         self.too_close += bool(getattr(wm, "too_close", False))
 
-    def report(self) -> dict[str, Any]:
+    def summary(self) -> dict[str, Any]:
         out: dict[str, Any] = {"frames_perceived": self.models}
         for name, values in self.values.items():
             if values:

@@ -1,10 +1,12 @@
 """The live core behind the web page, without any viser: source, perceptor, behaviour, timeline.
 
 `Studio` is what the page drives. One `tick(dt)` is one `Session.tick` (advance the source,
-read, perceive, behave, send the base reference).
-Every frame goes on the timeline with the state before it (perceptor, and localisation tracker
-when there is a map), so `reprocess()` can re-run the pure perceptor and localisation on the
-frame under the cursor with the current parameters.
+read, perceive, behave, send the base reference, observe). The session's perceptor is the
+pure perceptor run on the studio's state; its observers are the truth scorer
+(`evaluation.TruthScorer`) and the timeline: every frame with a new scan goes on it with the
+state before it (perceptor, and localisation tracker when there is a map), so `reprocess()`
+can re-run the pure perceptor and localisation on the frame under the cursor with the
+current parameters.
 
 Thread safety: the page's callbacks and the 20 Hz loop run on different threads; every public
 method takes `self.lock`.
@@ -18,26 +20,22 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 from pico_studio.config import Config, get_value, with_value
-from pico_studio.core.behaviours.registry import BEHAVIOURS as CORE_BEHAVIOURS
+from pico_studio.core.behaviours.registry import BEHAVIOURS as REGISTRY
 from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.behaviours.wander import Wander
 from pico_studio.core.geometry import compose, invert, wrap_angle
-from pico_studio.core.io import BaseReference, Frame, LaserData, OdometryData, RobotIO
+from pico_studio.core.io import BaseReference, LaserData, OdometryData, RobotIO
 from pico_studio.core.localisation import TrackerState, build_localisation_map, localise_world_model
 from pico_studio.core.perception import PerceptorState, perceive
 from pico_studio.errors import UserError
+from pico_studio.evaluation.run_score import TruthScorer, summarise
 from pico_studio.json_map import GlobalMap
-from pico_studio.session import Session
+from pico_studio.session import Session, SessionFrame
 from pico_studio.ui.timeline import FrameRecord, Pose, Timeline
-
-try:  # scoring against the simulator's truth lives in sim/ (the UI may import it, core may not)
-    from pico_studio.sim import scoring
-except ImportError:  # pragma: no cover - a build without the simulator
-    scoring = None  # type: ignore[assignment]
 
 log = logging.getLogger(__name__)
 
@@ -55,29 +53,16 @@ class SourceBundle:
 
 SourceFactory = Callable[[Config, GlobalMap | None], SourceBundle]
 
-BehaviourFactory = Callable[[str, Config, GlobalMap | None, Pose | None], Any]
-
-
-def behaviour_factories() -> dict[str, BehaviourFactory]:
-    """Behaviours the page can run: the built-in wander and the core registry's, all objects
-    with `step(world_model, laser, odometry, now, *, ok)` returning a command (vx, vy, va,
-    optional open_door) and `state`, `target`, `plan`, `frame` for drawing (see
-    docs/ARCHITECTURE.md, the web UI). Factories get the spec (`name[:args]`, e.g.
-    `hospital:0,2`), the config, the map and the robot's map pose now (when known)."""
-    out: dict[str, BehaviourFactory] = {"wander": lambda _spec, cfg, _map, _pose: Wander(cfg.ui.wander)}
-    for name in CORE_BEHAVIOURS:
-        out[name] = lambda spec, cfg, m, pose: make_behaviour(spec, cfg.behaviour, m, initial_pose=pose)
-    return out
-
-
 def _check_behaviour(spec: str, field: str) -> str:
     name = spec.partition(":")[0].strip()
-    if name not in BEHAVIOURS:
+    if name not in REGISTRY and name != "teleop":
         raise UserError(f"unknown behaviour {name!r}; choose one of {', '.join(BEHAVIOURS)}", field=field)
     return name
 
 
-BEHAVIOURS = (*behaviour_factories(), "teleop", "stop")  # what the behaviour dropdown offers
+# what the behaviour dropdown offers: the registry's behaviours (those a bare name makes),
+# and driving by hand; `set_behaviour` takes any registry spec (`drive:0.2,0,0`)
+BEHAVIOURS: tuple[str, ...] = (*(n for n, e in REGISTRY.items() if not e.needs_argument), "teleop")
 
 
 class Studio:
@@ -118,8 +103,7 @@ class Studio:
             self.lmap = self._localisation_map()
             tracker = TrackerState.initial(len(self.lmap.field.segments)) if self.lmap is not None else None
             self.state: tuple[Any, Any] = (PerceptorState.initial(), tracker)
-            self.true_zero: Pose | None = None  # true pose when the perceptor took its zero
-            self.run_score = RunningScore() if scoring is not None else None
+            self.scorer = self._make_scorer()
             self.behaviour = self._make_behaviour(self.behaviour_spec)
             self.teleop_command: BaseReference | None = None
             self.teleop_until = 0.0
@@ -128,13 +112,24 @@ class Studio:
             self.perceive_ms.clear()
             self.perceive_walltimes.clear()
             self.last_command = BaseReference(0.0, 0.0, 0.0)
-            self._pending: FrameRecord | None = None
+            self._perceived: FrameRecord | None = None  # the record the perceptor step filled
             self.session = Session(
                 self.source,
-                perceptor=_SessionPerceptor(self._session_perceive),
-                behaviour=self._session_behave,
-                history=1,  # the timeline keeps the frames (with perceptor state) instead
+                perceptor=_StudioPerceptor(self._session_perceive),
+                behaviour=_StudioBehaviour(self),
+                observers=[_TimelineObserver(self)],
             )
+
+    def _make_scorer(self) -> TruthScorer | None:
+        """Scores against the simulator's truth (the live frames, at `ui.score_rate_hz`)."""
+        truth = self.bundle.truth
+        if truth is None:
+            return None
+        return TruthScorer(lambda: truth, every=self._score_every())
+
+    def _score_every(self) -> int:
+        ui = self.cfg.ui
+        return max(1, round(ui.rate_hz / ui.score_rate_hz)) if ui.score_rate_hz > 0 else 1
 
     def _localisation_map(self) -> Any:
         """The global map's distance field and prior (built once per map and field params)."""
@@ -166,14 +161,9 @@ class Studio:
             if not self.source.ok():
                 self.playing = False
                 return None
-            self._pending = None
-            self.session.tick(dt)
-            frame, self._pending = self._pending, None
-            if frame is not None:
-                frame.map_xy = self.robot_pose_in_map(frame)[:2]
-                self.timeline.append(frame)
-                self._forget_old_world_models()
-            return frame
+            before = self.frame_count
+            self.session.tick(dt)  # the timeline observer appends a frame with a new scan
+            return self.timeline.latest if self.frame_count != before else None
 
     def _forget_old_world_models(self, keep: int = 3) -> None:
         """Old frames keep what re-processing needs (readings, state before), not their world
@@ -198,20 +188,33 @@ class Studio:
         )
         self.frame_count += 1
         self.state = self._perceive(frame, live=True)
-        ui = self.cfg.ui
-        if ui.score_rate_hz > 0 and frame.index % max(1, round(ui.rate_hz / ui.score_rate_hz)) == 0:
-            self._score_live(frame, add=True)
-        self._pending = frame
+        self._perceived = frame
         return frame.wm
 
-    def _session_behave(self, _frame: Frame, _wm: Any) -> BaseReference | None:
-        frame = self._pending
-        if frame is None:  # no new scan this tick: keep driving as before
-            return None
-        cmd = self._behave(frame)
-        frame.command = cmd
-        self.last_command = cmd
-        return cmd
+    def _on_frame(self, sf: SessionFrame) -> None:
+        """The timeline observer: a frame with a new scan goes on the timeline, with the
+        command sent and what the behaviour showed, scored against the truth at its rate."""
+        frame, self._perceived = self._perceived, None
+        if frame is None:  # no new scan this tick
+            return
+        cmd = sf.command
+        if cmd is not None:
+            frame.command = self.last_command = BaseReference(cmd.vx, cmd.vy, cmd.va, frame.time)
+        if self.behaviour_name == "teleop":
+            frame.behaviour_state = "teleop"
+        elif self.behaviour is not None:
+            self._note_behaviour(frame, self.behaviour)
+        if self.scorer is not None and frame.wm is not None and self.cfg.ui.score_rate_hz > 0:
+            n = self.scorer.run.count
+            try:
+                self.scorer.on_frame(sf)
+            except Exception as e:  # a scoring bug must not take the page down
+                log.warning("scoring failed: %s", e)
+            if self.scorer.run.count != n:
+                frame.score = self.scorer.run.last
+        frame.map_xy = self.robot_pose_in_map(frame)[:2]
+        self.timeline.append(frame)
+        self._forget_old_world_models()
 
     def _perceive(self, frame: FrameRecord, *, live: bool) -> Any:
         """Run the perceptor (and localisation, with a map) on one frame with the current
@@ -236,30 +239,17 @@ class Studio:
         return state_after
 
     def _make_behaviour(self, spec: str) -> Any:
-        factory = behaviour_factories().get(spec.partition(":")[0].strip())
-        if factory is None:
+        """The registry's behaviour for `spec` (None for teleop: the page drives)."""
+        if spec.partition(":")[0].strip() == "teleop":
             return None
         latest = self.timeline.latest if hasattr(self, "timeline") else None
         pose = self.robot_pose_in_map(latest) if latest is not None else self.bundle.truth_pose()
-        return factory(spec, self.cfg, self.global_map, pose)
+        return make_behaviour(spec, self.cfg, self.global_map, pose)
 
-    def _behave(self, frame: FrameRecord) -> BaseReference:
-        now = frame.time
-        name = self.behaviour_name
-        if name == "teleop":
-            frame.behaviour_state = "teleop"
-            if self.teleop_command is not None and time.monotonic() < self.teleop_until:
-                return BaseReference(self.teleop_command.vx, self.teleop_command.vy, self.teleop_command.va, now)
-            return BaseReference(0.0, 0.0, 0.0, now)
-        b = self.behaviour
-        if b is None:
-            frame.behaviour_state = "stopped"
-            return BaseReference(0.0, 0.0, 0.0, now)
-        cmd = b.step(frame.wm, frame.laser, frame.odometry, now, ok=self.source.ok())
-        if getattr(cmd, "open_door", False):
-            self.source.open_door()
-        self._note_behaviour(frame, b)
-        return BaseReference(float(cmd.vx), float(cmd.vy), float(cmd.va), now)
+    def _teleop_command(self) -> BaseReference:
+        if self.teleop_command is not None and time.monotonic() < self.teleop_until:
+            return self.teleop_command
+        return BaseReference(0.0, 0.0, 0.0)
 
     @staticmethod
     def _note_behaviour(frame: FrameRecord, behaviour: Any) -> None:
@@ -298,6 +288,8 @@ class Studio:
     def set_config(self, cfg: Config) -> None:
         with self.lock:
             self.cfg = cfg
+            if self.scorer is not None:
+                self.scorer.every = self._score_every()
             lmap = self._localisation_map()
             if lmap is not self.lmap:  # a new field: every kept frame localises afresh in it
                 self.lmap = lmap
@@ -330,7 +322,7 @@ class Studio:
         with self.lock:
             frame = self.shown()
             if frame is not None and frame is self.timeline.latest and frame.score is None and self.cfg.ui.score_rate_hz > 0:
-                self._score_live(frame, add=False)
+                self._score_live(frame)
 
     def scrub(self, position: int | None) -> FrameRecord | None:
         """Show timeline position `position` (None: the live frame), re-processed."""
@@ -395,11 +387,11 @@ class Studio:
     def _scores(self, frame: FrameRecord | None) -> dict[str, dict[str, float]]:
         """The latest scored frame's and the run's scores (the live frames only: the truth is
         *now*; a frame on the timeline shows nothing)."""
-        if self.cursor is not None or self.run_score is None or not self.run_score.count:
+        if self.cursor is not None or self.scorer is None or not self.scorer.run.count:
             return {}
-        out = {"run": _score_figures(self.run_score.summary())}
-        latest = frame.score if frame is not None and frame.score is not None else self.run_score.last
-        out["frame"] = _score_figures(_summary([latest]))
+        out = {"run": _score_figures(self.scorer.run.summary())}
+        latest = frame.score if frame is not None and frame.score is not None else self.scorer.run.last
+        out["frame"] = _score_figures(summarise(latest, 1))
         return out
 
     @staticmethod
@@ -414,21 +406,16 @@ class Studio:
             out["error_rad"] = abs(float(wrap_angle(g[2] - t[2])))
         return out
 
-    def _score_live(self, frame: FrameRecord, *, add: bool) -> None:
-        """Score the latest frame's world model against the simulator's truth (if any)."""
-        truth = self.bundle.truth
-        if scoring is None or truth is None or frame.wm is None:
+    def _score_live(self, frame: FrameRecord) -> None:
+        """Score a re-processed live frame against the simulator's truth now (not added to
+        the run: the run scored the frame as it came)."""
+        if self.scorer is None or frame.wm is None:
             return
-        if self.true_zero is None:
-            self.true_zero = frame.truth_pose
         try:
-            frame.score = scoring.score_frame(frame.wm, truth, true_zero=self.true_zero)
+            frame.score = self.scorer.score(frame.wm)
         except Exception as e:  # a scoring bug must not take the page down
             log.warning("scoring failed: %s", e)
             frame.score = None
-            return
-        if add:
-            self.run_score.add(frame.score)
 
     def param(self, path: str) -> Any:
         return get_value(self.cfg, path)
@@ -446,53 +433,46 @@ SCORE_FIGURES = {  # RunScore.summary() key -> label on the page
 }
 
 
-class RunningScore:
-    """The run's scores as a running sum (the page reads them every frame; summing a list of
-    every scored frame again each time grew with the run): `add`, `summary()` like
-    `scoring.RunScore`'s, `count`, `last`."""
-
-    def __init__(self) -> None:
-        self.total = scoring.FrameScore()
-        self.count = 0
-        self.last: Any = None
-        self._summary: dict[str, Any] | None = None
-
-    def add(self, frame: Any) -> None:
-        for name in _SCORE_FIELDS:
-            setattr(self.total, name, getattr(self.total, name) + getattr(frame, name))
-        self.count += 1
-        self.last = frame
-        self._summary = None
-
-    def summary(self) -> dict[str, Any]:
-        if self._summary is None:
-            out = _summary([self.total])  # the ratios of the sums are the run's ratios ...
-            for key in ("pose_error_m", "pose_error_rad"):  # ... the mean errors divide by n
-                out[key] = out[key] / max(self.count, 1)
-            out["frames"] = self.count
-            self._summary = out
-        return self._summary
-
-
-_SCORE_FIELDS = tuple(f.name for f in fields(scoring.FrameScore)) if scoring is not None else ()
-
-
-def _summary(frames: list[Any]) -> dict[str, Any]:
-    run = scoring.RunScore()
-    for f in frames:
-        run.add(f)
-    return run.summary()
-
-
 def _score_figures(summary: dict[str, Any]) -> dict[str, float]:
     return {label: float(summary[key]) for key, label in SCORE_FIGURES.items() if key in summary}
 
 
 @dataclass
-class _SessionPerceptor:
+class _StudioPerceptor:
     """Adapter: the session calls `step(laser, odometry)`; the studio runs the pure perceptor."""
 
     step: Callable[[LaserData, OdometryData | None], Any]
+
+
+class _StudioBehaviour:
+    """The session's behaviour: the studio's current one (the registry's), or teleop."""
+
+    def __init__(self, studio: Studio):
+        self.studio = studio
+
+    def step(self, world_model: Any, laser: LaserData | None, odometry: OdometryData | None,
+             now: float, *, ok: bool = True) -> Any:
+        s = self.studio
+        if s.behaviour_name == "teleop":
+            return s._teleop_command()
+        if s.behaviour is None:
+            return None
+        return s.behaviour.step(world_model, laser, odometry, now, ok=ok)
+
+
+class _TimelineObserver:
+    """The session observer that keeps the studio's timeline (see `Studio._on_frame`)."""
+
+    name = "timeline"
+
+    def __init__(self, studio: Studio):
+        self.studio = studio
+
+    def on_frame(self, sf: SessionFrame) -> None:
+        self.studio._on_frame(sf)
+
+    def summary(self) -> dict[str, Any]:
+        return {"frames": len(self.studio.timeline)}
 
 
 def _counts(wm: Any) -> dict[str, int]:

@@ -36,7 +36,7 @@ class FrameRecord:
     errors: list[str] = field(default_factory=list)
     sim_world: Any = None  # (K, 4) the simulator's doors and moving objects now, map frame
     map_xy: tuple[float, float] | None = None  # where the robot was drawn live (for the trail)
-    score: Any = None  # scoring.FrameScore against the truth, for the live frame when simulated
+    score: Any = None  # evaluation.FrameScore against the truth, for the live frame when simulated
 
 
 class Timeline:

@@ -14,7 +14,6 @@ as emc's `read*` returning false). The UI reads `state`, `target`, `plan` (and `
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Protocol, runtime_checkable
 
@@ -147,13 +146,6 @@ class BehaviourBase:
         }
 
     # ---- the loop ----
-    ok_check: Callable[[], bool] | None = None  # the source's ok(), when the caller wires it
-
-    def __call__(self, frame: Any, world_model: Any) -> Command:
-        """The session's behaviour callable: `(frame, world_model) -> command`."""
-        ok = self.ok_check() if self.ok_check is not None else True
-        return self.step(world_model, frame.laser, frame.odometry, frame.time, ok=ok)
-
     def step(self, world_model: Any, laser: LaserData | None, odometry: OdometryData | None,
              now: float, *, ok: bool = True) -> Command:
         if self._start_time is None:

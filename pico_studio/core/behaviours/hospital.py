@@ -3,6 +3,7 @@
 States:
     plan      A* (planner.py) from the robot's global pose to the spot in front of the next
               cabinet; no path: try once more without the remembered obstacles, then give up
+              (at most 4 A* runs per tick, standing still meanwhile: no tick stalls the loop)
     drive     follow the plan (pure pursuit, `lookahead` ahead); ask doors on the plan to open
               when one is within `door_request_distance`; something not on the map within
               `blocked_distance` along the plan and within `path_clearance` of it: blocked
@@ -45,6 +46,7 @@ from pico_studio.errors import UserError
 from pico_studio.json_map import GlobalMap
 
 _PATH_STEP = 0.05  # m between the points the plan is followed along
+_PLANS_PER_TICK = 4  # A* runs per tick at most (a few ms each, compiled): no replan stalls the 20 Hz loop
 
 
 def object_spots(m: GlobalMap, index: int, front_distance: float,
@@ -112,6 +114,7 @@ class HospitalTour(BehaviourBase):
         self.global_pose: Pose | None = None
         self._k = 0  # index into order
         self._state = "plan"
+        self._tries: list[tuple[PlanGrid, Pose]] | None = None  # plans left in this planning round
         self._goal: Pose | None = None
         self._path = np.zeros((0, 2))
         self._obstacles = np.zeros((0, 2))
@@ -185,23 +188,32 @@ class HospitalTour(BehaviourBase):
         return Command()
 
     def _plan_step(self, pose: Pose) -> Command:
+        """Plan to the current target's spots (first round the obstacles met so far, then
+        without them), at most `_PLANS_PER_TICK` A* runs per tick: a target with many
+        unreachable spots takes a few ticks standing still, never one long tick."""
         i = self.order[self._k]
-        for attempt in (self._obstacles, np.zeros((0, 2))):
-            grid = self.grid.with_obstacles(attempt, self.p.obstacle_radius + self.p.inflation) if len(attempt) else self.grid
+        if self._tries is None:  # a new planning round
+            rounds = [self._obstacles, np.zeros((0, 2))] if len(self._obstacles) else [self._obstacles]
+            grids = [self.grid.with_obstacles(o, self.p.obstacle_radius + self.p.inflation) if len(o) else self.grid
+                     for o in rounds]
+            self._tries = [(g, spot) for g in grids for spot in self.spots[self._k]]
+        for _ in range(_PLANS_PER_TICK):
+            if not self._tries:
+                self._tries = None
+                self.give_up(f"{self.map.object_key[:-1]} {i} cannot be reached")
+                return Command()
+            grid, spot = self._tries.pop(0)
             start = grid.nearest_free(pose[:2], 0.5) or pose[:2]
-            for spot in self.spots[self._k]:
-                path = astar(grid, start, spot[:2])
-                if path is not None:
-                    self._goal = spot
-                    self._path = densify(np.vstack([[pose[:2]], path[1:]]), _PATH_STEP)
-                    self._plan = self._path
-                    self._target = (spot[0], spot[1])
-                    self._state = "drive"
-                    return Command()
-            if len(attempt) == 0:
-                break
-        self.give_up(f"{self.map.object_key[:-1]} {i} cannot be reached")
-        return Command()
+            path = astar(grid, start, spot[:2])
+            if path is not None:
+                self._tries = None
+                self._goal = spot
+                self._path = densify(np.vstack([[pose[:2]], path[1:]]), _PATH_STEP)
+                self._plan = self._path
+                self._target = (spot[0], spot[1])
+                self._state = "drive"
+                return Command()
+        return Command()  # more spots to try next tick
 
     def _drive(self, pose: Pose, now: float) -> Command:
         assert self._goal is not None

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from pico_studio.config.ui_params import WanderParams
-from pico_studio.core.io import BaseReference, LaserData, OdometryData
+from pico_studio.core.io import STOP, Command, LaserData, OdometryData
 
 DRIVE = "drive"
 TURN = "turn"
@@ -51,8 +51,9 @@ def clearance(laser: LaserData, front_half_angle: float) -> Clearance:
 
 
 class Wander:
-    """Call `step(world_model, laser, odometry, now)` once per control period (the behaviour
-    protocol; only the laser is used); it returns the base reference to send."""
+    """Call `step(world_model, laser, odometry, now, ok=)` once per control period (the
+    behaviour protocol; only the laser is used); it returns the command to send, or None
+    when no new scan arrived (the previous reference stands)."""
 
     name = "wander"
     target = None  # it has no goal and no plan: nothing for the page to draw
@@ -65,16 +66,20 @@ class Wander:
         self.state = DRIVE
         self._turn_sign = 1.0
 
+    def result(self) -> dict[str, Any]:
+        return {"state": self.state}
+
     def step(
         self, world_model: Any, laser: LaserData | None, odometry: OdometryData | None = None,
         now: float = 0.0, *, ok: bool = True,
-    ) -> BaseReference:
-        timestamp = now
+    ) -> Command | None:
         p = self.params
         if not ok:
-            return BaseReference(0.0, 0.0, 0.0, timestamp)
-        if laser is None or len(laser.ranges) == 0:
-            return BaseReference(0.0, 0.0, 0.0, timestamp)
+            return STOP
+        if laser is None:  # no new scan this tick: keep driving as the last one said
+            return None
+        if len(laser.ranges) == 0:
+            return STOP
         c = clearance(laser, p.front_half_angle)
         if self.state == DRIVE and c.front < p.stop_distance:
             self.state = TURN
@@ -82,8 +87,8 @@ class Wander:
         elif self.state == TURN and c.front > p.clear_distance:
             self.state = DRIVE
         if self.state == TURN:
-            return BaseReference(0.0, 0.0, self._turn_sign * p.turn_rate, timestamp)
+            return Command(0.0, 0.0, self._turn_sign * p.turn_rate)
         balance = (c.left - c.right) / max(c.left + c.right, 1e-6)
         # Slow down in proportion to how close the front gets to the stop distance.
         slow = np.clip((c.front - p.stop_distance) / max(p.clear_distance, 1e-6), 0.2, 1.0)
-        return BaseReference(float(p.speed * slow), 0.0, float(p.steer_gain * balance), timestamp)
+        return Command(float(p.speed * slow), 0.0, float(p.steer_gain * balance))

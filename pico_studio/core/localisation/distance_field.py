@@ -3,7 +3,7 @@
 Built once per map: the segments are drawn into a grid (OpenCV anti-alias-free lines, each
 pixel remembering its segment), `cv2.distanceTransform` gives the Euclidean distance from
 every cell to the nearest drawn cell, and `cv2.distanceTransformWithLabels` tells which
-drawn cell that is — hence which segment. Lookups are vectorised:
+drawn cell that is — hence which segment. Lookups are compiled loops (match_kernels.py):
 
     field = DistanceField.from_segments(segments, resolution=0.02, margin=2.0)
     d = field.distance(points)          # (N,) metres, bilinear
@@ -21,6 +21,7 @@ import cv2
 import numpy as np
 
 from pico_studio.config.localisation_params import FieldParams
+from pico_studio.core.localisation.match_kernels import field_distance, field_nearest
 from pico_studio.json_map.model import GlobalMap
 
 _SUBPIXEL_BITS = 4  # cv2.line's fixed-point shift: end points drawn to 1/16 of a cell
@@ -92,17 +93,9 @@ class DistanceField:
 
     def distance(self, points: np.ndarray) -> np.ndarray:
         """Bilinear distance (metres) at every point (..., 2); off the grid: the border value."""
-        h, w = self.field.shape
-        c, r = self._grid(points)
-        c = np.clip(c, 0.0, w - 1.000001)
-        r = np.clip(r, 0.0, h - 1.000001)
-        c0 = c.astype(np.int64)
-        r0 = r.astype(np.int64)
-        fc, fr = c - c0, r - r0
-        f = self.field
-        top = f[r0, c0] * (1 - fc) + f[r0, c0 + 1] * fc
-        bottom = f[r0 + 1, c0] * (1 - fc) + f[r0 + 1, c0 + 1] * fc
-        return top * (1 - fr) + bottom * fr
+        pts = np.ascontiguousarray(points, dtype=np.float64)
+        d = field_distance(self.field, self.x0, self.y0, self.resolution, pts.reshape(-1, 2))
+        return d.reshape(pts.shape[:-1])
 
     def coarse(self, stride: int, truncation: float, pad: int) -> np.ndarray:
         """Every `stride`-th node's distance, truncated, padded by `pad` nodes of `truncation`
@@ -114,15 +107,10 @@ class DistanceField:
         return self._coarse[key]
 
     def nearest_segment(self, points: np.ndarray) -> np.ndarray:
-        """Index of the nearest map segment at every point; -1 off the grid."""
-        h, w = self.field.shape
-        c, r = self._grid(points)
-        ci = np.rint(c).astype(np.int64)
-        ri = np.rint(r).astype(np.int64)
-        inside = (ci >= 0) & (ci < w) & (ri >= 0) & (ri < h)
-        out = np.full(ci.shape, -1, dtype=np.int32)
-        out[inside] = self.segment_index[ri[inside], ci[inside]]
-        return out
+        """Index of the nearest map segment at every point (nearest node); -1 off the grid."""
+        pts = np.ascontiguousarray(points, dtype=np.float64)
+        k = field_nearest(self.segment_index, self.x0, self.y0, self.resolution, pts.reshape(-1, 2))
+        return k.reshape(pts.shape[:-1])
 
 
 def map_segments(global_map: GlobalMap, params: FieldParams) -> np.ndarray:

@@ -30,8 +30,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from pico_studio.config.localisation_params import MatcherParams, SearchParams
-from pico_studio.core.geometry import transform_points, wrap_angle
+from pico_studio.core.geometry import wrap_angle
 from pico_studio.core.localisation.distance_field import DistanceField
+from pico_studio.core.localisation.match_kernels import (
+    coarse_scores,
+    quality_kernel,
+    refine_kernel,
+    through_kernel,
+)
 
 Pose = tuple[float, float, float]
 
@@ -58,8 +64,8 @@ def quality(field: DistanceField, points: np.ndarray, pose: Pose, inlier_distanc
     """Fraction of `points` (robot frame) lying within `inlier_distance` of the map at `pose`."""
     if len(points) == 0:
         return 0.0
-    d = field.distance(transform_points(points, pose))
-    return float(np.mean(d <= inlier_distance))
+    return float(quality_kernel(field.field, field.x0, field.y0, field.resolution, _c(points),
+                                float(pose[0]), float(pose[1]), float(pose[2]), float(inlier_distance)))
 
 
 def beams_through_walls(field: DistanceField, points: np.ndarray, pose: Pose,
@@ -71,87 +77,35 @@ def beams_through_walls(field: DistanceField, points: np.ndarray, pose: Pose,
     Samples every `ray_step` along each beam up to `ray_clearance` before its end point (so a
     wall's far face, a few cm behind its near face, is seen as through the wall); a
     crossing is a sign change of the signed distance to the same nearest segment between two
-    samples, at a point within that segment (so grazing a corner is no crossing).
+    samples, at a point within that segment (so grazing a corner is no crossing). Doors
+    (`field.passable`) are no walls. The loop: match_kernels.through_kernel.
     """
     if len(points) == 0:
         return 0.0
-    step, clearance = params.ray_step, params.ray_clearance
-    pts = points[:: max(1, len(points) // params.ray_beams)]
-    ranges = np.hypot(pts[:, 0], pts[:, 1])
-    # samples every step, the last one exactly `clearance` before the end point (repeats of
-    # it after that are harmless: a pair of equal samples has no sign change)
-    last = np.maximum(ranges - clearance, 0.0)[:, None]
-    t = np.minimum(np.arange(1, int(np.ceil(ranges.max() / step)) + 1)[None, :] * step, last)  # (B, n)
-    ahead = t > 0.0
-    dirs = pts / np.maximum(ranges, 1e-9)[:, None]
-    q = transform_points((dirs[:, None, :] * t[:, :, None]).reshape(-1, 2), pose)
-    q = q.reshape(t.shape[0], t.shape[1], 2)
-    k = field.nearest_segment(q)  # (B, n)
-    seg = field.segments[np.maximum(k, 0)]  # (B, n, 4)
-    side = ((q - seg[..., 0:2]) * field.normals[np.maximum(k, 0)]).sum(axis=-1)
-    flip = (k[:, :-1] == k[:, 1:]) & (k[:, 1:] >= 0) & ahead[:, 1:]
-    if field.passable is not None:  # an open door is no wall
-        flip &= ~field.passable[np.maximum(k[:, 1:], 0)]
-    flip &= np.signbit(side[:, :-1]) != np.signbit(side[:, 1:])
-    # where the beam crosses the line, and whether that is on the segment
-    w = side[:, :-1] / np.where(flip, side[:, :-1] - side[:, 1:], 1.0)
-    c = q[:, :-1] + w[..., None] * (q[:, 1:] - q[:, :-1])
-    a, b = seg[:, :-1, 0:2], seg[:, :-1, 2:4]
-    ab = b - a
-    u = ((c - a) * ab).sum(axis=-1) / np.maximum((ab**2).sum(axis=-1), 1e-12)
-    crossed = (flip & (u >= 0.0) & (u <= 1.0)).any(axis=1)
-    return float(crossed.mean())
+    pts = _c(points[:: max(1, len(points) // params.ray_beams)])
+    passable = field.passable if field.passable is not None else np.zeros(len(field.segments), dtype=bool)
+    return float(through_kernel(field.segment_index, field.x0, field.y0, field.resolution, _c(field.segments),
+                                _c(field.normals), np.ascontiguousarray(passable, dtype=np.bool_), pts,
+                                float(params.ray_step), float(params.ray_clearance),
+                                float(pose[0]), float(pose[1]), float(pose[2])))
 
 
 def refine(field: DistanceField, points: np.ndarray, pose: Pose, params: MatcherParams) -> Match:
-    """Gauss-Newton point-to-line alignment of `points` (robot frame) starting at `pose`."""
-    pts = points[:: params.beam_stride]
-    x = np.array(pose, dtype=float)
-    converged = False
-    used = 0
-    info = np.zeros((2, 2))  # the last step's per-point x-y information
-    for it in range(params.iterations):
-        # 1. outlier distance shrinks linearly over the first half of the iterations
-        f = min(1.0, it / max(1, params.iterations // 2))
-        outlier = params.outlier_distance + f * (params.final_outlier_distance - params.outlier_distance)
+    """Gauss-Newton point-to-line alignment of `points` (robot frame) starting at `pose`
+    (one compiled loop: match_kernels.refine_kernel)."""
+    x, y, a, used, converged, constraint = refine_kernel(
+        field.field, field.segment_index, field.x0, field.y0, field.resolution, _c(field.segments),
+        _c(field.normals), _c(points[:: params.beam_stride]), float(pose[0]), float(pose[1]), float(pose[2]),
+        int(params.iterations), float(params.outlier_distance), float(params.final_outlier_distance),
+        float(params.huber), float(params.inlier_distance))
+    result: Pose = (float(x), float(y), float(a))
+    return Match(result, quality(field, points, result, params.inlier_distance), int(used), bool(converged),
+                 float(constraint))
 
-        # 2. points into the map, each with its nearest segment and signed line distance
-        c, s = math.cos(x[2]), math.sin(x[2])
-        q = pts @ np.array([[c, s], [-s, c]]) + x[:2]
-        k = field.nearest_segment(q)
-        ok = k >= 0
-        n = field.normals[k[ok]]
-        a = field.segments[k[ok], 0:2]
-        r = ((q[ok] - a) * n).sum(axis=1)
-        keep = np.abs(r) <= outlier
-        # a point beyond the segment's ends is not on that line: use the true distance
-        keep[keep] &= field.distance(q[ok][keep]) <= outlier
-        used = int(keep.sum())
-        if used < 3:
-            break
-        r, n, qk = r[keep], n[keep], q[ok][keep]
 
-        # 3. Huber weights and the normal equations
-        w = np.where(np.abs(r) <= params.huber, 1.0, params.huber / np.maximum(np.abs(r), 1e-12))
-        rel = qk - x[:2]
-        j = np.column_stack([n[:, 0], n[:, 1], n[:, 0] * -rel[:, 1] + n[:, 1] * rel[:, 0]])
-        h = (j * w[:, None]).T @ j
-        g = (j * w[:, None]).T @ r
-        info = h[:2, :2] / w.sum()
-        try:
-            dx = -np.linalg.solve(h + 1e-9 * np.eye(3), g)
-        except np.linalg.LinAlgError:
-            break
-        x += dx
-        x[2] = math.remainder(x[2], 2 * math.pi)
-        if it >= params.iterations // 2 and abs(dx[0]) + abs(dx[1]) < 1e-4 and abs(dx[2]) < 1e-4:
-            converged = True
-            break
-    result: Pose = (float(x[0]), float(x[1]), float(x[2]))
-    # how well the points pin down x and y: ~0 in a featureless corridor
-    constraint = float(np.linalg.eigvalsh(info)[0])
-    return Match(result, quality(field, points, result, params.inlier_distance), used, converged,
-                 constraint)
+def _c(a: np.ndarray) -> np.ndarray:
+    """A C-contiguous float64 copy (or the array itself): the layout the kernels are built for."""
+    return np.ascontiguousarray(a, dtype=np.float64)
 
 
 def search(
@@ -239,16 +193,13 @@ def coarse_candidates(
         return []
     ny, nx = i1 - i0 + 1, j1 - j0 + 1
 
-    scores = np.empty((len(hs), ny, nx), dtype=np.float32)
+    # per heading, every point's offset in whole nodes; the scores: one compiled loop
+    offsets = np.empty((len(hs), len(pts), 2), dtype=np.int64)
     for h, dh in enumerate(hs):
         a = heading + dh
         c, s = math.cos(a), math.sin(a)
-        offsets = np.rint(pts @ np.array([[c, s], [-s, c]]) / step).astype(np.int64)
-        acc = np.zeros((ny, nx), dtype=np.float32)
-        for dj, di in offsets:
-            r, q = pad + i0 + di, pad + j0 + dj
-            acc += grid[r : r + ny, q : q + nx]
-        scores[h] = acc
+        offsets[h] = np.rint(pts @ np.array([[c, s], [-s, c]]) / step)
+    scores = coarse_scores(np.ascontiguousarray(grid, dtype=np.float32), offsets, pad + i0, pad + j0, ny, nx)
 
     # best first; skip candidates close to one already taken (non-maximum suppression)
     order = np.argsort(scores, axis=None)

@@ -6,33 +6,26 @@
 
 Anything with `step(laser, odometry) -> WorldModel` can be wrapped; the wrapper keeps the
 perceptor's interface (step, reset) so the session and the UI need not know it is there.
-With `truth` (a callable giving the true pose, e.g. `lambda: sim.truth.pose`) every
-localised frame is also scored into `self.score` (`PoseScore`).
+Scoring against a true pose is the session's observer `evaluation.PoseErrorScorer`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Any
 
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.localisation import Localiser
-from pico_studio.core.localisation.score import Pose, PoseScore
 
 
 class LocalisingPerceptor:
-    def __init__(self, perceptor: Any, localiser: Localiser, truth: Callable[[], Pose] | None = None):
+    def __init__(self, perceptor: Any, localiser: Localiser):
         self.perceptor = perceptor
         self.localiser = localiser
-        self.truth = truth
-        self.score = PoseScore()
 
     def step(self, laser: LaserData | None, odometry: OdometryData | None) -> Any:
         wm = self.perceptor.step(laser, odometry)
         if wm is not None and laser is not None:
             self.localiser.fill(wm)
-            if self.truth is not None:
-                self.score.add(wm.global_pose, self.truth(), wm.lost)
         return wm
 
     def reset(self) -> None:
@@ -40,7 +33,6 @@ class LocalisingPerceptor:
         if reset is not None:
             reset()
         self.localiser.reset()
-        self.score = PoseScore()
 
     def __getattr__(self, name: str) -> Any:
         # everything else (params, state, ...) is the wrapped perceptor's

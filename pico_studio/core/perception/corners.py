@@ -10,6 +10,8 @@ The scan runs counter-clockwise, so a corner pointing away from the robot (inner
 90 deg on the robot's side) gives -90 deg and one pointing at the robot (outer, convex,
 270 deg on the robot's side) gives +90 deg. Runs of neighbouring hits are one corner: the
 point whose angle is closest to +-90 deg.
+
+Both are one compiled pass over the scan's points (`_spikes`, `_vectors`).
 """
 
 from __future__ import annotations
@@ -20,6 +22,28 @@ import numpy as np
 
 from pico_studio.config.perception_params import CornerParams
 from pico_studio.core.perception.scan import ScanPoints
+from pico_studio.jit import kernel
+
+
+def _spike_example() -> tuple:
+    return np.array([[1.0, 0.0], [1.0, 0.1], [3.0, 0.4], [3.0, 0.5]]), 0.5, 4.0
+
+
+@kernel(_spike_example)
+def _spikes(p: np.ndarray, gap_min: float, max_range: float) -> np.ndarray:
+    """Indices (K,) of the spike corners: per gap wider than `gap_min`, its nearer point."""
+    m = p.shape[0]
+    out = np.empty(max(m, 1), dtype=np.int64)
+    n = 0
+    for i in range(m - 1):
+        gap = math.hypot(p[i + 1, 0] - p[i, 0], p[i + 1, 1] - p[i, 1])
+        r0 = math.hypot(p[i, 0], p[i, 1])
+        r1 = math.hypot(p[i + 1, 0], p[i + 1, 1])
+        near, r = (i, r0) if r0 <= r1 else (i + 1, r1)
+        if gap > gap_min and r < max_range and (n == 0 or out[n - 1] != near):
+            out[n] = near  # non-decreasing: a point between two gaps counts once
+            n += 1
+    return out[:n].copy()
 
 
 def spike_corners(scan: ScanPoints, params: CornerParams) -> np.ndarray:
@@ -27,41 +51,57 @@ def spike_corners(scan: ScanPoints, params: CornerParams) -> np.ndarray:
     p = scan.points
     if len(p) < 2:
         return np.zeros((0, 2))
-    r = np.hypot(p[:, 0], p[:, 1])
-    gap = np.hypot(*np.diff(p, axis=0).T)
-    nearer = np.where(r[:-1] <= r[1:], np.arange(len(p) - 1), np.arange(1, len(p)))
-    hit = (gap > params.spike_gap) & (r[nearer] < params.spike_max_range)
-    near = nearer[hit]  # non-decreasing: drop repeats instead of sorting (np.unique)
-    if len(near) > 1:
-        near = near[np.concatenate([[True], near[1:] != near[:-1]])]
-    return p[near]
+    return p[_spikes(np.ascontiguousarray(p, dtype=np.float64), float(params.spike_gap), float(params.spike_max_range))]
+
+
+def _vector_example() -> tuple:
+    pts = np.array([[1.0, 0.1 * i] for i in range(6)] + [[1.0 - 0.1 * i, 0.5] for i in range(1, 6)])
+    return pts, np.array([[0, 11]], dtype=np.int64), 2, 0.3
+
+
+@kernel(_vector_example)
+def _vectors(p: np.ndarray, clusters: np.ndarray, k: int, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """(indices (V,), inner (V,)) of the vector corners: per run of neighbouring hits, the
+    point whose angle between v1 = p[i-k] - p[i] and v2 = p[i+k] - p[i] is closest to +-90 deg."""
+    m = p.shape[0]
+    cid = np.empty(m, dtype=np.int64)
+    for c in range(clusters.shape[0]):
+        cid[clusters[c, 0]:clusters[c, 1]] = c
+    out = np.empty(max(m, 1), dtype=np.int64)
+    inner = np.empty(max(m, 1), dtype=np.bool_)
+    n = 0
+    last_hit = -2
+    best_dev = 0.0
+    for i in range(k, m - k):
+        if cid[i - k] != cid[i] or cid[i + k] != cid[i]:
+            continue
+        v1x, v1y = p[i - k, 0] - p[i, 0], p[i - k, 1] - p[i, 1]
+        v2x, v2y = p[i + k, 0] - p[i, 0], p[i + k, 1] - p[i, 1]
+        ang = math.atan2(v1x * v2y - v1y * v2x, v1x * v2x + v1y * v2y)
+        dev_in = abs(ang + math.pi / 2)
+        dev_out = abs(ang - math.pi / 2)
+        dev = min(dev_in, dev_out)
+        if not dev < tol:
+            continue
+        if i != last_hit + 1:  # a new run of hits: a new corner
+            out[n] = i
+            inner[n] = dev_in < dev_out
+            best_dev = dev
+            n += 1
+        elif dev < best_dev:  # the same run: keep its point closest to +-90 deg
+            out[n - 1] = i
+            inner[n - 1] = dev_in < dev_out
+            best_dev = dev
+        last_hit = i
+    return out[:n].copy(), inner[:n].copy()
 
 
 def vector_corners(scan: ScanPoints, params: CornerParams, spacing: float) -> tuple[np.ndarray, np.ndarray]:
     """(V, 2) corners (robot frame) and (V,) bool: inner (concave) or not (outer)."""
     p = scan.points
-    m = len(p)
     k = max(1, int(round(params.vector_step / max(spacing, 1e-3))))
-    if m < 2 * k + 1:
+    if len(p) < 2 * k + 1:
         return np.zeros((0, 2)), np.zeros(0, dtype=bool)
-    cid = np.repeat(np.arange(len(scan.clusters)), scan.clusters[:, 1] - scan.clusters[:, 0])
-    i = np.arange(k, m - k)
-    # slices, not index arrays: point i against its neighbours i - k and i + k
-    mid = cid[k : m - k]
-    same = (cid[: m - 2 * k] == mid) & (cid[2 * k :] == mid)
-    pi = p[k : m - k]
-    v1 = p[: m - 2 * k] - pi
-    v2 = p[2 * k :] - pi
-    ang = np.arctan2(v1[:, 0] * v2[:, 1] - v1[:, 1] * v2[:, 0], (v1 * v2).sum(axis=1))
-    dev_in = np.abs(ang + math.pi / 2)
-    dev_out = np.abs(ang - math.pi / 2)
-    dev = np.minimum(dev_in, dev_out)
-    hit = same & (dev < params.vector_tolerance)
-    if not hit.any():
-        return np.zeros((0, 2)), np.zeros(0, dtype=bool)
-    h = np.flatnonzero(hit)
-    run = np.concatenate([[0], np.cumsum(np.diff(h) > 1)])
-    order = np.lexsort((dev[h], run))
-    first = order[np.concatenate([[True], np.diff(run[order]) > 0])]
-    best = h[first]
-    return p[i[best]], dev_in[best] < dev_out[best]
+    idx, inner = _vectors(np.ascontiguousarray(p, dtype=np.float64), np.ascontiguousarray(scan.clusters, dtype=np.int64),
+                          k, float(params.vector_tolerance))
+    return p[idx], inner

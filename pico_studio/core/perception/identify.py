@@ -27,6 +27,7 @@ from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall")
+DOOR_KINDS = ("jambs", "end_face")
 
 
 @dataclass(frozen=True)
@@ -37,13 +38,26 @@ class Identified:
     doors: np.ndarray  # (D, 4)
     possible_doors: np.ndarray  # (E, 4)
     possible_door_kind: list[str]
+    door_kind: list[str]  # (D,) one of DOOR_KINDS
+    object_wall: np.ndarray  # (W,) bool: the wall belongs to a small object (no building)
+
+
+@dataclass(frozen=True)
+class View:
+    """What the laser sees now: beams (robot frame) and the robot's pose in the zero frame."""
+
+    ranges: np.ndarray
+    angles: np.ndarray
+    valid: np.ndarray
+    pose: tuple[float, float, float]
 
 
 def identify(
     walls: np.ndarray, connected: np.ndarray, seen_end: np.ndarray, robot_xy: tuple[float, float],
-    params: IdentifyParams,
+    params: IdentifyParams, view: View | None = None,
 ) -> Identified:
-    """walls (W, 4) zero frame, connected (W, 2) wall index or -1, seen_end (W, 2) bool."""
+    """walls (W, 4) zero frame, connected (W, 2) wall index or -1, seen_end (W, 2) bool;
+    `view`: the current scan and the robot's pose (zero frame), for looking through gaps."""
     n = len(walls)
     prop = np.full((n, 2), FLOATING, dtype=np.int64)
     prop[seen_end] = CONVEX
@@ -76,7 +90,8 @@ def identify(
     for i, a in zip(*np.nonzero(seen_end & (connected < 0)), strict=True):
         corners.append((wl[i][2 * a], wl[i][2 * a + 1]))
         convex.append(True)
-    doors, possible, kinds = _doors(walls, prop, connected, params)
+    objects = object_walls(walls, connected, prop, params.object_max_size, params.object_min_depth)
+    doors, door_kinds, possible, kinds = _doors(walls, prop, connected, objects, (rx, ry), view, params)
     return Identified(
         prop,
         np.array(corners, dtype=float).reshape(-1, 2),
@@ -84,6 +99,8 @@ def identify(
         doors,
         possible,
         kinds,
+        door_kinds,
+        objects,
     )
 
 
@@ -94,22 +111,71 @@ def _in_wedge(r: tuple[float, float], u: tuple[float, float], v: tuple[float, fl
     return bool(uv * ur > 0 and uv * rv > 0)
 
 
+def object_walls(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float,
+                 min_depth: float) -> np.ndarray:
+    """(W,) bool: walls of a connected group whose bounding box spans at most `max_size`
+    (diagonal), at least `min_depth` across its main direction, and none of whose ends is
+    floating (the laser saw past all its free ends): a table, a cabinet, a person seen as a
+    few short connected walls. A piece of a building's wall seen in part has a floating end
+    where the view stopped; a thick wall's end with its cap is thin."""
+    n = len(walls)
+    if n == 0 or max_size <= 0:
+        return np.zeros(n, dtype=bool)
+    root = list(range(n))
+
+    def find(i: int) -> int:
+        while root[i] != i:
+            root[i] = root[root[i]]
+            i = root[i]
+        return i
+
+    for i, k in zip(*np.nonzero(connected >= 0), strict=True):
+        a, b = find(int(i)), find(int(connected[i, k]))
+        if a != b:
+            root[a] = b
+    group = np.array([find(i) for i in range(n)])
+    pts = walls.reshape(n, 2, 2)
+    out = np.zeros(n, dtype=bool)
+    for g in np.unique(group):
+        members = group == g
+        p = pts[members].reshape(-1, 2)
+        size = np.hypot(*(p.max(axis=0) - p.min(axis=0)))
+        if size > max_size or (prop[members] == FLOATING).any():
+            continue
+        centred = p - p.mean(axis=0)
+        minor = np.linalg.svd(centred, full_matrices=False)[2][-1]  # the main direction's normal
+        depth = float(np.ptp(centred @ minor))
+        out[members] = depth >= min_depth
+    return out
+
+
 def _doors(
-    walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, params: IdentifyParams
-) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np.ndarray, robot: tuple[float, float],
+    view: View | None, params: IdentifyParams,
+) -> tuple[np.ndarray, list[str], np.ndarray, list[str]]:
     empty = np.zeros((0, 4))
     if len(walls) < 2:
-        return empty, empty, []
-    # door-point candidates: (wall, end) with a convex or floating property
-    wi, we = np.nonzero((prop == CONVEX) | (prop == FLOATING))
+        return empty, [], empty, []
+    # door-point candidates: (wall, end) with a convex or floating property, not on an object
+    lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
+    # a jamb is a wall's end: what joins it there is no longer than an end cap
+    cap = np.where(connected >= 0, lengths[np.maximum(connected, 0)], 0.0)
+    jamb_ok = ~objects[:, None] & (cap <= params.jamb_cap_max)
+    wi, we = np.nonzero(((prop == CONVEX) | (prop == FLOATING)) & jamb_ok)
     if len(wi) < 1:
-        return empty, empty, []
+        return empty, [], empty, []
     ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i
     pts = ends[2 * wi + we]
     other = ends[2 * wi + 1 - we]
     out_dir = pts - other
     out_dir /= np.maximum(np.hypot(out_dir[:, 0], out_dir[:, 1]), 1e-12)[:, None]
     is_convex = prop[wi, we] == CONVEX
+    # the wall a door continues is long, or a short stub whose far end joins a long wall
+    # (a cabinet's side is short and joins another short side)
+    # (then the gap must continue it closely: `door_offset_short`)
+    far = connected[wi, 1 - we]
+    long = lengths[wi] >= params.door_wall_min_length
+    stub = ~long & (far >= 0) & (lengths[np.maximum(far, 0)] >= params.door_wall_min_length)
     # only pairs of a door's width apart can be anything: find those first, then test
     # everything else on that short list of pairs (ia, ja), ia < ja
     diff = pts[None, :, :] - pts[:, None, :]
@@ -119,6 +185,7 @@ def _doors(
     upper = ia < ja
     ia, ja = ia[upper], ja[upper]
     doors: list[list[float]] = []
+    door_kinds: list[str] = []
     possible: list[np.ndarray] = []
     kinds: list[str] = []
     if len(ia):
@@ -132,13 +199,6 @@ def _doors(
         ui, uj = (u * oi).sum(1), (u * oj).sum(1)  # cosines of the gap with each wall's outward
         base = (wi[ia] != wi[ja]) & (connected[wi[ia], we[ia]] != wi[ja])
         cos_a, sin_a = math.cos(params.door_angle), math.sin(params.door_angle)
-        # the wall a door continues is long, or a short stub whose far end joins a long wall
-        # (a cabinet's side is short and joins another short side)
-        # (then the gap must continue it closely: `door_offset_short`)
-        lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
-        far = connected[wi, 1 - we]
-        long = lengths[wi] >= params.door_wall_min_length
-        stub = ~long & (far >= 0) & (lengths[np.maximum(far, 0)] >= params.door_wall_min_length)
         # door: the gap continues one wall's line (the other point ahead of its end, within
         # door_angle and door_offset), and the other point's wall either comes back along that
         # line or stands across it (the end cap of a thick wall seen from the side, when the
@@ -157,6 +217,8 @@ def _doors(
         blocked = np.zeros(len(ia), dtype=bool)
         some = np.flatnonzero(is_door | is_possible)
         blocked[some] = _blocked_many(segs[some], walls, wi[ia[some]], wi[ja[some]])
+        some = np.flatnonzero((is_door | is_possible) & ~blocked)
+        blocked[some] = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
         # best aligned first; a later door from the same point in about the same direction is
         # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
         cand = np.flatnonzero(is_door & ~blocked)
@@ -164,17 +226,47 @@ def _doors(
         for m in cand[np.argsort(np.minimum(off_ij[cand], off_ji[cand]))].tolist():
             if not any(_same_opening(seg_list[m], d) for d in doors):
                 doors.append(seg_list[m])
+                door_kinds.append("jambs")
         for m in np.flatnonzero(is_possible & ~blocked).tolist():
             possible.append(segs[m])
             kinds.append("convex_loose" if is_convex[ia[m]] or is_convex[ja[m]] else "loose_loose")
-    # a loose end facing a wall: the wall's continuation hits another wall
+    # a wall's end facing another wall: the wall's continuation hits another wall's face. From
+    # a convex end (the laser saw the end) within a door's width that is a door, a T-opening;
+    # from a loose end a possible door
+    if params.end_face_doors:
+        face = np.flatnonzero(is_convex & (long | stub))
+        if len(face):
+            hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
+            gaps, own, other_k = [], [], []
+            for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
+                if k < 0 or k == wi[m] or objects[k] or connected[wi[m], we[m]] == k:
+                    continue
+                if not params.door_min_width <= t <= params.door_max_width:
+                    continue
+                kd = walls[k, 2:4] - walls[k, 0:2]
+                across = abs(float(kd @ out_dir[m])) / max(float(np.hypot(*kd)), 1e-12)
+                if across > math.sin(params.door_angle):  # not facing: the wall runs along the gap
+                    continue
+                gaps.append(np.concatenate([pts[m], pts[m] + t * out_dir[m]]))
+                own.append(wi[m])
+                other_k.append(k)
+            if gaps:
+                g = np.array(gaps)
+                oa, ob = np.array(own), np.array(other_k)
+                bad = _blocked_many(g, walls, oa, ob)
+                bad |= _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))
+                for m in np.flatnonzero(~bad).tolist():
+                    gl = g[m].tolist()
+                    if not any(_same_place(gl, d, params) for d in doors):
+                        doors.append(gl)
+                        door_kinds.append("end_face")
     loose = np.flatnonzero(~is_convex)
     if len(loose):
         hit_t, hit_k = _ray_hits(pts[loose], out_dir[loose], walls)
         for m, t, k in zip(loose.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
             if k < 0 or k == wi[m] or not params.door_min_width <= t <= params.facing_distance:
                 continue
-            if connected[wi[m], we[m]] == k:
+            if connected[wi[m], we[m]] == k or objects[k]:
                 continue
             possible.append(np.concatenate([pts[m], pts[m] + t * out_dir[m]]))
             kinds.append("loose_wall")
@@ -187,7 +279,107 @@ def _doors(
         keep = near > params.door_min_width / 2
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
-    return d, p, kinds
+    return d, door_kinds, p, kinds
+
+
+def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:
+    """Two gaps about parallel whose middles lie within half a door's minimum width: one
+    opening (e.g. found from both corners of a thick wall's end cap)."""
+    ma = ((a[0] + a[2]) / 2, (a[1] + a[3]) / 2)
+    mb = ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
+    if math.hypot(ma[0] - mb[0], ma[1] - mb[1]) > params.door_min_width / 2:
+        return False
+    ux, uy, vx, vy = a[2] - a[0], a[3] - a[1], b[2] - b[0], b[3] - b[1]
+    cos = abs(ux * vx + uy * vy) / max(math.hypot(ux, uy) * math.hypot(vx, vy), 1e-12)
+    return cos > math.cos(params.door_angle)
+
+
+def _backed(
+    segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, robot: tuple[float, float],
+    view: View | None, params: IdentifyParams, face_end: np.ndarray | None = None,
+) -> np.ndarray:
+    """(G,) bool: is there no seeing through the gap? Rays from the robot through five points of
+    the middle of each gap: the current scan's beam when the point is in view, else the local
+    map's first wall along the ray (the gap's own two walls left out). A ray stopping more
+    than `door_occlusion` before the gap says nothing. One that stops behind the gap is
+    *closed* when its end lies in the gap's shadow — within `door_depth` of the gap line and
+    between the jambs' normals: the back of a bay between two tables, a panel in the gap. A
+    ray ending within `door_occlusion` of a jamb's normal says nothing (a bay's side looks like
+    the face a T-opening ends on) unless deeper than `jamb_cap_max` behind a jamb that is a
+    wall's end (`face_end` (G,): the gap's second point lies on a wall's face instead). A ray that goes on, returns nothing, or ends beside the gap
+    (the free space behind a door opens sideways, e.g. a corridor seen through a door at an
+    angle) is free. Backed when at least `door_backed_share` of the informative
+    rays are closed."""
+    g = len(segs)
+    if g == 0:
+        return np.zeros(0, dtype=bool)
+    face_end = np.zeros(g, dtype=bool) if face_end is None else face_end
+    fr = np.array([0.2, 0.35, 0.5, 0.65, 0.8])
+    sample = segs[:, None, 0:2] + fr[None, :, None] * (segs[:, None, 2:4] - segs[:, None, 0:2])  # (G, 5, 2)
+    origin = np.array(robot, dtype=float)
+    rel = sample - origin
+    dist = np.hypot(rel[..., 0], rel[..., 1])
+    direction = rel / np.maximum(dist, 1e-12)[..., None]
+    # local map: the first wall along each ray (excluding the gap's own walls)
+    t, _ = _ray_hits(np.broadcast_to(origin, (g * 5, 2)), direction.reshape(-1, 2), walls,
+                     exclude=(np.repeat(own_a, 5), np.repeat(own_b, 5)))
+    reach = t.reshape(g, 5)
+    known = np.ones((g, 5), dtype=bool)
+    if view is not None and len(view.ranges) > 1:  # the scan, where it looks through the gap
+        in_view, scan_reach = _scan_reach(sample, dist, view)
+        reach = np.where(in_view, scan_reach, reach)
+        known = np.where(in_view, ~np.isnan(scan_reach), known)
+    with np.errstate(invalid="ignore"):
+        informative = known & (reach >= dist - params.door_occlusion)
+    # where each ray ends, in the gap's frame: along the gap (s) and behind it (n)
+    length = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
+    along = (segs[:, 2:4] - segs[:, 0:2]) / np.maximum(length, 1e-12)[:, None]
+    end = origin + np.where(np.isfinite(reach), reach, 0.0)[..., None] * direction
+    rel_end = end - segs[:, None, 0:2]
+    s_ = (rel_end * along[:, None, :]).sum(-1)
+    n_ = np.abs(rel_end[..., 0] * along[:, None, 1] - rel_end[..., 1] * along[:, None, 0])
+    m = params.door_occlusion
+    ended = informative & np.isfinite(reach)
+    # a ray ending at a jamb's side (|s| or |s - L| within m) cannot tell a bay's side from the
+    # face a T-opening ends on: it says nothing
+    near_first = np.abs(s_) < m
+    near_last = np.abs(s_ - length[:, None]) < m
+    side = ended & (near_first | near_last)
+    # ...unless it ends deeper behind the gap than a wall is thick, at a jamb that is a wall's
+    # end: then the jamb's side runs back from the gap, as a bay's does (the face a T-opening
+    # ends on runs across the gap line: its side says nothing at any depth)
+    deep_side = side & (n_ > params.jamb_cap_max) & (near_first | ~face_end[:, None])
+    informative &= ~side | deep_side
+    closed = ended & (n_ < params.door_depth) & ((~side & (s_ > 0) & (s_ < length[:, None])) | deep_side)
+    inf_n = informative.sum(axis=1)
+    return (inf_n > 0) & (closed.sum(axis=1) >= params.door_backed_share * inf_n)
+
+
+def _scan_reach(sample: np.ndarray, dist: np.ndarray, view: View) -> tuple[np.ndarray, np.ndarray]:
+    """Per sample: is its beam in view, and how far that beam reached (inf: no return or a
+    return beyond the sample; nan: an invalid beam that says nothing, e.g. too short)."""
+    x, y, a = view.pose
+    c, s_ = math.cos(a), math.sin(a)
+    rel = sample - np.array([x, y])
+    bx = c * rel[..., 0] + s_ * rel[..., 1]
+    by = -s_ * rel[..., 0] + c * rel[..., 1]
+    bearing = np.arctan2(by, bx)
+    a0 = float(view.angles[0])
+    inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
+    if inc == 0 or not math.isfinite(inc):
+        return np.zeros(dist.shape, dtype=bool), np.full(dist.shape, np.nan)
+    n = len(view.ranges)
+    beam = np.rint((bearing - a0) / inc).astype(np.int64)
+    wrap = 2 * math.pi / abs(inc)  # a full-circle scan: bearings just past the last beam
+    beam = np.where((beam >= n) & (beam - wrap > -1), np.rint(beam - wrap).astype(np.int64), beam)
+    in_view = (beam >= 0) & (beam < n)
+    bc = np.clip(beam, 0, n - 1)
+    raw = view.ranges[bc]
+    valid = view.valid[bc]
+    # an invalid beam reached far when it returned nothing or beyond the sample, else unknown
+    far_invalid = ~valid & ~(np.isfinite(raw) & (raw > 0) & (raw < dist))
+    reach = np.where(valid, raw, np.where(far_invalid, np.inf, np.nan))
+    return in_view, reach
 
 
 def _same_opening(a: list[float], b: list[float], max_angle: float = 0.5, tol: float = 1e-6) -> bool:
@@ -228,8 +420,10 @@ def _intersects(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> n
     return (o1 * o2 < 0) & (o3 * o4 < 0)
 
 
-def _ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Nearest wall hit (distance, index; inf/-1 for none) of rays (R, 2) + t (R, 2)."""
+def _ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray,
+              exclude: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Nearest wall hit (distance, index; inf/-1 for none) of rays (R, 2) + t (R, 2); `exclude`:
+    per ray two wall indices not to hit."""
     a = walls[None, :, 0:2]
     e = walls[None, :, 2:4] - a
     o = origin[:, None, :]
@@ -240,10 +434,13 @@ def _ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray) -> t
     t = (ao[..., 0] * e[..., 1] - ao[..., 1] * e[..., 0]) / safe
     u = (ao[..., 0] * dr[..., 1] - ao[..., 1] * dr[..., 0]) / safe
     ok = (np.abs(den) > 1e-12) & (t > 1e-6) & (u >= 0) & (u <= 1)
+    if exclude is not None:
+        k_all = np.arange(len(walls))[None, :]
+        ok &= (k_all != exclude[0][:, None]) & (k_all != exclude[1][:, None])
     t = np.where(ok, t, np.inf)
     k = np.argmin(t, axis=1)
     best = t[np.arange(len(origin)), k]
     return best, np.where(np.isfinite(best), k, -1)
 
 
-__all__ = ["CONNECTED", "POSSIBLE_DOOR_KINDS", "Identified", "identify"]
+__all__ = ["CONNECTED", "DOOR_KINDS", "POSSIBLE_DOOR_KINDS", "Identified", "View", "identify", "object_walls"]

@@ -407,8 +407,29 @@ def _see_through(w: _Work, pose: Pose, scan: ScanPoints, params: MergeParams) ->
     through = in_view & (measured > dist + params.see_through)
     blocked = in_view & ~through
     passed = through.sum(axis=1) > blocked.sum(axis=1) + through.shape[1] // 2
+    # beams ending on the wall (not in front of it: an occluder says nothing) confirm it, so
+    # the count of see-through scans is one "in a row"
+    on_wall = (in_view & (np.abs(measured - dist) <= params.see_through)).sum(axis=1) > through.shape[1] // 2
     idx = np.flatnonzero(unseen)
-    w.missed[idx] = np.where(passed, w.missed[idx] + 1, np.where(blocked.any(axis=1), w.missed[idx], w.missed[idx]))
+    w.missed[idx] = np.where(passed, w.missed[idx] + 1, np.where(on_wall, 0, w.missed[idx]))
+
+
+def drop_near(state: LocalMapState, places: np.ndarray, radius: float) -> LocalMapState:
+    """The state without walls lying entirely within `radius` of one of `places` (V, 2): what
+    an object left where it stood before it turned out to move."""
+    if len(places) == 0 or len(state.walls) == 0:
+        return state
+    ends = state.walls.reshape(-1, 2, 2)
+    d = np.hypot(*(ends[:, :, None, :] - places[None, None, :, :]).transpose(3, 0, 1, 2))  # (W, 2, V)
+    gone = (d <= radius).all(axis=1).any(axis=1)
+    if not gone.any():
+        return state
+    keep = ~gone
+    remap = np.cumsum(keep) - 1
+    c = state.connected
+    connected = np.where(c >= 0, np.where(keep[np.maximum(c, 0)], remap[np.maximum(c, 0)], -1), -1)[keep]
+    return LocalMapState(state.walls[keep], state.hits[keep], state.last_seen[keep], state.missed[keep],
+                         state.seen_end[keep], state.end_weight[keep], connected, state.step)
 
 
 def _within(walls: np.ndarray, pose: Pose, radius: float) -> np.ndarray:
@@ -421,4 +442,4 @@ def _within(walls: np.ndarray, pose: Pose, radius: float) -> np.ndarray:
     return np.hypot(*(a + t[:, None] * ab - p).T) <= radius
 
 
-__all__ = ["END_SEEN", "LocalMapState", "merge"]
+__all__ = ["END_SEEN", "LocalMapState", "drop_near", "merge"]

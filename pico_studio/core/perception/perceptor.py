@@ -6,7 +6,8 @@
 
 Stages, in order (each its own module): locate -> scan (filter, resample, cluster) ->
 proximity -> segment (+ least-squares refit) -> corners (spike, vector) -> laser motion ->
-merge (local map) -> identify (corners, doors) -> entrance -> rooms. Per-stage wall-clock
+objects (small free-standing clusters tracked; moving ones held out) -> scan match (the
+pose corrected against the local map) -> merge (local map) -> identify (corners, doors) -> entrance -> rooms. Per-stage wall-clock
 times land in `WorldModel.timings_ms`.
 
 Bad input (empty, all-NaN or all-inf scans, mismatched angle fields, odometry jumps) yields a
@@ -26,18 +27,20 @@ from pico_studio.core.geometry import compose
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.perception.corners import spike_corners, vector_corners
 from pico_studio.core.perception.entrance import Estimate, entrance_in_scan, median_entrance
-from pico_studio.core.perception.identify import identify
+from pico_studio.core.perception.identify import View, identify
 from pico_studio.core.perception.laser_motion import laser_motion
 from pico_studio.core.perception.locate import LocateState, locate
-from pico_studio.core.perception.merge import LocalMapState, merge
+from pico_studio.core.perception.merge import LocalMapState, drop_near, merge
+from pico_studio.core.perception.objects import ObjectsState, track_objects
 from pico_studio.core.perception.plugin_hooks import perceive_with_plugins
 from pico_studio.core.perception.proximity import proximity_flags
 from pico_studio.core.perception.rooms import rooms
 from pico_studio.core.perception.scan import process_scan
-from pico_studio.core.perception.segment import segment_scan
+from pico_studio.core.perception.scan_match import match_scan
+from pico_studio.core.perception.segment import Segments, segment_scan
 from pico_studio.core.world_model import LocalMap, WorldModel
 
-STAGES = ("locate", "scan", "proximity", "segment", "corners", "laser_motion", "merge",
+STAGES = ("locate", "scan", "proximity", "segment", "corners", "laser_motion", "objects", "scan_match", "merge",
           "identify", "entrance", "rooms")
 
 
@@ -49,6 +52,7 @@ class PerceptorState:
     side_range: float | None = None
     corners: np.ndarray | None = None  # the previous scan's corners, robot frame then
     time: float = 0.0
+    objects: ObjectsState = ObjectsState()
 
     @staticmethod
     def initial() -> PerceptorState:
@@ -109,14 +113,28 @@ def _perceive(
     if odom is None and motion is not None and params.locate.laser_motion_without_odometry:
         loc = replace(loc, pose=compose(loc.pose, motion))
     lap("laser_motion")
-    local = merge(state.local_map, segs, loc.pose, scan, params.merge)
+    objs, objects_state = track_objects(state.objects, scan, loc.pose, params.objects)
+    lap("objects")
+    fit = None
+    if params.scan_match.enabled and len(state.local_map.walls):
+        firm = state.local_map.hits >= params.scan_match.min_wall_hits
+        still = ~np.repeat(objs.held, scan.clusters[:, 1] - scan.clusters[:, 0])  # not objects being tracked
+        fit = match_scan(scan.points[still], state.local_map.walls[firm], loc.pose, step, params.scan_match)
+        if fit.accepted:
+            loc = loc.corrected(fit.pose)
+    lap("scan_match")
+    kept = ~objs.held[segs.cluster] if len(segs.cluster) else np.zeros(0, dtype=bool)
+    local_before = drop_near(state.local_map, objs.vanished_at, params.objects.max_size)
+    free = Segments(segs.segments[kept], segs.index[kept], segs.cluster[kept], segs.end_kind[kept], segs.rms[kept])
+    local = merge(local_before, free, loc.pose, scan, params.merge)
     lap("merge")
     shown = local.shown(params.merge)
     idx = np.flatnonzero(shown)
     remap = np.full(len(shown) + 1, -1, dtype=np.int64)
     remap[idx] = np.arange(len(idx))
     conn = remap[np.where(local.connected >= 0, local.connected, len(shown))][idx]
-    ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify)
+    view = View(scan.ranges, scan.angles, scan.valid, loc.pose)
+    ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view)
     lap("identify")
     est = entrance_in_scan(segs.segments, params.entrance)
     history = state.entrance_history
@@ -127,7 +145,7 @@ def _perceive(
     room, side = rooms(scan.ranges, scan.angles, scan.valid, state.side_range, params.rooms)
     lap("rooms")
 
-    new_state = PerceptorState(loc, local, history, side, corners_now, stamp)
+    new_state = PerceptorState(loc, local, history, side, corners_now, stamp, objects_state)
     wm = _model(new_state, stamp, timings, warnings)
     wm.points = scan.all_points
     wm.beam_valid = scan.valid
@@ -141,6 +159,11 @@ def _perceive(
     wm.corners = ident.corners
     wm.corner_convex = ident.corner_convex
     wm.doors = ident.doors
+    wm.door_kind = ident.door_kind
+    wm.objects = objs.static_boxes
+    wm.dynamic_obstacles = objs.dynamic_boxes
+    wm.dynamic_points = scan.points[np.repeat(objs.dynamic, scan.clusters[:, 1] - scan.clusters[:, 0])]
+    wm.object_walls = ident.object_wall
     wm.possible_doors = ident.possible_doors
     wm.possible_door_kind = ident.possible_door_kind
     wm.entrance = entrance
@@ -148,6 +171,9 @@ def _perceive(
     wm.room = room
     wm.laser_motion = motion
     wm.laser_motion_matches = matches
+    if fit is not None:
+        wm.pose_correction_quality = fit.quality
+        wm.pose_corrected = fit.accepted
     timings["total"] = sum(timings.values())
     return wm, new_state
 

@@ -1,6 +1,6 @@
 """Seeded generators of the behaviours' test worlds, as `GlobalMap`s with a start pose.
 
-    from worlds import escape_world, room_finder_world   # tests/ on sys.path
+    from pico_studio.evaluation.worlds import escape_world, room_finder_world
     w = escape_world(3)        # w.map: GlobalMap, w.start: (x, y, a), w.rooms: expected contents
 
 Escape rooms (issue 7): a rectangular room 3-6 m a side, an exit hallway 0.6-1.0 m wide and
@@ -91,8 +91,8 @@ def escape_world(seed: int) -> World:
     margin = 0.5
     x = rng.uniform(margin, w - margin)
     y = rng.uniform(margin, h - margin)
-    a = rng.uniform(-math.pi, math.pi)
-    return World(map=b.build(), start=(float(x), float(y), float(a)), seed=seed)
+    heading = rng.uniform(-math.pi, math.pi)
+    return World(map=b.build(), start=(float(x), float(y), float(heading)), seed=seed)
 
 
 def _box(b: _Builder, cx: float, cy: float, sx: float, sy: float) -> None:
@@ -131,10 +131,11 @@ def room_finder_world(seed: int) -> World:
                 # two feet, toes towards the entrance, 0.25 m apart
                 for side in (-1, 1):
                     f = centre + d * side * 0.125
-                    _box(b, *f, *np.abs(d * 0.09 + n * 0.26) + 0.0)
+                    sx, sy = np.abs(d * 0.09 + n * 0.26)
+                    _box(b, float(f[0]), float(f[1]), float(sx), float(sy))
             else:
                 size = rng.uniform(0.2, 0.4)
-                _box(b, *centre, size, size)
+                _box(b, float(centre[0]), float(centre[1]), size, size)
             rooms.append({"wall": k, "centre": [float(centre[0]), float(centre[1])],
                           "content": "person" if person else "object",
                           "objects": 2 if person else 1})
@@ -152,5 +153,25 @@ def room_finder_world(seed: int) -> World:
             break
     else:
         raise RuntimeError(f"room-finder world {seed}: no start that faces no room")
-    a = rng.uniform(-math.pi, math.pi)
-    return World(map=b.build(), start=(float(x), float(y), float(a)), rooms=rooms, seed=seed)
+    heading = rng.uniform(-math.pi, math.pi)
+    return World(map=b.build(), start=(float(x), float(y), float(heading)), rooms=rooms, seed=seed)
+
+
+GENERATORS = {"escape": escape_world, "rooms": room_finder_world}
+
+
+def make_world(spec: str) -> World:
+    """`escape:SEED` or `rooms:SEED` as a `World` (the spec is checked by `parse_world`)."""
+    kind, seed = parse_world(spec)
+    return GENERATORS[kind](seed)
+
+
+def parse_world(spec: str) -> tuple[str, int]:
+    """(generator name, seed) of `escape:SEED` / `rooms:SEED`; ValueError saying what is wrong."""
+    kind, _, seed = spec.partition(":")
+    if kind not in GENERATORS:
+        raise ValueError(f"unknown world {kind!r}; use {' or '.join(f'{k}:SEED' for k in GENERATORS)}")
+    try:
+        return kind, int(seed)
+    except ValueError:
+        raise ValueError(f"{kind}: needs an integer seed, e.g. {kind}:3, got {seed!r}") from None

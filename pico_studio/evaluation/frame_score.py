@@ -1,4 +1,4 @@
-"""Scoring the perceptor against the simulator's ground truth, per scan and over a run.
+"""Scoring one world model against the simulator's ground truth (`score_frame`).
 
 Everything is compared in the map frame. The world model's zero frame is placed there with
 the true pose of the same frame (map_T_zero = truth_pose (x) wm.pose^-1), so wall, corner
@@ -18,21 +18,20 @@ reported on its own.
 - **Doors**: a detected door matches a true opening (`truth.door_openings()`: the map's doors
   and the gaps between wall ends of a door's width) when their middles are within
   `door_distance` and their directions within `door_angle`. Precision over detected doors
-  (against every opening), recall over the openings in view: `truth.visible_doors()` (middle
-  in view, both jambs in the field of view) whose two jambs are in view as well: the jamb's
-  point or one `jamb_reach` either side across the opening (a jamb is the middle of a thick
-  wall's end cap; those are the cap's corners) unoccluded. A door whose jamb is hidden cannot
-  be told from a wall's loose end; the perceptor reports it as a possible door at best.
+  (against every opening), recall over the openings in view: `truth.visible_doors()` (the
+  middle in view, and the scan's beams hit the wall at each jamb over a minimum length: see
+  `sim/truth.py`). A door whose jamb is not seen cannot be told from a wall's loose end; the
+  perceptor reports it as a possible door at best.
 - **Pose**: the perceptor's pose relative to its zero vs the true motion since that frame.
 
-Counts and lengths are summed over frames (`RunScore`), so a run's figures weigh every
-metre of wall and every door the same.
+Counts and lengths are summed over frames (`run_score.RunScore`), so a run's figures weigh
+every metre of wall and every door the same.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -45,7 +44,6 @@ from pico_studio.core.geometry import (
     transform_segments,
 )
 from pico_studio.core.world_model import FLOATING, WorldModel
-from pico_studio.progress import Progress
 
 Pose = tuple[float, float, float]
 
@@ -60,12 +58,11 @@ class Tolerances:
     corner_distance: float = 0.15  # m
     door_distance: float = 0.3  # m
     door_angle: float = 0.3  # rad
-    jamb_reach: float = 0.1  # m: a jamb is in view when a point this far across it is (a cap's corner)
 
 
 @dataclass
 class FrameScore:
-    """Sums for one frame; ratios come from `RunScore`."""
+    """Sums for one frame; ratios come from `run_score.RunScore`."""
 
     wall_len: float = 0.0
     wall_len_ok: float = 0.0
@@ -85,47 +82,6 @@ class FrameScore:
     truth_doors_ok: int = 0
     pose_err_m: float = 0.0
     pose_err_rad: float = 0.0
-
-
-@dataclass
-class RunScore:
-    frames: list[FrameScore] = field(default_factory=list)
-    ms_per_scan: list[float] = field(default_factory=list)
-
-    def add(self, frame: FrameScore) -> None:
-        self.frames.append(frame)
-
-    def total(self) -> FrameScore:
-        out = FrameScore()
-        for f in self.frames:
-            for fl in fields(FrameScore):
-                setattr(out, fl.name, getattr(out, fl.name) + getattr(f, fl.name))
-        return out
-
-    def summary(self) -> dict[str, Any]:
-        t = self.total()
-        n = max(len(self.frames), 1)
-        return {
-            "frames": len(self.frames),
-            "wall_precision": _ratio(t.wall_len_ok, t.wall_len),
-            "wall_recall": _ratio(t.truth_len_ok, t.truth_len),
-            "endpoint_error_m": _ratio(t.endpoint_err_sum, t.endpoints, empty=0.0),
-            "corner_precision": _ratio(t.corners_ok, t.corners),
-            "corner_recall": _ratio(t.truth_corners_ok, t.truth_corners),
-            "convexity_accuracy": _ratio(t.convexity_ok, t.corners_paired),
-            "door_precision": _ratio(t.doors_ok, t.doors),
-            "door_recall": _ratio(t.truth_doors_ok, t.truth_doors),
-            "doors_detected": t.doors,
-            "doors_visible": t.truth_doors,
-            "pose_error_m": t.pose_err_m / n,
-            "pose_error_rad": t.pose_err_rad / n,
-            "ms_per_scan": float(np.median(self.ms_per_scan)) if self.ms_per_scan else 0.0,
-        }
-
-
-def _ratio(num: float, den: float, empty: float = 1.0) -> float:
-    """num / den; with nothing to count, `empty` (nothing claimed is nothing wrong)."""
-    return float(num / den) if den > 0 else empty
 
 
 # ----- geometry helpers ----------------------------------------------------------------------
@@ -255,41 +211,14 @@ def score_arrays(
     return s
 
 
-def _jambs_in_view(doors: np.ndarray, pose: Pose, segments: np.ndarray, reach: float) -> np.ndarray:
-    """The doors whose two jambs are both in view: some point of each jamb — its middle or a
-    point up to `reach` either side across the opening (the corners of a thick wall's end
-    cap) — has a free ray from the robot up to 0.05 m before it."""
-    if len(doors) == 0 or len(segments) == 0:
-        return doors
-    d = doors[:, 2:4] - doors[:, 0:2]
-    normal = np.column_stack([-d[:, 1], d[:, 0]]) / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)[:, None]
-    offsets = np.array([-reach, 0.0, reach])
-    ok = np.ones(len(doors), dtype=bool)
-    for end in (doors[:, 0:2], doors[:, 2:4]):
-        pts = end[:, None, :] + offsets[None, :, None] * normal[:, None, :]
-        rel = pts.reshape(-1, 2) - np.array(pose[:2])
-        dist = np.hypot(rel[:, 0], rel[:, 1])
-        free = _ray_free(np.array(pose[:2]), np.arctan2(rel[:, 1], rel[:, 0]), segments)
-        ok &= (free >= dist - 0.05).reshape(len(doors), -1).any(axis=1)
-    return doors[ok]
-
-
-def _ray_free(origin: np.ndarray, angles: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """Distance along each ray to the nearest segment (inf for none)."""
-    c, s = np.cos(angles)[:, None], np.sin(angles)[:, None]
-    p = segments[None, :, 0:2] - origin
-    e = segments[None, :, 2:4] - segments[None, :, 0:2]
-    den = c * e[..., 1] - s * e[..., 0]
-    safe = np.where(np.abs(den) > 1e-12, den, 1.0)
-    t = (p[..., 0] * e[..., 1] - p[..., 1] * e[..., 0]) / safe
-    u = (p[..., 0] * s - p[..., 1] * c) / safe
-    ok = (np.abs(den) > 1e-12) & (t > 0) & (u >= 0) & (u <= 1)
-    return np.where(ok, t, np.inf).min(axis=1)
+def as_pose(v: Any) -> Pose:
+    """Any (x, y, a) sequence as a pose tuple of floats."""
+    return (float(v[0]), float(v[1]), float(v[2]))
 
 
 def zero_to_map(wm: WorldModel, true_pose: Pose) -> Pose:
     """The pose of the world model's zero frame in the map frame, placed by the true pose."""
-    return compose(true_pose, invert(tuple(wm.pose)))
+    return compose(true_pose, invert(as_pose(wm.pose)))
 
 
 def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
@@ -299,7 +228,7 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     `true_zero`: the true pose at the frame the perceptor took as zero (for the pose error);
     `true_vertices`: every corner of the static geometry (for the end-point error; default
     the corners in view)."""
-    true_pose = tuple(truth.pose)
+    true_pose = as_pose(truth.pose)
     z = zero_to_map(wm, true_pose)
     walls = transform_segments(np.asarray(wm.local_map.walls, dtype=float), z)
     corners = transform_points(np.asarray(wm.corners, dtype=float).reshape(-1, 2), z)
@@ -323,47 +252,27 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     )
     if true_zero is not None:
         true_rel = relative(true_zero, true_pose)
-        err = relative(true_rel, tuple(wm.pose))
+        err = relative(true_rel, as_pose(wm.pose))
         s.pose_err_m, s.pose_err_rad = math.hypot(err[0], err[1]), abs(err[2])
     return s
 
 
 def true_zero_pose(wm: WorldModel, sim: Any) -> Pose | None:
-    """The true map pose of the frame the perceptor took as zero (absolute odometry only):
-    map_T_odom = truth (x) odom^-1 now, applied to the zero pose's odometry reading."""
-    if wm.zero_pose is None or sim.params.odometry.form != "absolute":
+    """The true map pose of the frame the perceptor took as zero (absolute odometry only)."""
+    return true_zero_from(wm, sim.truth, sim.params.odometry.form)
+
+
+def true_zero_from(wm: WorldModel, truth: Any, odometry_form: str) -> Pose | None:
+    """`true_zero_pose` from a truth with `pose` and `odometry_pose` (the simulator's or a kept
+    one): map_T_odom = truth (x) odom^-1 now, applied to the zero pose's odometry reading."""
+    if wm.zero_pose is None or odometry_form != "absolute":
         return None
-    map_from_odom = compose(tuple(sim.truth.pose), invert(tuple(sim.truth.odometry_pose)))
-    return compose(map_from_odom, tuple(wm.zero_pose))
+    map_from_odom = compose(as_pose(truth.pose), invert(as_pose(truth.odometry_pose)))
+    return compose(map_from_odom, as_pose(wm.zero_pose))
 
 
-def run_scored(session: Any, sim: Any, seconds: float, dt: float, tol: Tolerances | None = None,
-               every: int = 1, progress: Progress | None = None) -> tuple[int, RunScore]:
-    """`session.run` that also scores every `every`-th new world model against `sim.truth`."""
-    tol = tol or Tolerances()
-    run = RunScore()
-    vertices = _static_vertices(sim)
-    ticks = scans = 0
-    last = None
-    start = sim.now()
-    end = start + seconds
-    while sim.ok() and sim.now() < end - 1e-9:
-        session.tick(min(dt, end - sim.now()))
-        ticks += 1
-        if progress is not None:
-            progress.set(sim.now() - start)
-        wm = session.world_model
-        if wm is None or wm is last:
-            continue
-        last = wm
-        run.ms_per_scan.append(wm.timings_ms.get("total", 0.0))
-        if scans % every == 0:
-            run.add(score_frame(wm, sim.truth, tol, true_zero=true_zero_pose(wm, sim), true_vertices=vertices))
-        scans += 1
-    return ticks, run
-
-
-def _static_vertices(sim: Any) -> np.ndarray:
+def static_vertices(sim: Any) -> np.ndarray:
+    """Every corner of the simulated world's static geometry (for the end-point error)."""
     static = sim.world.static
     if len(static) == 0:
         return np.zeros((0, 2))

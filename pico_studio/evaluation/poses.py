@@ -1,0 +1,48 @@
+"""Random free poses of a map: where `eval` puts the robot to score the perceptor."""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+
+
+def random_free_poses(segments: np.ndarray, start: tuple[float, float], k: int, clearance: float,
+                      rng: np.random.Generator, bounds: tuple[float, float, float, float],
+                      resolution: float = 0.05) -> list[tuple[float, float, float]]:
+    """K poses the robot could drive to from `start`: every segment is drawn into a grid
+    grown by `clearance`, the free cells connected to the start cell are flood-filled, and K
+    of them are drawn (a random point in the cell, a random heading). So poses lie inside the
+    building, outside objects and thick walls, whatever way the map draws its walls."""
+    x0, y0, x1, y1 = bounds
+    x0, y0 = x0 - 2 * clearance, y0 - 2 * clearance
+    w = int(math.ceil((x1 + 2 * clearance - x0) / resolution)) + 1
+    h = int(math.ceil((y1 + 2 * clearance - y0) / resolution)) + 1
+    grid = np.zeros((h + 2, w + 2), np.uint8)  # floodFill's mask needs a 1-cell border
+    cells = np.round((segments.reshape(-1, 2) - (x0, y0)) / resolution).astype(np.int32).reshape(-1, 2, 2)
+    img = np.zeros((h, w), np.uint8)
+    thick = max(1, int(math.ceil(2 * clearance / resolution)))
+    cv2.polylines(img, list(cells), False, 255, thick)
+    grid[1:-1, 1:-1] = img
+    sx, sy = (int(round((start[0] - x0) / resolution)), int(round((start[1] - y0) / resolution)))
+    if not (0 <= sx < w and 0 <= sy < h):
+        return []
+    if img[sy, sx]:  # the start itself is tight: begin at the nearest free cell
+        fy, fx = np.nonzero(img == 0)
+        if len(fx) == 0:
+            return []
+        n = int(np.argmin((fx - sx) ** 2 + (fy - sy) ** 2))
+        sx, sy = int(fx[n]), int(fy[n])
+    filled = np.zeros((h, w), np.uint8)
+    cv2.floodFill(filled, grid, (sx, sy), 1, flags=4)
+    ys, xs = np.nonzero(filled)
+    if len(xs) == 0:
+        return []
+    pick = rng.choice(len(xs), size=k, replace=len(xs) < k)
+    jitter = rng.uniform(-0.5, 0.5, size=(k, 2)) * resolution
+    out = []
+    for (cx, cy), (jx, jy) in zip(zip(xs[pick], ys[pick], strict=True), jitter, strict=True):
+        out.append((float(x0 + cx * resolution + jx), float(y0 + cy * resolution + jy),
+                    float(rng.uniform(-math.pi, math.pi))))
+    return out
