@@ -146,3 +146,22 @@ def test_a_raising_behaviour_stops_with_a_warning_and_tries_again_next_tick() ->
     b.inner.params = with_value(cfg, "behaviour.plugins.flaky_drive.fail", False).behaviour.plugins.flaky_drive
     assert b.step(wm, None, None, 0.1, ok=True).vx == pytest.approx(0.2)
     assert b.state == "driving"
+
+
+def test_the_session_loop_survives_a_plugin_segmenter_and_behaviour_that_always_raise() -> None:
+    from sim_helpers import box_map
+
+    from pico_studio.session import Session
+    from pico_studio.sim import Simulator
+
+    cfg = _cfg(perception__scan__segmenter="flaky_split")
+    sim = Simulator(box_map(), initial_pose=(5.0, 5.0, 0.0))
+    session = Session(sim, perceptor=Perceptor(cfg.perception), behaviour=make_behaviour("flaky_drive", cfg))
+    frames = [session.tick(0.05) for _ in range(20)]
+    models = [f.world_model for f in frames if f.world_model is not None]
+    assert len(models) >= 15 and sim.ok()
+    for wm in models:
+        assert any("segmenter 'flaky_split' failed" in w for w in wm.warnings)
+        assert any("behaviour 'flaky_drive' failed" in w for w in wm.warnings)
+        assert len(wm.local_map.walls) >= 2  # split-and-merge's walls, as fallback
+    assert all(f.command is None or f.command == STOP for f in frames)

@@ -14,7 +14,6 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import SimpleNamespace
 from typing import Any
 
 from pico_studio.config.perception_params import (
@@ -124,13 +123,9 @@ def register(stage: Stage, key: str) -> None:
     elif stage.kind == "perceptor":
         plugin_hooks.register_perceptor(stage.name, stages.perceptor_hook(stage.name, stage.target, stage.params_cls))
     else:
-        factory = stages.behaviour_factory(stage.name, stage.target, stage.params_cls)
-        add = getattr(behaviour_registry, "register_behaviour", None)
-        if add is not None:
-            add(stage.name, factory, stage.help or f"plugin behaviour ({key})")
-        else:  # TEMPORARY until the spine's registry (register_behaviour, Settings) is merged
-            behaviour_registry.BEHAVIOURS[stage.name] = (
-                lambda arg, p, m, pose, f=factory: f(arg, SimpleNamespace(behaviour=p), m, pose))
+        behaviour_registry.register_behaviour(
+            stage.name, stages.behaviour_factory(stage.name, stage.target, stage.params_cls),
+            stage.help or f"plugin behaviour ({key})")
     if stage.params_cls is not None:
         stage.area.add(stage.name, stage.params_cls, stage.help or f"plugin {stage.kind} {stage.name} ({key})")
     _OWNER[(stage.area.name, stage.name)] = key
