@@ -172,3 +172,13 @@ def test_an_unknown_plugin_spec_is_a_plugin_error() -> None:
     with pytest.raises(PluginError):
         plugins.load_plugin("/nonexistent/dir/plugin.py")
     assert "no_such_module_for_pico_studio" not in sys.modules
+
+
+def test_params_of_a_plugin_not_loaded_say_so(tmp_path: Path, capsys) -> None:
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("perception:\n  plugins:\n    chord_split:\n      split: 0.1\n", encoding="utf-8")
+    assert main(["config", "check", str(cfg)]) == 2
+    err = capsys.readouterr().err
+    assert "perception.plugins.chord_split: no plugin of that name is loaded (--plugin FILE.py)" in err
+    assert main(["config", "check", str(cfg), "--plugin", str(EXAMPLE)]) == 0
+    assert "perception.plugins.chord_split.split: 0.1" in capsys.readouterr().out

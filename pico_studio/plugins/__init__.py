@@ -31,6 +31,7 @@ from pico_studio.plugins.loader import (
     load_plugin,
     load_plugins,
     reload,
+    specs,
     unload,
 )
 from pico_studio.plugins.rebase import rebase
@@ -53,6 +54,7 @@ __all__ = [
     "rebase",
     "reload",
     "segmenter",
+    "specs",
     "unload",
     "warn",
 ]

@@ -101,6 +101,11 @@ def unload(key: str) -> None:
     del LOADED[plugin.key]
 
 
+def specs() -> list[str]:
+    """What loads the same plugins in another process (a spawned worker): `load_plugins(specs)`."""
+    return list(LOADED)
+
+
 def changed() -> list[Plugin]:
     """The loaded plugins whose file is newer than when loaded."""
     return [p for p in LOADED.values() if p.changed()]
