@@ -30,7 +30,8 @@ if not CHROMIUM.exists():
 PLUGIN = """
     from dataclasses import dataclass
     import numpy as np
-    from pico_studio.plugins import emit, param, segmenter
+    from pico_studio.core.io import Command
+    from pico_studio.plugins import behaviour, emit, param, segmenter
 
     @dataclass(frozen=True)
     class MarkParams:
@@ -41,6 +42,13 @@ PLUGIN = """
         h = params.size / 2
         emit("marker", np.array([[x, y] for x in np.linspace(-h, h, COUNT) for y in (-h, h)]))
         return [(0, len(points) - 1)] if len(points) >= 2 else []
+
+    @behaviour("stand_still")
+    class StandStill:
+        state = "standing"
+
+        def step(self, world_model, laser, odometry, now, *, ok=True):
+            return Command()
 """
 
 
@@ -89,7 +97,9 @@ def _visible(page, text: str) -> bool:  # noqa: ANN001
 
 def test_the_page_lists_the_plugin_and_draws_its_outputs(app, page, plugin_file: Path) -> None:
     page.get_by_role("tab", name="Plugins").click()
-    assert wait_until(lambda: _visible(page, "segmenter marked")), "the loaded plugin is not listed"
+    assert wait_until(lambda: _visible(page, "segmenter `marked`") or _visible(page, "segmenter marked")), \
+        "the loaded plugin is not listed"
+    assert "stand_still" in app.behaviour.dropdown.options  # the page's behaviour list has it
     assert wait_until(lambda: _visible(page, "marker: 6 points"))
     assert wait_until(lambda: count_colour(screenshot(page), style.PLUGIN_OUTPUT) > 0), "no plugin layer drawn"
     page.get_by_role("tab", name="Layers").click()
@@ -116,8 +126,9 @@ def test_an_edited_plugin_reloads_from_the_page(app, page, plugin_file: Path) ->
 def test_a_broken_edit_is_a_notification_and_the_old_version_keeps_running(app, page, plugin_file: Path) -> None:
     good = plugin_file.read_text()
     plugin_file.write_text(good + "\ndef broken(:\n", encoding="utf-8")
+    line = len(good.splitlines()) + 2
     page.get_by_role("button", name="Reload changed plugins").click()
-    assert wait_until(lambda: _visible(page, "marked.py:16: SyntaxError")), "no notification naming file and line"
+    assert wait_until(lambda: _visible(page, f"marked.py:{line}: SyntaxError")), "no notification naming file and line"
     app.studio.tick(0.05)
     app.redraw()
     assert wait_until(lambda: _visible(page, "marker: 18 points"))
