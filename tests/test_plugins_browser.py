@@ -7,6 +7,7 @@ import argparse
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 from plugin_helpers import unload_all, write_plugin
 
@@ -18,7 +19,9 @@ from tests.ui_browser_helpers import (
     VIEWPORT,
     count_colour,
     free_port,
+    open_folder,
     screenshot,
+    set_number,
     wait_until,
 )
 
@@ -109,6 +112,21 @@ def test_the_page_lists_the_plugin_and_draws_its_outputs(app, page, plugin_file:
     assert wait_until(lambda: count_colour(screenshot(page), style.PLUGIN_OUTPUT) > 0)
 
 
+def _marker_diagonal(app) -> float:  # noqa: ANN001
+    pts = app.studio.shown().wm.extras["marker"]
+    return float(np.max(np.hypot(*(pts[:, None, :] - pts[None, :, :]).transpose(2, 0, 1))))
+
+
+def test_the_plugins_slider_reprocesses_the_frame_shown(app, page) -> None:
+    assert _marker_diagonal(app) == pytest.approx(0.4 * np.sqrt(2))
+    page.get_by_role("tab", name="Config").click()
+    open_folder(page, "plugins", "marked")
+    open_folder(page, "marked", "size")
+    set_number(page, "size", 1.0)
+    assert wait_until(lambda: abs(_marker_diagonal(app) - np.sqrt(2)) < 1e-6), "the slider did not reach the plugin"
+    assert app.studio.cfg.perception.plugins.marked.size == 1.0
+
+
 def test_an_edited_plugin_reloads_from_the_page(app, page, plugin_file: Path) -> None:
     page.get_by_role("tab", name="Plugins").click()
     before = count_colour(screenshot(page), style.PLUGIN_OUTPUT)
@@ -121,6 +139,7 @@ def test_an_edited_plugin_reloads_from_the_page(app, page, plugin_file: Path) ->
     assert wait_until(lambda: _visible(page, "marker: 18 points")), "the edit did not reach the frame shown"
     assert wait_until(lambda: count_colour(screenshot(page), style.PLUGIN_OUTPUT) > before)
     assert not _visible(page, "changed on disk")
+    assert app.studio.cfg.perception.plugins.marked.size == 1.0  # the slider's value survived the reload
 
 
 def test_a_broken_edit_is_a_notification_and_the_old_version_keeps_running(app, page, plugin_file: Path) -> None:
