@@ -26,16 +26,16 @@ from typing import Any
 import numpy as np
 from timing import load
 
-from pico_studio.cli.eval_cmd import random_free_poses
 from pico_studio.config import Config
 from pico_studio.core.geometry import transform_points, transform_segments
 from pico_studio.core.io import Command
 from pico_studio.core.perception import Perceptor
+from pico_studio.evaluation import frame_score
+from pico_studio.evaluation.poses import random_free_poses
 from pico_studio.jit import uncompiled, warm_up
 from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
-from pico_studio.sim import scoring as frame_score
 
 MAP = __import__("pathlib").Path(__file__).resolve().parents[1] / "pico_studio" / "data" / "maps" / "hospital_2019.json"
 

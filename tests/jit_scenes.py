@@ -7,9 +7,9 @@ from functools import cache
 
 import numpy as np
 
-from pico_studio.cli.eval_cmd import random_free_poses
 from pico_studio.config import Config
 from pico_studio.core.io import LaserData, OdometryData
+from pico_studio.evaluation.poses import random_free_poses
 from pico_studio.json_map import load_map
 from pico_studio.sim import Simulator
 from tests.conftest import MAPS

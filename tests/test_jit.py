@@ -199,8 +199,8 @@ def test_wall_coverage_is_the_sampled_coverage_of_the_scoring():
     simulator's visible walls and a perceived local map of real hospital frames."""
     from pico_studio.core.geometry import transform_segments
     from pico_studio.core.perception import Perceptor
+    from pico_studio.evaluation import frame_score as scoring
     from pico_studio.evaluation import score_kernels as sk
-    from pico_studio.sim import scoring
     from tests.jit_scenes import hospital_frames
 
     tol = scoring.Tolerances()
