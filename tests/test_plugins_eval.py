@@ -51,3 +51,24 @@ def test_selecting_a_plugin_stage_without_loading_it_is_a_config_error(capsys, t
     assert main(["eval", "--map", str(MAP), "--poses", "1", "--config", str(cfg)]) == 2
     err = capsys.readouterr().err
     assert "perception.scan.segmenter" in err and "chord_split" in err
+
+
+def test_eval_workers_load_the_same_plugins(capsys, tmp_path: Path) -> None:
+    """Spawned worker processes get the config by value and load the plugins first."""
+    scenarios = tmp_path / "two.yaml"
+    scenarios.write_text(
+        f"name: two\nscenarios:\n"
+        f"  - name: a\n    map: {MAP}\n    poses: 1\n    frames: 5\n    seed: 1\n"
+        f"  - name: b\n    map: {MAP}\n    poses: 1\n    frames: 5\n    seed: 2\n", encoding="utf-8")
+    cfg = tmp_path / "cfg.yaml"
+    cfg.write_text("perception:\n  scan:\n    segmenter: chord_split\n  plugins:\n    chord_split:\n      split: 0.5\n",
+                   encoding="utf-8")
+    args = ["eval", "--scenarios", str(scenarios), "--config", str(cfg), "--plugin", str(EXAMPLE), "--json"]
+    assert main([*args, "--workers", "2"]) == 0
+    parallel = json.loads(capsys.readouterr().out)
+    assert main(args) == 0
+    serial = json.loads(capsys.readouterr().out)
+    def scores(r: dict) -> dict:
+        return {k: v for k, v in r["metrics"].items() if "ms_per" not in k}
+
+    assert scores(parallel) == scores(serial)  # the workers ran the plugin, with its value

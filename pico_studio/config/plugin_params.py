@@ -19,7 +19,6 @@ that the layers above fill in:
 from __future__ import annotations
 
 import dataclasses
-import sys
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, overload
@@ -68,9 +67,29 @@ class LiveChoices(Sequence[str]):
 class PluginSections:
     """Base of a plugin area's (rebuilt) class: one section field per loaded plugin."""
 
+    _area = "perception"  # overridden per rebuilt class
+
     def get(self, name: str) -> Any:
         """The named plugin's params, or None when it has none here."""
         return getattr(self, name, None)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # pickled by value: a worker process (spawn) that loaded the same plugins rebuilds it
+        # on its own classes (they are made per process, so they cannot be found by name)
+        values = {f.name: {g.name: getattr(getattr(self, f.name), g.name)
+                           for g in dataclasses.fields(getattr(self, f.name))}
+                  for f in dataclasses.fields(self)}
+        return (_restore, (self._area, values))
+
+
+def _restore(area_name: str, values: dict[str, dict[str, Any]]) -> PluginSections:
+    area = AREAS[area_name]
+    missing = [n for n in values if n not in area.names()]
+    if missing:
+        raise ValueError(f"{area_name}.plugins: {', '.join(missing)} not loaded in this process; "
+                         "load the same plugins first (pico_studio.plugins.load_plugins(specs))")
+    cls = area.current_class()
+    return cls(**{n: area.params_class(n)(**v) for n, v in values.items()})
 
 
 class PluginArea:
@@ -98,6 +117,9 @@ class PluginArea:
     def names(self) -> list[str]:
         return list(self._sections)
 
+    def params_class(self, name: str) -> type:
+        return self._sections[name][0]
+
     def current_class(self) -> type[PluginSections]:
         return self._cls
 
@@ -108,15 +130,15 @@ class PluginArea:
             for n, (cls, help) in self._sections.items()
         ]
         qualname = f"_{self.name.title().replace('_', '')}Plugins{self._version}"
-        cls = dataclasses.make_dataclass(qualname, fields, bases=(PluginSections,), frozen=True)
-        # importable by name, so a config holding it pickles (to a forked worker, say)
+        cls = dataclasses.make_dataclass(qualname, fields, bases=(PluginSections,), frozen=True,
+                                         namespace={"_area": self.name})
         cls.__module__ = __name__
-        setattr(sys.modules[__name__], qualname, cls)
         self._cls = cls
 
 
 PERCEPTION_PLUGINS = PluginArea("perception")
 BEHAVIOUR_PLUGINS = PluginArea("behaviour")
+AREAS = {a.name: a for a in (PERCEPTION_PLUGINS, BEHAVIOUR_PLUGINS)}
 
 
 def plugin_area(area: PluginArea, help: str) -> Any:  # noqa: A002
