@@ -182,3 +182,9 @@ def test_params_of_a_plugin_not_loaded_say_so(tmp_path: Path, capsys) -> None:
     assert "perception.plugins.chord_split: no plugin of that name is loaded (--plugin FILE.py)" in err
     assert main(["config", "check", str(cfg), "--plugin", str(EXAMPLE)]) == 0
     assert "perception.plugins.chord_split.split: 0.1" in capsys.readouterr().out
+
+
+def test_the_cli_s_entry_point_group_is_the_plugins_one() -> None:
+    from pico_studio.cli import plugin_args
+
+    assert plugin_args.ENTRY_POINT_GROUP == plugins.ENTRY_POINT_GROUP

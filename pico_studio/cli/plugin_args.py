@@ -10,9 +10,11 @@ is a `PluginError`: one line naming its file and line, exit 2.
 from __future__ import annotations
 
 import argparse
+import importlib.metadata
 import os
+from typing import Any
 
-from pico_studio import plugins
+ENTRY_POINT_GROUP = "pico_studio.plugins"  # = pico_studio.plugins.ENTRY_POINT_GROUP
 
 
 def add_plugin_argument(parser: argparse.ArgumentParser) -> None:
@@ -22,10 +24,15 @@ def add_plugin_argument(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def load_requested(args: argparse.Namespace) -> list[plugins.Plugin]:
-    """The installed entry points, then every `--plugin` of the command line, in order."""
-    out: list[plugins.Plugin] = []
-    if not os.environ.get("PICO_STUDIO_NO_ENTRY_POINTS"):
-        out += plugins.load_entry_points()
-    out += plugins.load_plugins(getattr(args, "plugin", None))
-    return out
+def load_requested(args: argparse.Namespace) -> list[Any]:
+    """The installed entry points, then every `--plugin` of the command line, in order.
+    Without either nothing is imported: commands that need no core stay quick to start."""
+    requested = list(getattr(args, "plugin", None) or [])
+    installed = not os.environ.get("PICO_STUDIO_NO_ENTRY_POINTS") and bool(
+        importlib.metadata.entry_points(group=ENTRY_POINT_GROUP))
+    if not requested and not installed:
+        return []
+    from pico_studio import plugins
+
+    out = plugins.load_entry_points() if installed else []
+    return out + plugins.load_plugins(requested)

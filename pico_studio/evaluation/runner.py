@@ -20,7 +20,6 @@ from typing import Any
 
 import numpy as np
 
-from pico_studio import plugins
 from pico_studio.config import Config
 from pico_studio.core.behaviours.registry import (
     DEFAULT_SECONDS,
@@ -311,6 +310,8 @@ def evaluate_scenarios(ss: ScenarioSet, cfg: Config, *, workers: int = 1,
     results: list[ScenarioResult] = []
     if workers > 1 and len(ss.scenarios) > 1:
         import multiprocessing
+
+        from pico_studio import plugins
 
         ctx = multiprocessing.get_context("spawn")  # no forked numba / thread state
         # each worker loads the plugins this process has (a config may select their stages)
