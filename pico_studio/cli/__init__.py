@@ -21,6 +21,7 @@ from pico_studio.cli import (
     serve_cmd,
     tune_cmd,
 )
+from pico_studio.cli.plugin_args import load_requested
 from pico_studio.errors import UserError
 
 COMMAND_MODULES = [map_cmd, config_cmd, run_cmd, eval_cmd, compare_cmd, serve_cmd, render_cmd, tune_cmd]
@@ -47,6 +48,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise
         return e.code if isinstance(e.code, int) else 2
     try:
+        load_requested(args)  # user code first: its stages and parameters exist for the config
         return int(args.func(args) or 0)
     except UserError as e:
         print(f"pico-studio: error: {e}", file=sys.stderr)

@@ -67,6 +67,7 @@ DIFF_ADDED: RGB = (30, 180, 30)  # green: a wall, corner or door config B adds a
 DIFF_LOST: RGB = (250, 60, 20)  # red-orange: ... one B loses
 MEASURE: RGB = (249, 22, 139)
 INSPECT: RGB = (230, 213, 82)
+PLUGIN_OUTPUT: RGB = (0, 110, 70)  # dark green: whatever a plugin handed the page (WorldModel.extras)
 
 # line thickness in screen pixels (the same on screen at any zoom); drawn from the bottom up
 # in LAYERS order, so the map's thick black walls show either side of the thinner local and
@@ -106,6 +107,7 @@ LEGEND: list[tuple[str, list[tuple[RGB, str]]]] = [
     ("Side room watch (seed 000)", [(ROOM_SIDE, "side beam"), (ROOM_JUMP, "side range jumped: a room")]),
     ("A/B diff", [(DIFF_ADDED, "B adds (vs A)"), (DIFF_LOST, "B loses")]),
     ("Tools", [(MEASURE, "measure"), (INSPECT, "inspected feature")]),
+    ("Plugins", [(PLUGIN_OUTPUT, "a plugin's extra points / segments")]),
 ]
 
 
@@ -122,7 +124,7 @@ def swatches(colours: list[RGB]) -> str:
 
 # colours drawn as points (point clouds are not tone-mapped: they show as declared)
 POINT_COLOURS = {LASER, *ENDPOINT.values(), SPIKE_CORNER, VECTOR_CORNER_INNER, VECTOR_CORNER_OUTER, BEHAVIOUR_TARGET,
-                 DIFF_ADDED, DIFF_LOST}
+                 DIFF_ADDED, DIFF_LOST, PLUGIN_OUTPUT}
 
 # the layer key -> its colours as the Layers tab shows them beside the toggle
 LAYER_COLOURS: dict[str, list[RGB]] = {
@@ -141,6 +143,7 @@ LAYER_COLOURS: dict[str, list[RGB]] = {
     "behaviour": [BEHAVIOUR_TARGET, BEHAVIOUR_PLAN],
     "entrance": [ENTRANCE, HALLWAY],
     "room": [ROOM_SIDE, ROOM_JUMP],
+    "plugins": [PLUGIN_OUTPUT],
 }
 
 
