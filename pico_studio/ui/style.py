@@ -144,6 +144,7 @@ LAYER_COLOURS: dict[str, list[RGB]] = {
     "entrance": [ENTRANCE, HALLWAY],
     "room": [ROOM_SIDE, ROOM_JUMP],
     "plugins": [PLUGIN_OUTPUT],
+    "ab_diff": [DIFF_LOST, DIFF_ADDED],
 }
 
 
