@@ -11,7 +11,12 @@
    at 4 Hz): the studio's running score sum next to the peer `RunScore(kept).summary()`,
    which sums every scored frame again (what the page did before).
 
-    .venv/bin/python benchmarks/bench_ui.py [--edits 30] [--seconds 10]
+4. A replay's jump (the one scrubber) on a 2,400-frame recording (a 120 s simulated run
+   recorded to a bag): server-side time from the jump to its layers sent, to random frames
+   after it was played through once (checkpoints every 10 frames), next to the peer that
+   re-processes from the start of the file (no checkpoints).
+
+    .venv/bin/python benchmarks/bench_ui.py [--edits 30] [--seconds 10] [--only-seek]
 """
 
 from __future__ import annotations
@@ -97,11 +102,59 @@ def long_run_metrics(scored: int = 2400, repeats: int = 50) -> tuple[float, floa
     return median_ms(studio.metrics), median_ms(peer)
 
 
+def replay_seek(frames: int = 2400, jumps: int = 15, peer_jumps: int = 3) -> tuple[float, float, float, int]:
+    """(median ms per jump, max ms, peer median ms, frames in the file)."""
+    import random
+
+    from pico_studio.ui.recording_panel import RunRecorder
+    from pico_studio.ui.replay import ReplayDriver
+
+    folder = Path(tempfile.mkdtemp())
+    sim = Studio(Config(), load_json_map(DEFAULT_MAP), make_source_factory("sim", None, 1), map_name="h")
+    recorder = RunRecorder(sim, folder)
+    bag = recorder.start()
+    while sim.frame_count < frames:
+        sim.tick(0.05)
+    recorder.stop()
+    args = argparse.Namespace(
+        map=None, sim_config=None, config=None, behaviour="stop", source=f"bag:{bag}", host="127.0.0.1",
+        port=free_port(), seed=None, export_dir=str(folder), paused=True,
+    )
+    app = build_app(args, verbose=False)
+    try:
+        app.studio.playing = True
+        while app.studio.playing:  # played through once: the checkpoints are there
+            app.replay.play(0.05, float("inf"), budget_s=1.0)
+        count = app.studio.source.frame_count
+        rng = random.Random(1)
+        ms = []
+        for _ in range(jumps):
+            t0 = time.perf_counter()
+            app.seek(rng.randrange(count))
+            app.server.flush()
+            ms.append((time.perf_counter() - t0) * 1000.0)
+        peer = ReplayDriver(app.studio, every=10**9)  # no checkpoints: from the start each time
+        peer_ms = []
+        for _ in range(peer_jumps):
+            t0 = time.perf_counter()
+            peer.seek(rng.randrange(count // 2, count))
+            app.redraw()
+            app.server.flush()
+            peer_ms.append((time.perf_counter() - t0) * 1000.0)
+    finally:
+        app.stop()
+    return statistics.median(ms), max(ms), statistics.median(peer_ms), count
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--edits", type=int, default=30)
     ap.add_argument("--seconds", type=float, default=10.0)
+    ap.add_argument("--only-seek", action="store_true", help="only the replay jump (no browser)")
     a = ap.parse_args()
+    if a.only_seek:
+        _print_seek()
+        return 0
     from playwright.sync_api import sync_playwright
 
     args = argparse.Namespace(
@@ -151,7 +204,16 @@ def main() -> int:
           f"page/headless ratio {frame_ms / peer_frame_ms:.2f}")
     print(f"after 10 minutes scored at 4 Hz: the page's metrics {metrics_ms:.2f} ms per redraw; "
           f"peer RunScore(kept).summary() {summary_ms:.2f} ms ({summary_ms / metrics_ms:.0f}x)")
+    _print_seek()
     return 0
+
+
+def _print_seek() -> None:
+    med, worst, peer, count = replay_seek()
+    with open("/proc/loadavg") as f:
+        load = f.read().split()[0]
+    print(f"replay jump on a {count}-frame recording (load {load}): median {med:.0f} ms to layers sent, "
+          f"max {worst:.0f} ms; peer re-processing from the start {peer:.0f} ms ({peer / med:.0f}x)")
 
 
 if __name__ == "__main__":

@@ -11,6 +11,7 @@ import json
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -92,6 +93,12 @@ def _wall_hits(app, img: np.ndarray, colours=(style.MAP_WALL,), walls=None, clie
     return sum(any(colour_near(img, p, c) for c in colours) for p in px), len(px)
 
 
+def _camera_still(client) -> bool:  # noqa: ANN001
+    before = tuple(client.camera.position)
+    time.sleep(0.3)
+    return tuple(client.camera.position) == pytest.approx(before, abs=1e-6)
+
+
 def test_page_loads_and_connects(app, page) -> None:
     assert wait_until(lambda: len(app.server.get_clients()) >= 1)
     assert page.get_by_text("paused").first.is_visible()
@@ -117,12 +124,15 @@ def _seen(app) -> np.ndarray:
     return np.asarray(app.studio.shown().wm.combined.map_wall_seen, dtype=bool)
 
 
-def _uncovered(app, walls: np.ndarray) -> np.ndarray:
-    """Those of `walls` whose middle no laser point, local or combined wall is drawn over."""
+COVERING = ("laser", "local_walls", "combined", "local_endpoints", "corners")
+
+
+def _uncovered(app, walls: np.ndarray, covering: tuple[str, ...] = COVERING) -> np.ndarray:
+    """Those of `walls` whose middle none of the `covering` prims is drawn over."""
     segs = app.studio.global_map.wall_segments[walls]
     mids = (segs[:, :2] + segs[:, 2:]) / 2
     near = np.zeros(len(walls), bool)
-    for name in ("laser", "local_walls", "combined", "local_endpoints", "corners"):
+    for name in covering:
         data = app.prims[name].data
         if len(data):
             d = point_segment_distance(mids, data) if data.shape[1] == 4 else np.hypot(*(mids[:, None] - data[None]).T).T
@@ -143,19 +153,38 @@ def test_never_seen_walls_show_dashed_then_as_seen(app, page) -> None:
         return total >= 10 and hits >= 0.9 * total
 
     assert wait_until(dashed), "never-seen walls are not drawn in their colour"
-    page.get_by_role("button", name="Play").click()
-    assert wait_until(lambda: len(np.intersect1d(unseen, np.flatnonzero(_seen(app)))) >= 5, timeout=40.0)
-    page.get_by_role("button", name="Pause").click()
-    assert wait_until(lambda: not app.studio.playing)
-    now_seen = _uncovered(app, np.intersect1d(unseen, np.flatnonzero(_seen(app))))
+    # drive on (server side, paused: as many frames as it takes, whatever the load)
+    # a seen wall shows the map's colour, or the local / combined map's wall drawn on it
+    markers = ("laser", "local_endpoints", "corners", "current", "trail", "possible_doors", "doors")
+
+    def seen_now() -> np.ndarray:
+        return _uncovered(app, np.intersect1d(unseen, np.flatnonzero(_seen(app))), markers)
+
+    def seen_and_clear() -> int:
+        return len(seen_now())
+
+    for _ in range(60):
+        if seen_and_clear() >= 4:
+            break
+        with app.studio.lock:
+            for _ in range(20):
+                app.studio.tick(0.05)
+        app.redraw()
+    assert seen_and_clear() >= 4
+    now_seen = seen_now()
 
     def plain() -> bool:  # a seen wall: the map's colour, or the combined/local map's wall on it
         img = screenshot(page)
-        hits, total = _wall_hits(app, img, (style.MAP_WALL, style.COMBINED_MATCHED, style.LOCAL_WALL), now_seen)
+        hits, total = _wall_hits(app, img, (style.MAP_WALL, style.COMBINED_MATCHED, style.COMBINED_UNMATCHED, style.LOCAL_WALL), now_seen)
         dashes, _ = _wall_hits(app, img, (style.COMBINED_UNSEEN,), now_seen)
         return total >= 3 and hits >= 0.9 * total and dashes == 0
 
-    assert wait_until(plain), "walls the robot saw are still drawn as never seen"
+    if not wait_until(plain):
+        img = screenshot(page)
+        found = {name: _wall_hits(app, img, (c,), now_seen) for name, c in (
+            ("map", style.MAP_WALL), ("matched", style.COMBINED_MATCHED), ("local", style.LOCAL_WALL),
+            ("unseen", style.COMBINED_UNSEEN), ("unmatched", style.COMBINED_UNMATCHED), ("current", style.CURRENT_MAP))}
+        pytest.fail(f"walls the robot saw are still drawn as never seen: {found}")
 
 
 def _current_count(page) -> int:
@@ -336,11 +365,119 @@ def test_two_clicks_measure_a_distance(app, page) -> None:
     page.get_by_role("option", name="measure").click()
     assert wait_until(lambda: app.tools.mode(app.tabs[_client(app).client_id]) == "measure")
     client = _client(app)
+    tab = app.tabs[client.client_id]
+    assert wait_until(lambda: _camera_still(client)), "the view keeps moving"
     a, b = world_to_pixel(client, 1.0, 1.0), world_to_pixel(client, 3.0, 1.0)
     page.mouse.click(*a)
+    assert wait_until(lambda: tab.handles["tools"]["measure_from"] is not None), "the first click did not arrive"
     page.get_by_text(re.compile("click the second")).first.wait_for(timeout=20000)
     page.mouse.click(*b)
     text = page.get_by_text(re.compile(r"distance \d+\.\d+ m")).first
     text.wait_for(timeout=20000)
     metres = float(re.search(r"distance (\d+\.\d+) m", text.inner_text()).group(1))
     assert metres == pytest.approx(2.0, abs=0.05)  # one pixel is about 1 cm here
+
+
+# (prim, its colour) drawn side by side on the floor; grouped as the pairs that used to clash
+PALETTE_CHECKS = [
+    ("doors", style.DOOR), ("combined", style.COMBINED_MATCHED),
+    ("corners", style.ENDPOINT[2]), ("possible_doors", style.POSSIBLE_DOOR_KIND["convex_loose"]),
+    ("combined_unseen", style.COMBINED_UNSEEN), ("sim_world", style.SIM_WORLD),
+    ("local_endpoints", style.ENDPOINT[0]), ("room_side", style.ROOM_SIDE), ("trail", style.TRAIL),
+    ("laser", style.LASER), ("flagged", style.PROXIMITY_FLAGGED), ("local_walls", style.LOCAL_WALL),
+]
+
+
+PER_ITEM = {"combined", "possible_doors", "local_endpoints", "corners", "room_side"}
+
+
+def test_layers_show_distinct_colours_on_screen(app, page) -> None:
+    """Each prim of the pairs that used to share a colour, drawn on an empty patch of floor:
+    the pixels there show its own colour, and not its partner's."""
+    from pico_studio.ui.scene_data import Prim
+
+    page.get_by_role("tab", name="Run").click()
+    if app.studio.playing:
+        page.get_by_role("button", name="Pause").click()
+    assert wait_until(lambda: not app.studio.playing)
+    client = _client(app)
+    assert wait_until(lambda: _camera_still(client))
+    walls = app.studio.global_map.wall_segments
+    x0, y0, x1, y1 = app.studio.global_map.bounds
+    spots = []
+    for y in np.arange(y0 + 0.6, y1 - 0.6, 0.5):  # free floor: 0.5 m from any wall
+        for x in np.arange(x0 + 0.6, x1 - 1.2, 0.5):
+            seg = np.array([[x, y, x + 0.6, y]])
+            mid = np.array([[x + 0.3, y]])
+            px = world_to_pixel(client, x + 0.3, y)
+            if point_segment_distance(mid, walls).min() > 0.5 and visible_on_screen(px, (1200, 800)):
+                spots.append((seg, px))
+    assert len(spots) >= len(PALETTE_CHECKS)
+    spots = spots[:: max(1, len(spots) // len(PALETTE_CHECKS))][: len(PALETTE_CHECKS)]
+    empty = {name: Prim(p.kind, np.zeros((0, 4 if p.kind == "segments" else 2))) for name, p in app.prims.items()}
+    drawn = dict(empty)
+    for (name, colour), (seg, _px) in zip(PALETTE_CHECKS, spots, strict=True):
+        kind = empty[name].kind
+        data = seg if kind == "segments" else np.array([[seg[0, 0] + 0.3, seg[0, 1]]])
+        per_item = name in PER_ITEM  # a node keeps the way it was made: one colour, or one per item
+        drawn[name] = Prim(kind, data, np.array([colour], np.uint8) if per_item else None)
+    with app._draw_lock:  # hold the loop's redraws off while the screen is read
+        app.layers.update(drawn)
+        try:
+            def each_shows_its_colour() -> bool:
+                img = screenshot(page)
+                return all(colour_near(img, px, colour, radius=2) for (_n, colour), (_s, px) in zip(PALETTE_CHECKS, spots, strict=True))
+
+            if not wait_until(each_shows_its_colour):
+                img = screenshot(page)
+                wrong = [(n, c, tuple(img[px[1], px[0]])) for (n, c), (_s, px) in zip(PALETTE_CHECKS, spots, strict=True)
+                         if not colour_near(img, px, c, radius=2)]
+                pytest.fail(f"layers not showing their colour (prim, declared, pixel): {wrong}")
+            img = screenshot(page)
+            pairs = [(0, 1), (2, 3), (4, 5), (6, 7), (6, 8), (7, 8), (9, 10)]
+            for a, b in pairs:  # and not its old partner's
+                assert not colour_near(img, spots[a][1], PALETTE_CHECKS[b][1], radius=1, tol=10), (PALETTE_CHECKS[a], PALETTE_CHECKS[b])
+        finally:
+            app.layers.update(app.prims)
+
+
+def test_settings_survive_a_reload(app, page) -> None:
+    page.get_by_role("tab", name="Layers").click()
+    page.locator("label", has_text="Laser points").click()
+    tab = app.tabs[_client(app).client_id]
+    assert wait_until(lambda: tab.settings["layers"]["laser"] is False)
+    page.locator("label", has_text="Legend on the view").click()
+    assert wait_until(lambda: tab.settings["legend"] is False)
+    page.reload()
+    page.get_by_text("hospital_2019.json").first.wait_for(timeout=30000)
+    assert wait_until(lambda: len(app.tabs) >= 1 and _client(app).client_id != tab.client_id)
+    new = app.tabs[_client(app).client_id]
+    assert wait_until(lambda: new.settings.get("restored")), "saved settings were not read back"
+    assert new.settings["layers"]["laser"] is False and not new.toggles.visible["laser"]
+    assert new.settings["legend"] is False
+    page.get_by_role("tab", name="Layers").click()
+    assert not page.get_by_role("checkbox", name="Laser points").is_checked()
+    assert page.locator("#pico-legend").evaluate("d => d.style.display") == "none"
+    page.locator("label", has_text="Laser points").click()  # back as it was, for the next tests
+    page.locator("label", has_text="Legend on the view").click()
+    assert wait_until(lambda: new.settings["layers"]["laser"] and new.settings["legend"])
+
+
+def test_a_map_warning_shows_in_the_log_and_help_opens(app, page) -> None:
+    from pico_studio.ui.sources import DEFAULT_MAP, example_maps
+
+    page.get_by_role("tab", name="Run").click()
+    open_folder(page, "Map", "Upload map")
+    input_of(page, "Example").click()
+    page.get_by_role("option", name="hospital_2019_with_nodes.json").click()
+    try:
+        assert wait_until(lambda: app.studio.map_name == "hospital_2019_with_nodes.json")
+        assert wait_until(lambda: app.studio.playing and app.layers.sizes["robot_true"] > 0)  # plays at once, robot drawn
+        page.get_by_role("tab", name="Log").click()
+        page.get_by_text(re.compile(r"warning · t = .* · map: hospital_2019_with_nodes.json: .*duplicates")).first.wait_for(timeout=20000)
+    finally:
+        app.switch_map(DEFAULT_MAP, DEFAULT_MAP.name, None)
+        assert "hospital_2019.json" in example_maps()
+    page.keyboard.press("h")
+    page.get_by_text("Layers and their colours").first.wait_for(timeout=20000)
+    page.get_by_role("button", name="Close").click()

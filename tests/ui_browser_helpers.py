@@ -19,6 +19,7 @@ CHROMIUM_ARGS = [
 VIEWPORT = {"width": 1200, "height": 800}
 PANEL_LEFT = 790  # x where the control panel starts (control_width="large" at 1200 px)
 NOTICE = (330, 160)  # the "software WebGL" notification covers this top-left box
+LEGEND = (270, 170)  # the on-canvas legend's bottom-left box (style.LEGEND_BOX and its margin)
 
 
 def free_port() -> int:
@@ -50,14 +51,16 @@ def colour_near(img: np.ndarray, px: tuple[int, int], rgb: tuple[int, int, int],
 
 
 def count_colour(img: np.ndarray, rgb: tuple[int, int, int], tol: int = 14) -> int:
-    view = img[:, :PANEL_LEFT].astype(int)
+    view = img[:, :PANEL_LEFT].astype(int).copy()
+    view[-LEGEND[1]:, : LEGEND[0]] = 255  # the legend's swatches are not the view's
     return int((np.abs(view - np.array(rgb)).max(axis=-1) <= tol).sum())
 
 
 def visible_on_screen(px: tuple[int, int], size: tuple[int, int]) -> bool:
     x, y = px
     in_notice = x < NOTICE[0] and y < NOTICE[1]
-    return 5 <= x < PANEL_LEFT - 5 and 5 <= y < size[1] - 5 and not in_notice
+    in_legend = x < LEGEND[0] and y > size[1] - LEGEND[1]
+    return 5 <= x < PANEL_LEFT - 5 and 5 <= y < size[1] - 5 and not in_notice and not in_legend
 
 
 def wait_until(check: Callable[[], bool], timeout: float = 20.0, every: float = 0.25) -> bool:

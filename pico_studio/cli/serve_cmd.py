@@ -41,7 +41,8 @@ def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioAp
     global_map = load_map(map_path, cfg.map) if map_path is not None else None
     sim_config = args.sim_config if args.sim_config else (sim_config_for(map_path) if simulated and not args.map else None)
     factory = make_source_factory(args.source, sim_config, args.seed)
-    name = map_path.name if map_path is not None else args.source
+    # the page's title: the map, or a recording's file name (not its whole path)
+    name = map_path.name if map_path is not None else Path(args.source.partition(":")[2] or args.source).name
     studio = Studio(cfg, global_map, factory, behaviour=args.behaviour, map_name=name)
     studio.playing = not args.paused
     return StudioApp(studio, host=args.host, port=args.port, export_dir=args.export_dir, verbose=verbose)

@@ -23,6 +23,7 @@ from typing import Any
 import viser
 
 from pico_studio.config import Config
+from pico_studio.ui.client_input import guard_connection, guard_server
 from pico_studio.ui.clock import frame_number, is_replay, recording_position, relative_time
 from pico_studio.ui.layers import LayerToggles, SceneLayers
 from pico_studio.ui.logbook import LogBook
@@ -37,6 +38,7 @@ from pico_studio.ui.panels.run import RunPanel
 from pico_studio.ui.panels.tools import ToolsPanel
 from pico_studio.ui.panels.tune import TunePanel
 from pico_studio.ui.recording_panel import RecordingControls
+from pico_studio.ui.replay import ReplayDriver
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.scene_data import Prim, frame_prims, map_prims
 from pico_studio.ui.status import status_text
@@ -59,6 +61,7 @@ class StudioApp:
         self.studio = studio
         self.export_dir = Path(export_dir)
         self.server = viser.ViserServer(host=host, port=port, label="pico_studio", verbose=verbose)
+        guard_server(self.server, self._notify_tab)  # what a tab sends is checked first (client_input.py)
         self.server.scene.set_up_direction("+z")
         self.server.scene.world_axes.visible = False
         self.log = LogBook()
@@ -70,9 +73,14 @@ class StudioApp:
         self._stop = threading.Event()
         self._draw_lock = threading.RLock()
         self._thread: threading.Thread | None = None
+        self.replay = ReplayDriver(studio) if is_replay(studio.source) else None
         self._build_panels()
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_disconnect)
+        if self.replay is not None:  # a recording opens on its first frame, drawn
+            playing = studio.playing
+            self.replay.seek(0)
+            studio.playing = playing
         self.redraw()
 
     def _build_panels(self) -> None:
@@ -82,7 +90,9 @@ class StudioApp:
         page.map_changed = self._map_changed
         page.save_settings = self._save_settings
         page.hooks.update(prims=lambda: self.prims | self.map_prims, frame_text=self._frame_text,
-                          rescore=self._rescore, jump_to_frame=self.jump_to_frame)
+                          rescore=self._rescore, jump_to_frame=self.jump_to_frame,
+                          pixel_size=self.layers.set_pixel_size, seek=self.seek,
+                          replay_step=lambda: self.replay.step() if self.replay is not None else None)
         self.status_md = gui.add_markdown("")
         self.help = HelpPanel(page, gui)
         tabs = gui.add_tab_group()
@@ -167,7 +177,10 @@ class StudioApp:
         while not self._stop.is_set():
             period = 1.0 / self.studio.cfg.ui.rate_hz
             try:
-                if self.studio.playing:
+                if self.studio.playing and self.replay is not None:
+                    self.replay.play(period, self.studio.speed)
+                    self.redraw()
+                elif self.studio.playing:
                     if math.isinf(self.studio.speed):
                         self._tick_flat_out(period)
                     else:
@@ -245,11 +258,18 @@ class StudioApp:
     def jump_to_frame(self, number: int) -> None:
         """Show frame `number` (as the log numbers frames): seek a replay, scrub the timeline."""
         s = self.studio
-        if is_replay(s.source):
-            self.page.hooks["seek"](number)
+        if self.replay is not None:
+            self.seek(number)
             return
         first = s.timeline[0].index if len(s.timeline) else 0
         self.page.hooks["scrub"](number - first)
+
+    def seek(self, number: int) -> None:
+        """Show frame `number` of the recording, its world model built up to it (paused)."""
+        if self.replay is None:
+            return
+        self.replay.seek(number)
+        self.redraw()
 
     def _map_changed(self) -> None:
         self.map_prims = map_prims(self.studio.global_map)
@@ -259,7 +279,13 @@ class StudioApp:
         self.redraw()
 
     # ----- tabs ---------------------------------------------------------------------------------
+    def _notify_tab(self, client_id: int, title: str, body: str) -> None:
+        client = self.server.get_clients().get(client_id)
+        if client is not None:
+            self.page.notify(client, title, body)
+
     def _on_connect(self, client: viser.ClientHandle) -> None:
+        guard_connection(client, self._notify_tab)
         tab = TabState(client, LayerToggles(client))
         for panel in self.panels:
             panel.connect(tab)

@@ -26,6 +26,10 @@ _DUMMY_SEG = np.zeros((1, 2, 3), dtype=np.float32)
 
 _DUMMY_PT = np.zeros((1, 3), dtype=np.float32)
 
+# viser's point clouds show about twice as wide as their `point_size` (measured on the
+# page's screenshots: a 0.18 m point at 0.022 m/px shows ~17 px wide, not 8)
+VISER_POINT_SCALE = 0.5
+
 LAYER_OF = {spec.name: layer.key for layer in LAYERS for spec in layer.prims}
 
 _Z_ORDER = [spec.name for layer in LAYERS for spec in layer.prims]
@@ -44,6 +48,7 @@ class SceneLayers:
         self.has_data: dict[str, bool] = {}
         self.sizes: dict[str, int] = {}
         self._sent: dict[str, tuple[Any, ...]] = {}  # what each node shows now
+        self.metres_per_px = 0.02  # of the view that last zoomed (points are world-sized in viser)
         for layer in LAYERS:
             for spec in layer.prims:
                 self.handles[spec.name] = self._make(spec, layer.key)
@@ -55,16 +60,33 @@ class SceneLayers:
         pos = (0.0, 0.0, _z_of(spec.name))
         scene = self.server.scene
         if spec.kind == "segments":
+            # a node coloured per item is made with per-vertex colours: switching a line node
+            # from one colour to per-vertex colours later leaves it white on the page
+            colours: Any = (np.repeat(line_vertex(np.array([spec.color], np.uint8))[:, None, :], 2, axis=1)
+                            if spec.per_item else line_uniform(spec.color))
             return scene.add_line_segments(
-                name, _DUMMY_SEG, line_uniform(spec.color), thickness=spec.thickness, thickness_units="screen",
+                name, _DUMMY_SEG, colours, thickness=spec.thickness, thickness_units="screen",
                 position=pos, visible=False,
             )
         if spec.kind == "label":
             return scene.add_label(name, "", position=pos, visible=False, anchor="bottom-left", font_screen_scale=0.8)
         return scene.add_point_cloud(
-            name, _DUMMY_PT, np.array(spec.color, dtype=np.uint8), point_size=spec.point_size,
+            name, _DUMMY_PT, np.array([spec.color] if spec.per_item else spec.color, dtype=np.uint8),
+            point_size=spec.point_size * self.metres_per_px * VISER_POINT_SCALE,
             point_shape="circle", precision="float32", point_shading="flat", position=pos, visible=False,
         )
+
+    def set_pixel_size(self, metres_per_px: float) -> None:
+        """Keep point markers at their size in screen pixels (viser sizes points in metres):
+        called when a tab's view zooms; the tab that zoomed last sets it for all."""
+        if not metres_per_px > 0 or abs(metres_per_px / self.metres_per_px - 1.0) < 0.1:
+            return
+        self.metres_per_px = metres_per_px
+        with self.server.atomic():
+            for name, h in self.handles.items():
+                spec = PRIM_SPECS[name]
+                if spec.kind == "points":
+                    h.point_size = spec.point_size * metres_per_px * VISER_POINT_SCALE
 
     def update(self, prims: dict[str, Prim]) -> None:
         """Assign new geometry to the existing nodes (nothing is re-created)."""
@@ -81,6 +103,10 @@ class SceneLayers:
         if n:
             data = np.asarray(prim.data, dtype=np.float32)
             colors = None if prim.colors is None else np.asarray(prim.colors, np.uint8)
+            if spec.per_item and colors is None:  # keep the node per-vertex
+                colors = np.tile(np.array(spec.color, np.uint8), (n, 1))
+            elif not spec.per_item:
+                colors = None  # one colour per node, as it was made
             sent = self._sent.get(name, (None, None))
             key = (data.tobytes() + prim.text.encode(), None if colors is None else colors.tobytes())
             # each part only when it changed (equal colour bytes are an equal count too)

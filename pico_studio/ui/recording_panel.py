@@ -92,7 +92,6 @@ class RecordingControls(Panel):
                                          hint="Write the run as a ROS 1 bag into the export folder")
             self.button.on_click(page.guard("record", lambda e: self.toggle()))
             self.text = gui.add_markdown(self.recorder.describe())
-        page.hooks["seek"] = self.seek
         self._logged_warnings = 0
 
     def toggle(self) -> None:
@@ -103,14 +102,8 @@ class RecordingControls(Panel):
         self.refresh(None)
 
     def seek(self, index: int) -> None:
-        """Restart at scan `index` of the recording (paused, that frame perceived and shown)."""
-        s = self.studio
-        with s.lock:
-            s.reset()
-            s.source.seek(min(max(int(index), 0), s.source.frame_count - 1))
-            s.playing = False
-            s.tick(1.0 / s.cfg.ui.rate_hz)
-        self.page.redraw()
+        """Show frame `index` of the recording (paused, the world model built up to it)."""
+        self.page.hooks["seek"](index)
 
     def refresh(self, shown: Shown | None) -> None:
         """Follow the studio: end a recording whose session is gone; log what a replay skipped."""

@@ -4,8 +4,8 @@
     image = renderer.draw(map_prims(m) | frame_prims(studio, frame))   # (H, W, 3) RGB
 
 Same prims (`ui.scene_data`), same colours (`ui.style`), same draw order (`LAYERS`, bottom
-up) and line widths (screen pixels) as the page; points are discs of their world size (at
-least 2 px). `render_run` steps a `Studio` through a time window and writes one image per
+up), line widths and marker sizes (screen pixels) as the page; points are discs (at
+least 1 px). `render_run` steps a `Studio` through a time window and writes one image per
 perceived frame to an MP4 (OpenCV's FFMPEG writer), a GIF (Pillow) or, for .png, the last one.
 """
 
@@ -20,6 +20,7 @@ import numpy as np
 
 from pico_studio.errors import UserError
 from pico_studio.ui.clock import is_replay, start_time
+from pico_studio.ui.replay import ReplayDriver
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.scene_data import LAYERS, PRIM_SPECS, Prim, frame_prims, map_prims
 from pico_studio.ui.timeline import FrameRecord
@@ -70,7 +71,7 @@ class TopDown:
             for p, q, c in zip(a, b, colours, strict=True):
                 cv2.line(img, _pt(p), _pt(q), _rgb(c), width, cv2.LINE_AA)
             return
-        radius = max(2, int(round(spec.point_size / 2 * self.scale)))
+        radius = max(1, int(round(spec.point_size / 2)))
         for p, c in zip(self.to_px(prim.data), colours, strict=True):
             cv2.circle(img, _pt(p), radius, _rgb(c), -1, cv2.LINE_AA)
 
@@ -84,17 +85,15 @@ def _rgb(c: np.ndarray) -> tuple[int, int, int]:
 
 
 def frames_in(studio: Studio, t_from: float, t_to: float | None, dt: float) -> Iterator[FrameRecord]:
-    """Step the studio (paused page: no redraws) and yield each perceived frame whose time,
-    relative to the start, lies in [t_from, t_to]. A replay first seeks to t_from."""
+    """Step the studio and yield each perceived frame whose time, relative to the start, lies
+    in [t_from, t_to]. A replay delivers every scan (`ReplayDriver`), from its first: the
+    world model of the first frame shown is built up to it."""
     source = studio.source
     t0 = start_time(source)
-    if is_replay(source) and t_from > 0:
-        source.seek_time(t0 + t_from)
+    driver = ReplayDriver(studio) if is_replay(source) else None
     while source.ok():
-        frame = studio.tick(dt)
+        frame = driver.step() if driver is not None else studio.tick(dt)
         if frame is None:
-            if not source.ok():
-                break
             continue
         t = frame.time - t0
         if t_to is not None and t > t_to + 1e-9:

@@ -101,8 +101,7 @@ class Studio:
             ui = self.cfg.ui
             self.timeline = Timeline(round(ui.timeline_seconds * ui.rate_hz))
             self.lmap = self._localisation_map()
-            tracker = TrackerState.initial(len(self.lmap.field.segments)) if self.lmap is not None else None
-            self.state: tuple[Any, Any] = (PerceptorState.initial(), tracker)
+            self.state: tuple[Any, Any] = self.initial_state()
             self.scorer = self._make_scorer()
             self.behaviour = self._make_behaviour(self.behaviour_spec)
             self.teleop_command: BaseReference | None = None
@@ -119,6 +118,12 @@ class Studio:
                 behaviour=_StudioBehaviour(self),
                 observers=[_TimelineObserver(self)],
             )
+
+    def initial_state(self) -> tuple[Any, Any]:
+        """The perceptor's and localiser's state at the start of a run (a replay's jumps
+        start from it when no checkpoint is near)."""
+        tracker = TrackerState.initial(len(self.lmap.field.segments)) if self.lmap is not None else None
+        return (PerceptorState.initial(), tracker)
 
     def _make_scorer(self) -> TruthScorer | None:
         """Scores against the simulator's truth (the live frames, at `ui.score_rate_hz`)."""

@@ -21,6 +21,7 @@ from pico_studio.core.localisation.combined import CombinedMap
 from pico_studio.core.world_model import WorldModel
 from pico_studio.json_map import GlobalMap
 from pico_studio.ui import style
+from pico_studio.ui.clock import is_replay
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.timeline import FrameRecord
 
@@ -45,8 +46,9 @@ class PrimSpec:
     name: str
     kind: str
     color: style.RGB
-    thickness: float = style.THICK_LAYER
-    point_size: float = style.POINT_SIZE
+    thickness: float = style.THICK_LAYER  # screen pixels
+    point_size: float = style.POINT_PX  # screen pixels (the page rescales as the view zooms)
+    per_item: bool = False  # coloured item by item (the page's node is made so from the start)
 
 
 @dataclass(frozen=True)
@@ -59,8 +61,8 @@ class LayerSpec:
 
 
 S, P, L = "segments", "points", "label"
-# Drawn from the bottom up in this order (markers last, on top); line thickness in screen
-# pixels, point sizes in metres.
+# Drawn from the bottom up in this order (markers last, on top); line thickness and point
+# sizes in screen pixels.
 LAYERS: tuple[LayerSpec, ...] = (
     LayerSpec("map", "Global map", (
         PrimSpec("map_start", S, style.MAP_START, 3.0),
@@ -71,38 +73,39 @@ LAYERS: tuple[LayerSpec, ...] = (
     ), static=True),
     LayerSpec("sim_world", "Simulated doors / moving objects", (PrimSpec("sim_world", S, style.SIM_WORLD, 3.0),)),
     LayerSpec("trail", "Trail", (PrimSpec("trail", S, style.TRAIL, 2.0),)),
+    LayerSpec("truth_path", "True trajectory (recording)", (PrimSpec("truth_path", S, style.TRUE_PATH, 2.0),)),
     LayerSpec("combined", "Combined map", (
         # as thick as the map's walls, so that its dashes hide the wall under them
         PrimSpec("combined_unseen", S, style.COMBINED_UNSEEN, style.THICK_MAP),
-        PrimSpec("combined", S, style.COMBINED_MATCHED, 3.0),
+        PrimSpec("combined", S, style.COMBINED_MATCHED, 3.0, per_item=True),
     )),
     LayerSpec("local", "Local map", (
-        PrimSpec("local_walls", S, style.LOCAL_WALL, 1.5),
-        PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=0.05),
-        PrimSpec("corners", P, style.ENDPOINT[2], point_size=0.08),
+        PrimSpec("local_walls", S, style.LOCAL_WALL, 2.0),
+        PrimSpec("local_endpoints", P, style.ENDPOINT[0], point_size=6.0, per_item=True),
+        PrimSpec("corners", P, style.ENDPOINT[2], point_size=9.0, per_item=True),
     )),
     LayerSpec("current", "Current map segments", (PrimSpec("current", S, style.CURRENT_MAP, 2.0),)),
     LayerSpec("doors", "Doors and possible doors", (
         PrimSpec("doors", S, style.DOOR, 4.0),
-        PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 3.0),
+        PrimSpec("possible_doors", S, style.POSSIBLE_DOOR, 3.0, per_item=True),
     )),
     LayerSpec("proximity", "Proximity bubble", (
-        PrimSpec("bubble", S, style.PROXIMITY, 1.5),
-        PrimSpec("flagged", S, style.PROXIMITY_FLAGGED, 1.0),
+        PrimSpec("bubble", S, style.PROXIMITY, 2.0),
+        PrimSpec("flagged", S, style.PROXIMITY_FLAGGED, 1.5),
     )),
-    LayerSpec("laser", "Laser points", (PrimSpec("laser", P, style.LASER, point_size=0.025),)),
-    LayerSpec("entrance", "Entrance estimate / hallway", (PrimSpec("entrance", S, style.ENTRANCE, 3.0),)),
+    LayerSpec("laser", "Laser points", (PrimSpec("laser", P, style.LASER, point_size=3.0),)),
+    LayerSpec("entrance", "Entrance estimate / hallway", (PrimSpec("entrance", S, style.ENTRANCE, 3.0, per_item=True),)),
     LayerSpec("room", "Side room watch", (
-        PrimSpec("room_side", S, style.ROOM_SIDE, 1.5),
+        PrimSpec("room_side", S, style.ROOM_SIDE, 2.0, per_item=True),
         PrimSpec("room_label", L, style.ROOM_SIDE),
     )),
     LayerSpec("scan_corners", "Scan corners (spike / vector)", (
-        PrimSpec("spike_corners", P, style.SPIKE_CORNER, point_size=0.07),
-        PrimSpec("vector_corners", P, style.VECTOR_CORNER_INNER, point_size=0.06),
+        PrimSpec("spike_corners", P, style.SPIKE_CORNER, point_size=8.0),
+        PrimSpec("vector_corners", P, style.VECTOR_CORNER_INNER, point_size=7.0, per_item=True),
     ), default_on=False),
     LayerSpec("behaviour", "Behaviour target / plan", (
         PrimSpec("plan", S, style.BEHAVIOUR_PLAN, 2.0),
-        PrimSpec("target", P, style.BEHAVIOUR_TARGET, point_size=0.15),
+        PrimSpec("target", P, style.BEHAVIOUR_TARGET, point_size=12.0),
     )),
     LayerSpec("robot", "Robot footprint", (
         PrimSpec("robot_true", S, style.ROBOT_TRUE, 2.0),
@@ -208,6 +211,7 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
         # no truth and no localisation: the only pose there is, drawn as the estimate
         out["robot_estimate"] = Prim(S, footprint_segments(robot, length, width))
 
+    out["truth_path"] = Prim(S, truth_path(studio.source))
     trail = [f.map_xy for f in _trail_frames(studio, frame) if f.map_xy is not None]
     if len(trail) >= 2:
         t = np.asarray(trail)
@@ -403,3 +407,20 @@ def _trail_frames(studio: Studio, frame: FrameRecord) -> list[FrameRecord]:
         return []
     first = studio.timeline[0].index
     return studio.timeline.up_to(frame.index - first, n)
+
+
+_truth_cache: tuple[Any, np.ndarray] | None = None
+
+
+def truth_path(source: Any) -> np.ndarray:
+    """A replay's whole recorded true trajectory (CARMEN's corrected poses, a simulated run's
+    truth) as segments (K, 4), jumps over 1 m left out; empty for other sources."""
+    global _truth_cache
+    if not is_replay(source) or not source.has_truth:
+        return np.zeros((0, 4))
+    if _truth_cache is None or _truth_cache[0] is not source.recording:
+        xy = np.array([p.pose[:2] for p in source.recording.truth], dtype=float).reshape(-1, 2)
+        segs = np.hstack([xy[:-1], xy[1:]]) if len(xy) >= 2 else np.zeros((0, 4))
+        keep = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1]) < 1.0
+        _truth_cache = (source.recording, segs[keep])
+    return _truth_cache[1]

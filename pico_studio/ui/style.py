@@ -54,6 +54,7 @@ VECTOR_CORNER_OUTER: RGB = (170, 0, 110)  # wine
 ROBOT_TRUE: RGB = (60, 60, 60)  # dark grey
 ROBOT_ESTIMATE: RGB = (40, 40, 220)  # strong blue
 TRAIL: RGB = (215, 215, 215)  # light grey
+TRUE_PATH: RGB = (190, 150, 90)  # tan: a recording's true trajectory
 PROXIMITY: RGB = (230, 200, 129)  # peach
 PROXIMITY_FLAGGED: RGB = (250, 30, 38)  # red
 BEHAVIOUR_TARGET: RGB = (140, 0, 240)  # purple
@@ -70,7 +71,7 @@ INSPECT: RGB = (230, 213, 82)
 # combined walls drawn on them
 THICK_MAP = 5.0
 THICK_LAYER = 2.0
-POINT_SIZE = 0.04  # metres (viser's points are world-sized): small, so walls stay visible
+POINT_PX = 4.0  # markers' default size in screen pixels: small, so walls stay visible
 DASH, DASH_GAP = 0.15, 0.1  # never-seen map walls: dash and gap, metres
 LEGEND_BOX = (250, 150)  # the on-canvas legend's largest size (px), bottom left
 
@@ -96,7 +97,7 @@ LEGEND: list[tuple[str, list[tuple[RGB, str]]]] = [
     ("Scan corners (seed 002)", [(SPIKE_CORNER, "spike corner"), (VECTOR_CORNER_INNER, "vector corner, inner"),
                                  (VECTOR_CORNER_OUTER, "vector corner, outer")]),
     ("Robot", [(ROBOT_TRUE, "true pose (simulated, or a recording's corrected poses)"), (ROBOT_ESTIMATE, "estimated pose")]),
-    ("Trail", [(TRAIL, "path driven")]),
+    ("Trail", [(TRAIL, "path driven"), (TRUE_PATH, "a recording's true trajectory")]),
     ("Proximity", [(PROXIMITY, "bubble"), (PROXIMITY_FLAGGED, "flagged beams")]),
     ("Behaviour", [(BEHAVIOUR_TARGET, "target"), (BEHAVIOUR_PLAN, "plan")]),
     ("Entrance", [(ENTRANCE, "entrance estimate"), (HALLWAY, "... in a hallway")]),
@@ -124,6 +125,7 @@ LAYER_COLOURS: dict[str, list[RGB]] = {
     "map": [MAP_WALL, MAP_OBJECT, MAP_OBJECT_FRONT, MAP_DOOR, MAP_START],
     "sim_world": [SIM_WORLD],
     "trail": [TRAIL],
+    "truth_path": [TRUE_PATH],
     "combined": [COMBINED_MATCHED, COMBINED_UNMATCHED, COMBINED_UNSEEN],
     "local": [LOCAL_WALL, *ENDPOINT.values()],
     "current": [CURRENT_MAP],
@@ -140,7 +142,7 @@ LAYER_COLOURS: dict[str, list[RGB]] = {
 
 def swatch_row(layer: str) -> str:
     """The colour swatches shown just above a layer's toggle."""
-    return f'<div style="margin:2px 0 -6px 2px;line-height:1">{swatches(LAYER_COLOURS.get(layer, []))}</div>'
+    return f'<div style="margin:4px 0 0 2px;line-height:1">{swatches(LAYER_COLOURS.get(layer, []))}</div>'
 
 
 SHORT_LEGEND: list[tuple[RGB, str]] = [

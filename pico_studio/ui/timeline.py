@@ -49,6 +49,9 @@ class Timeline:
     def append(self, frame: FrameRecord) -> None:
         self._frames.append(frame)
 
+    def clear(self) -> None:
+        self._frames.clear()
+
     def __len__(self) -> int:
         return len(self._frames)
 

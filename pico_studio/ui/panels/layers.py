@@ -42,6 +42,7 @@ class LayersPanel(Panel):
         on_user(h["legend"], lambda e: self.set_legend(tab, bool(e.target.value)))
         on_user(h["dark"], lambda e: self.set_dark(tab, bool(e.target.value)))
         tab.handles[self.name] = h
+        tab.client.camera.on_update(lambda cam: self.page.hooks["pixel_size"](camera.metres_per_pixel(tab.client)))
         tab.settings.update({"follow": self.follow_default, "legend": True, "dark": False})
         tab.settings["layers"] = {layer.key: layer.default_on for layer in LAYERS}
         self.set_legend(tab, True, save=False)

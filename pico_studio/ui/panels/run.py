@@ -76,7 +76,7 @@ class RunPanel(Panel):
             s.playing = False
             if self.replay:
                 s.cursor = None
-                self._tick_to_next_frame()
+                self.page.hooks["replay_step"]()
             else:
                 s.scrub(None)
                 s.tick(1.0 / s.cfg.ui.rate_hz)
@@ -95,14 +95,6 @@ class RunPanel(Panel):
             pos = (n - 1 if s.cursor is None else s.cursor) - 1
             s.scrub(max(pos, 0))
         self.page.redraw()
-
-    def _tick_to_next_frame(self) -> None:
-        s = self.page.studio
-        before = s.frame_count
-        for _ in range(1000):  # a recording's next scan may be several control periods away
-            if s.frame_count != before or not s.source.ok():
-                break
-            s.tick(1.0 / s.cfg.ui.rate_hz)
 
     def do_reset(self) -> None:
         self.page.studio.reset()
