@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.config import load_config
 from pico_studio.errors import ConfigError
 from pico_studio.progress import Progress
@@ -56,6 +57,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=0, help="seed of the sampler and of a fractional hold-out")
     p.add_argument("--out", default="tune-out", help="folder for best.yaml, report.html, the journal")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_plugin_argument(p)
     p.set_defaults(func=_tune)
 
 
