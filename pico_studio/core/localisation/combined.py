@@ -22,7 +22,13 @@ from typing import Any
 import numpy as np
 
 from pico_studio.config.localisation_params import CombinedParams
-from pico_studio.core.geometry import compose, invert, point_segment_distance, segment_lengths, transform_segments
+from pico_studio.core.geometry import (
+    compose,
+    invert,
+    point_segment_distance,
+    segment_lengths,
+    transform_segments,
+)
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose
 

@@ -54,7 +54,7 @@ class LocalisationMap:
     prior: PosePrior
     bounds: tuple[float, float, float, float]
     n_walls: int  # the first n_walls segments of the field are the map's walls, in order
-    door_lines: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))  # (K, 4) map doors, combined.map_door_lines
+    door_lines: np.ndarray  # (K, 4) the map doors across their passages (combined.map_door_lines)
 
 
 @dataclass(frozen=True)
