@@ -1,19 +1,20 @@
 """Truth scoring and re-judging a recorded run, compiled vs its own Python, on hospital_2019.
 
-A run is recorded once: the simulator at `--poses` random free poses of hospital_2019
-(seeded), the robot turning slowly at each, `--frames` scans per pose (12 x 200 = 2,400
-frames: a 2-minute run), and per frame the scan, the odometry and the truth the scoring
-needs (true pose, solid segments, visible walls, corners in view, openings, doors in view).
+A run is recorded once, live: the simulator on hospital_2019 from its start area, the
+`wander` behaviour, the perceptor, `--seconds` of simulated time at 20 Hz (120 s = 2,400
+frames), every frame kept with the truth of that instant (`evaluation.kept_truth`).
 
-- *scoring a frame*: `score_arrays` of a perceived world model against its frame's truth,
-  CPU ms per frame (median over frames and `--repeats`), compiled and uncompiled
-  (`jit.uncompiled`, every compiled loop as its Python) in the same process;
-- *re-judging the run*: perceive every frame afresh (a new perceptor per pose) and score it,
-  as after a slider change: CPU seconds for the whole run;
-- *same answers*: the run's summary (every figure of `pico-studio eval`) compiled and
-  uncompiled on the first `--python-frames` frames: equal within 1e-9.
+- *scoring a frame*: `TruthScorer.score` of a kept world model against its frame's kept
+  truth (what `pico-studio run` and the page do per scan), CPU ms per frame (median over the
+  frames, `--repeats` times), compiled and uncompiled (`jit.uncompiled`: every compiled loop
+  as its Python) in the same process;
+- *re-judging the run*: the kept frames replayed (`sources.frames.FramesReplay`) through a
+  fresh perceptor and scored against the kept truth, as after a slider change: CPU seconds
+  for the whole run;
+- *same answers*: the re-judged summary (every figure of `pico-studio eval`) compiled and
+  uncompiled over the first `--python-frames` frames: equal within 1e-9.
 
-    python benchmarks/bench_scoring.py [--poses 12] [--frames 200] [--repeats 3]
+    python benchmarks/bench_scoring.py [--seconds 120] [--repeats 3] [--python-frames 100]
 """
 
 from __future__ import annotations
@@ -21,124 +22,102 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from timing import load
 
 from pico_studio.config import Config
-from pico_studio.core.geometry import transform_points, transform_segments
-from pico_studio.core.io import Command
+from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.perception import Perceptor
-from pico_studio.evaluation import frame_score
-from pico_studio.evaluation.poses import random_free_poses
+from pico_studio.evaluation.kept_truth import TruthKeeper
+from pico_studio.evaluation.run_score import TruthScorer
 from pico_studio.jit import uncompiled, warm_up
 from pico_studio.json_map import load_map
-from pico_studio.session import Session
+from pico_studio.session import Session, SessionFrame
 from pico_studio.sim import Simulator
+from pico_studio.sources.frames import FramesReplay
 
-MAP = __import__("pathlib").Path(__file__).resolve().parents[1] / "pico_studio" / "data" / "maps" / "hospital_2019.json"
+MAP = Path(__file__).resolve().parents[1] / "pico_studio" / "data" / "maps" / "hospital_2019.json"
 
 
-def record(poses: int, frames: int, seed: int = 0) -> list[list[dict[str, Any]]]:
-    """Per pose, its frames: scan, odometry, and the truth of that instant."""
+class Keep:
+    """Keeps every frame of a session (what the page's timeline does)."""
+
+    name = "keep"
+
+    def __init__(self) -> None:
+        self.frames: list[SessionFrame] = []
+
+    def on_frame(self, sf: SessionFrame) -> None:
+        self.frames.append(sf)
+
+    def summary(self) -> dict[str, Any]:
+        return {"frames": len(self.frames)}
+
+
+def record(seconds: float, seed: int = 0) -> tuple[Keep, TruthKeeper]:
     cfg = Config()
     gmap = load_map(MAP)
-    first = Simulator(gmap, cfg.sim, seed=seed)
-    starts = random_free_poses(first.world.segments(), first.truth.pose[:2], poses, 0.4,
-                               np.random.default_rng(seed), gmap.bounds)
-    runs = []
-    for k, pose in enumerate(starts):
-        sim = Simulator(gmap, cfg.sim, seed=seed + k, initial_pose=pose)
-        session = Session(sim, behaviour=lambda f, wm: Command(0.05, 0.0, 0.4), history=1)
-        vertices = frame_score._static_vertices(sim)
-        seq = []
-        for _ in range(frames):
-            session.tick(0.05)
-            t = sim.truth
-            vc = t.visible_corners()
-            seq.append({"laser": session.last_laser, "odom": session.last_odometry, "pose": tuple(t.pose),
-                        "solid": t.segments(), "visible_walls": t.visible_walls(), "vertices": vertices,
-                        "corners": vc.points, "convex": vc.convex, "openings": t.door_openings(),
-                        "visible_doors": t.visible_doors()})
-        runs.append(seq)
-    return runs
+    sim = Simulator(gmap, cfg.sim, seed=seed)
+    keep, keeper = Keep(), TruthKeeper(sim)
+    behaviour = make_behaviour("wander", cfg.behaviour, gmap, initial_pose=sim.truth.pose)
+    Session(sim, perceptor=Perceptor(cfg.perception), behaviour=behaviour, observers=[keep, keeper]).run(seconds, 0.05)
+    return keep, keeper
 
 
-def score(wm: Any, f: dict[str, Any]) -> frame_score.FrameScore:
-    """One world model against its frame's recorded truth (score_frame's arithmetic)."""
-    z = frame_score.zero_to_map(wm, f["pose"])
-    return frame_score.score_arrays(
-        walls=transform_segments(np.asarray(wm.local_map.walls, dtype=float), z),
-        endpoint_property=np.asarray(wm.local_map.endpoint_property),
-        corners=transform_points(np.asarray(wm.corners, dtype=float).reshape(-1, 2), z),
-        corner_convex=np.asarray(wm.corner_convex, dtype=bool),
-        doors=transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4), z),
-        solid=f["solid"], visible_walls=f["visible_walls"], true_vertices=f["vertices"],
-        visible_corners=f["corners"], visible_convex=f["convex"], openings=f["openings"],
-        visible_doors=f["visible_doors"])
-
-
-def rejudge(runs: list[list[dict[str, Any]]], limit: int | None = None) -> tuple[float, dict[str, Any]]:
-    """(CPU s, summary) of perceiving and scoring every frame afresh."""
-    params = Config().perception
-    total = frame_score.RunScore()
-    n = 0
+def rejudge(keep: Keep, keeper: TruthKeeper, limit: int | None = None) -> tuple[float, dict[str, Any]]:
+    """(CPU s, summary without timings) of perceiving and scoring the kept frames afresh."""
+    frames = [sf.frame for sf in keep.frames][:limit]
+    replay = FramesReplay(frames)
+    scorer = TruthScorer(lambda: keeper.at(replay.index), vertices=keeper.vertices)
     t0 = time.process_time()
-    for seq in runs:
-        p = Perceptor(params)
-        for f in seq:
-            if limit is not None and n >= limit:
-                break
-            total.add(score(p.step(f["laser"], f["odom"]), f))
-            n += 1
+    Session(replay, perceptor=Perceptor(Config().perception), observers=[scorer]).run(math.inf)
     cpu = time.process_time() - t0
-    out = total.summary()
+    out = scorer.summary()
     out.pop("ms_per_scan")
     return cpu, out
 
 
-def measure(poses: int, frames: int, repeats: int, python_frames: int) -> dict[str, Any]:
+def measure(seconds: float, repeats: int, python_frames: int) -> dict[str, Any]:
     """Scoring a frame (compiled / uncompiled ms), re-judging the run (CPU s), same answers."""
     warm_up()
-    runs = record(poses, frames)
-    params = Config().perception
-    pairs = []  # world models once, then the scoring alone
-    for seq in runs:
-        p = Perceptor(params)
-        pairs += [(p.step(f["laser"], f["odom"]), f) for f in seq]
+    keep, keeper = record(seconds)
+    scored = [(sf.world_model, keeper.at(sf.index)) for sf in keep.frames
+              if sf.frame.laser is not None and sf.world_model is not None]
 
     def per_frame(items: list) -> float:
         times = []
         for _ in range(repeats):
-            for wm, f in items:
+            for wm, truth in items:
+                scorer = TruthScorer(lambda truth=truth: truth, vertices=keeper.vertices)
                 c0 = time.process_time()
-                score(wm, f)
+                scorer.score(wm)
                 times.append((time.process_time() - c0) * 1000)
         return float(np.median(times))
 
-    fast = per_frame(pairs)
+    fast = per_frame(scored)
     with uncompiled():
-        slow = per_frame(pairs[:python_frames])
-    cpu, _ = rejudge(runs)
-    _, a = rejudge(runs, python_frames)
+        slow = per_frame(scored[:python_frames])
+    cpu, _ = rejudge(keep, keeper)
+    _, a = rejudge(keep, keeper, python_frames)
     with uncompiled():
-        _, b = rejudge(runs, python_frames)
+        _, b = rejudge(keep, keeper, python_frames)
     same = all(math.isclose(a[k], b[k], rel_tol=1e-9, abs_tol=1e-12) for k in a)
-    return {"frames": len(pairs), "score_ms": fast, "score_ms_python": slow, "rejudge_s": cpu,
-            "same": same, "compiled": a, "uncompiled": b}
+    return {"frames": len(keep.frames), "scored": len(scored), "score_ms": fast, "score_ms_python": slow,
+            "rejudge_s": cpu, "same": same, "compiled": a, "uncompiled": b}
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--poses", type=int, default=12)
-    ap.add_argument("--frames", type=int, default=200)
+    ap.add_argument("--seconds", type=float, default=120.0)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--python-frames", type=int, default=100)
     args = ap.parse_args()
-    r = measure(args.poses, args.frames, args.repeats, args.python_frames)
+    r = measure(args.seconds, args.repeats, args.python_frames)
     n = r["frames"]
-    print(f"hospital_2019: {n} recorded frames; {load()}")
+    print(f"hospital_2019, wander: {n} recorded frames ({r['scored']} scans); {load()}")
     print(f"  scoring a frame     {r['score_ms']:8.3f} ms compiled  {r['score_ms_python']:8.3f} ms .py_func  "
           f"({r['score_ms_python'] / r['score_ms']:.1f}x)")
     print(f"  re-judging the run  {r['rejudge_s']:8.2f} s CPU for {n} frames "

@@ -11,7 +11,7 @@ line and column, and no file can make it hang or exhaust memory.
   `PICO_STUDIO_MAX_MAP_MB=200`; the names are in `FileLimits.env_names()`.
 * JSON and YAML are parsed with a nesting-depth limit (`FileLimits.depth`) that is checked
   *before* the recursive parts of the parsers run, so a `[[[[...` file is a clear error,
-  not a `RecursionError`. YAML integers longer than `max_int_digits` and duplicate mapping
+  not a `RecursionError`. YAML integers longer than `int_digits` and duplicate mapping
   keys (the last would silently win) are errors naming the line(s).
 """
 
@@ -43,10 +43,10 @@ class FileLimits:
     upload_bytes: int = 50 * MB  # files uploaded through the page
     image_pixels: int = 25_000_000  # 5000 x 5000 px, a 125 m square at 2.5 cm/px (real maps: < 1 Mpx)
     decompressed_ratio: int = 100  # a gzip log may grow to ratio x its size (text: ~5-10x) ...
-    decompressed_floor: int = 64 * MB  # ... or to this, whichever is larger
+    decompressed_floor_bytes: int = 64 * MB  # ... or to this, whichever is larger
     line_bytes: int = 4 * MB  # one line of a text recording (a 10000-beam scan is ~100 kB)
     depth: int = 64  # nesting of JSON/YAML containers (a map needs 3, a config 4)
-    max_int_digits: int = 100  # an integer literal in YAML
+    int_digits: int = 100  # an integer literal in YAML
 
     @staticmethod
     def env_names() -> dict[str, str]:
@@ -147,6 +147,20 @@ def check_output(path: str | Path, error: type[UserError]) -> None:
     what = _not_regular(st.st_mode)
     if what is not None:
         raise error(f"cannot write: is {what}, not a regular file", file=Path(path))
+
+
+def check_upload(name: str, content: bytes, error: type[UserError], suffixes: tuple[str, ...]) -> str:
+    """The file name an upload may be saved under (its last path part), or `error` for an
+    upload over the upload cap, with a name that is no file name, or of the wrong kind."""
+    cap = _cap("upload")
+    if len(content) > cap:
+        raise error(f"is {_human(len(content))}, over the {_human(cap)} upload limit", file=str(name)[:200])
+    base = Path(str(name).replace("\\", "/")).name
+    if base in ("", ".", "..") or "\0" in base or len(base) > 255:
+        raise error("is not a usable file name", file=str(name)[:200])
+    if not base.lower().endswith(suffixes):
+        raise error(f"upload one of {', '.join(suffixes)}", file=base)
+    return base
 
 
 def open_file(path: str | Path, error: type[UserError], kind: str | None = None) -> IO[bytes]:
@@ -282,7 +296,7 @@ def parse_yaml(text: str, error: type[UserError], file: str | Path | None) -> An
     """YAML text parsed safely: bounded depth, no duplicate keys, no endless integers."""
     lim = limits()
     loader = _BoundedLoader(text)
-    loader.max_depth, loader.max_int_digits = lim.depth, lim.max_int_digits
+    loader.max_depth, loader.max_int_digits = lim.depth, lim.int_digits
     try:
         return loader.get_single_data()
     except yaml.YAMLError as e:

@@ -1,11 +1,13 @@
 """Runs `pico-studio` command lines in one process, each bounded in time, for
 tests/test_bad_inputs.py: one JSON case a line on stdin, one JSON result a line on stdout.
 
-A case: {"id", "argv", "env", "timeout"}. A result: {"id", "code" (int, "timeout" or
-"traceback"), "out", "err", "seconds", "rss_mb" (the process's peak so far)}. The time bound
-is SIGALRM (it interrupts a blocking system call too, e.g. opening a FIFO); the memory bound
-is the address-space limit the test sets on this process, under which an allocation that
-would have eaten gigabytes raises MemoryError — a "traceback" result.
+A case: {"id", "argv", "env", "timeout", "wall_timeout"}. A result: {"id", "code" (int,
+"timeout" or "traceback"), "out", "err", "seconds" (wall), "cpu_seconds", "rss_mb" (the
+process's peak so far)}. The time bounds: `timeout` seconds of CPU (SIGPROF: what a case
+costs, whatever the machine's load) and `wall_timeout` seconds of wall time (SIGALRM: it
+interrupts a blocking system call too, e.g. opening a FIFO, which costs no CPU). The memory
+bound is the address-space limit the test sets on this process, under which an allocation
+that would have eaten gigabytes raises MemoryError — a "traceback" result.
 """
 
 from __future__ import annotations
@@ -33,16 +35,18 @@ def main() -> None:
     from pico_studio.cli import main as cli_main
 
     signal.signal(signal.SIGALRM, _alarm)
+    signal.signal(signal.SIGPROF, _alarm)
     real_stdout = sys.stdout
     for line in sys.stdin:
         case = json.loads(line)
         saved = {k: os.environ.get(k) for k in case["env"]}
         os.environ.update(case["env"])
         out, err = io.StringIO(), io.StringIO()
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         code: int | str
         try:
-            signal.setitimer(signal.ITIMER_REAL, case["timeout"])
+            signal.setitimer(signal.ITIMER_PROF, case["timeout"])
+            signal.setitimer(signal.ITIMER_REAL, case["wall_timeout"])
             with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
                 code = int(cli_main(case["argv"]) or 0)
         except _Timeout:
@@ -52,6 +56,7 @@ def main() -> None:
             err.write(traceback.format_exc())
         finally:
             signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.setitimer(signal.ITIMER_PROF, 0)
             for k, v in saved.items():
                 if v is None:
                     os.environ.pop(k, None)
@@ -59,7 +64,7 @@ def main() -> None:
                     os.environ[k] = v
         result = {
             "id": case["id"], "code": code, "out": out.getvalue()[-4000:], "err": err.getvalue()[-4000:],
-            "seconds": time.perf_counter() - t0,
+            "seconds": time.perf_counter() - t0, "cpu_seconds": time.process_time() - c0,
             "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
         }
         real_stdout.write(json.dumps(result) + "\n")

@@ -11,10 +11,10 @@ import sys
 from collections.abc import Sequence
 
 from pico_studio import __version__
-from pico_studio.cli import config_cmd, eval_cmd, map_cmd, render_cmd, run_cmd, serve_cmd
+from pico_studio.cli import config_cmd, eval_cmd, map_cmd, render_cmd, run_cmd, serve_cmd, tune_cmd
 from pico_studio.errors import UserError
 
-COMMAND_MODULES = [map_cmd, config_cmd, run_cmd, eval_cmd, serve_cmd, render_cmd]
+COMMAND_MODULES = [map_cmd, config_cmd, run_cmd, eval_cmd, serve_cmd, render_cmd, tune_cmd]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -16,6 +16,7 @@ from typing import Any
 
 from pico_studio.config import Config
 from pico_studio.errors import UserError
+from pico_studio.evaluation.agreement import AgreementObserver
 from pico_studio.evaluation.runner import make_perceptor
 from pico_studio.progress import Progress
 from pico_studio.session import Session
@@ -48,11 +49,15 @@ def run_source(args: argparse.Namespace, spec: SourceSpec, cfg: Config, behaviou
         if spec.kind == "ros":
             result = _run_live(args, source, perceptor, behaviour, recorder)
         else:
-            session = Session(source, perceptor=perceptor, recorder=recorder)
+            agreement = AgreementObserver()  # local_map.agreement, for a replay with true poses
+            session = Session(source, perceptor=perceptor, recorder=recorder, observers=[agreement])
             t0_rec, t1_rec = source.time_span
             total = t1_rec - t0_rec if args.seconds is None else min(args.seconds, t1_rec - t0_rec)
             with Progress(total, f"replaying {spec}", "s") as progress:
                 result = run_replay(session, source, dt=args.dt, seconds=args.seconds, progress=progress)
+            judged = agreement.summary()
+            if judged["scans"]:
+                result["local_map"] = judged
     finally:
         result_recorded = recorded(recorder)
         close = getattr(source, "close", None)

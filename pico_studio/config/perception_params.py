@@ -101,6 +101,21 @@ class ScanParams:
     seen_points: int = param(
         4, lo=1, hi=50, step=1, help="How many points past a wall's end are checked for that",
     )
+    grazing_factor: float = param(
+        0.0, lo=0.0, hi=20.0, step=0.1,
+        help="A wall seen at a grazing angle spreads its points: consecutive points break a cluster only "
+        "beyond this many times the spacing the surface's incidence angle predicts (0: off)",
+    )
+    grazing_max_break: float = param(
+        0.5, lo=0.0, hi=5.0, step=0.01, unit="m",
+        help="...but always beyond this; and a break to a point on the wall's extended line keeps the end "
+        "floating only when shorter than this (a door in line is wider)",
+    )
+    grazing_line_distance: float = param(
+        0.03, lo=0.0, hi=1.0, step=0.005, unit="m",
+        help="A cluster end whose next point past the break lies this close to the end's extended line "
+        "is the same wall going on at a grazing angle: the end stays floating (not seen)",
+    )
 
 
 @dataclass(frozen=True)
@@ -205,6 +220,11 @@ class MergeParams:
         0.15, lo=0.01, hi=2.0, step=0.01, unit="m",
         help="The laser passes through a wall when its range exceeds the wall's distance by this",
     )
+    forget_scans: int = param(
+        0, lo=0, hi=1000000, step=10,
+        help="A wall not seen for this many scans is dropped (0: never): keeps the local map local, so "
+        "pose drift over a long run leaves no ghosts",
+    )
     keep_radius: float = param(
         12.0, lo=0.5, hi=100.0, step=0.5, unit="m",
         help="Walls entirely farther than this from the robot are dropped",
@@ -264,6 +284,11 @@ class IdentifyParams:
     )
     end_face_doors: bool = param(
         True, help="A convex wall end facing another wall's face across a door's width is a door (a T-opening)",
+    )
+    end_face_min_length: float = param(
+        1.5, lo=0.0, hi=20.0, step=0.05, unit="m",
+        help="...when the wall whose end it is is at least this long: a building's wall, not the side of a "
+        "table or a cabinet (a passage between furniture and a wall is no door)",
     )
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
@@ -394,17 +419,21 @@ class ScanMatchParams:
         0.3, lo=0.0, hi=1.0, step=0.01,
         help="A correction is kept when at least this share of the matched points are inliers after it",
     )
+    good_quality: float = param(
+        0.8, lo=0.0, hi=1.01, step=0.01,
+        help="When the odometry pose already explains this share of the scan, it is kept without matching",
+    )
     min_gain: float = param(
         0.05, lo=0.0, hi=1.0, step=0.01,
         help="A correction is kept only when it explains this much more of the scan than the "
         "odometry pose did (good odometry is left alone)",
     )
     max_correction: float = param(
-        0.5, lo=0.0, hi=10.0, step=0.01, unit="m",
+        1.0, lo=0.0, hi=10.0, step=0.01, unit="m",
         help="A correction moving the pose farther than this is distrusted (kept as odometry)",
     )
     max_correction_angle: float = param(
-        0.35, lo=0.0, hi=3.14159, step=0.01, unit="rad",
+        0.7, lo=0.0, hi=3.14159, step=0.01, unit="rad",
         help="A correction turning the pose more than this is distrusted",
     )
     point_sigma: float = param(
@@ -416,21 +445,21 @@ class ScanMatchParams:
         help="Position noise of odometry over one step, plus odometry_sigma_per_m per metre moved",
     )
     odometry_sigma_per_m: float = param(
-        0.1, lo=0.0, hi=10.0, step=0.01, unit="m/m", help="Odometry position noise per metre moved",
+        0.2, lo=0.0, hi=10.0, step=0.01, unit="m/m", help="Odometry position noise per metre moved",
     )
     odometry_sigma_angle: float = param(
         0.01, lo=0.0001, hi=3.0, step=0.001, unit="rad",
         help="Heading noise of odometry over one step, plus odometry_sigma_per_rad per radian turned",
     )
     odometry_sigma_per_rad: float = param(
-        0.1, lo=0.0, hi=10.0, step=0.01, unit="rad/rad", help="Odometry heading noise per radian turned",
+        0.2, lo=0.0, hi=10.0, step=0.01, unit="rad/rad", help="Odometry heading noise per radian turned",
     )
     search_angle: float = param(
-        0.3, lo=0.0, hi=3.14159, step=0.01, unit="rad",
+        0.6, lo=0.0, hi=3.14159, step=0.01, unit="rad",
         help="Before refining, headings within this of the odometry's are tried (the best start wins)",
     )
     search_step: float = param(
-        0.02, lo=0.001, hi=1.0, step=0.001, unit="rad", help="...in steps of this",
+        0.03, lo=0.001, hi=1.0, step=0.001, unit="rad", help="...in steps of this",
     )
     min_wall_hits: int = param(
         2, lo=1, hi=100, step=1, help="Only local walls seen in at least this many scans are matched against",

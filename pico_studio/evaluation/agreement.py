@@ -50,6 +50,7 @@ class AgreementObserver:
     sample_step: float = 0.05  # m between samples along the local map's walls
     every: int = 5  # judge the local map of every this many scans (every scan feeds the reference)
     reference: ReferenceMap = field(default_factory=ReferenceMap)
+    name: str = "local_map"  # the key of its summary in Session.summaries()
 
     def __post_init__(self) -> None:
         self._samples: list[np.ndarray] = []

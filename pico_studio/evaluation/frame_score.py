@@ -44,6 +44,7 @@ from pico_studio.core.geometry import (
     transform_segments,
 )
 from pico_studio.core.world_model import FLOATING, WorldModel
+from pico_studio.evaluation.score_kernels import nearest_distances, wall_coverage
 
 Pose = tuple[float, float, float]
 
@@ -104,7 +105,8 @@ def _samples(segments: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray,
 
 def covered(points: np.ndarray, owner_dir: np.ndarray, segments: np.ndarray, tol: Tolerances) -> np.ndarray:
     """(P,) bool: each point lies within `wall_distance` of a segment within `wall_angle` of
-    its owner's direction (owner_dir (P, 2) unit vectors)."""
+    its owner's direction (owner_dir (P, 2) unit vectors). With `_samples`, the readable numpy
+    form of `score_kernels.wall_coverage`, which `score_arrays` runs (tests compare the two)."""
     out = np.zeros(len(points), dtype=bool)
     if len(points) == 0 or len(segments) == 0:
         return out
@@ -166,6 +168,11 @@ def doors_match(found: np.ndarray, truth: np.ndarray, tol: Tolerances) -> np.nda
 # ----- one frame -----------------------------------------------------------------------------
 
 
+def _c4(segments: np.ndarray) -> np.ndarray:
+    """Segments as a C-contiguous float64 (N, 4): the layout the kernels are built for."""
+    return np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4)
+
+
 def score_arrays(
     *,
     walls: np.ndarray,
@@ -184,16 +191,16 @@ def score_arrays(
 ) -> FrameScore:
     """Score map-frame detections against map-frame truth (all arrays in the map frame)."""
     s = FrameScore()
-    pts, owner, weight = _samples(walls, tol.sample_step)
-    ok = covered(pts, _dirs(walls)[owner] if len(walls) else np.zeros((0, 2)), solid, tol)
-    s.wall_len, s.wall_len_ok = float(weight.sum()), float(weight[ok].sum())
-    pts, owner, weight = _samples(visible_walls, tol.sample_step)
-    ok = covered(pts, _dirs(visible_walls)[owner] if len(visible_walls) else np.zeros((0, 2)), walls, tol)
-    s.truth_len, s.truth_len_ok = float(weight.sum()), float(weight[ok].sum())
+    # wall precision and recall: `_samples` + `covered` as one compiled loop (score_kernels)
+    walls, solid, visible_walls = _c4(walls), _c4(solid), _c4(visible_walls)
+    cos_angle = math.cos(tol.wall_angle)
+    s.wall_len, s.wall_len_ok = wall_coverage(walls, tol.sample_step, solid, tol.wall_distance, cos_angle)
+    s.truth_len, s.truth_len_ok = wall_coverage(visible_walls, tol.sample_step, walls, tol.wall_distance, cos_angle)
+    true_vertices = np.ascontiguousarray(true_vertices, dtype=np.float64).reshape(-1, 2)
     if len(walls) and len(true_vertices):
         ends = walls.reshape(-1, 2)[endpoint_property.reshape(-1) != FLOATING]
         if len(ends):
-            d = np.hypot(*(ends[:, None, :] - true_vertices[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+            d = nearest_distances(ends, true_vertices)
             s.endpoint_err_sum, s.endpoints = float(d.sum()), len(d)
     pairs = match_points(corners, visible_corners, tol.corner_distance)
     s.corners, s.truth_corners = len(corners), len(visible_corners)
@@ -202,7 +209,7 @@ def score_arrays(
     # a detected corner next to a true corner that is just out of view is still a true corner
     if len(corners) > len(pairs) and len(true_vertices):
         rest = np.setdiff1d(np.arange(len(corners)), [i for i, _ in pairs])
-        d = np.hypot(*(corners[rest][:, None, :] - true_vertices[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+        d = nearest_distances(np.ascontiguousarray(corners[rest], dtype=np.float64), true_vertices)
         s.corners_ok += int((d <= tol.corner_distance).sum())
     s.doors = len(doors)
     s.doors_ok = int(doors_match(doors, openings, tol).any(axis=1).sum())

@@ -28,7 +28,7 @@ warning naming the file, line and field; a gzip file that ends early replays wha
 
 Bounded reading (`user_files.FileLimits`): the log must be a regular file within the
 recording size cap; a gzip log is decompressed as a stream and stops, with a warning, once
-it grows beyond `decompressed_ratio` x its compressed size (at least `decompressed_floor`) —
+it grows beyond `decompressed_ratio` x its compressed size (at least `decompressed_floor_bytes`) —
 a gzip bomb (1 GiB of zeros in 1 MB) is cut off after ~100 MB instead of filling memory; a
 line longer than `line_bytes` is skipped unread. The first `MAX_LISTED_WARNINGS` skipped
 lines are listed, the rest counted.
@@ -156,7 +156,7 @@ def _lines(path: Path, warnings: list[str]) -> Iterator[tuple[int, str]]:
 
 
 def _decompressed_cap(size: int, lim: FileLimits) -> int:
-    return min(lim.recording_bytes, max(lim.decompressed_floor, lim.decompressed_ratio * size))
+    return min(lim.recording_bytes, max(lim.decompressed_floor_bytes, lim.decompressed_ratio * size))
 
 
 class _BoundedLines:

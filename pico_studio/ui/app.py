@@ -23,6 +23,7 @@ from typing import Any
 import viser
 
 from pico_studio.config import Config
+from pico_studio.ui.client_input import guard_connection, guard_server
 from pico_studio.ui.clock import frame_number, is_replay, recording_position, relative_time
 from pico_studio.ui.layers import LayerToggles, SceneLayers
 from pico_studio.ui.logbook import LogBook
@@ -35,6 +36,7 @@ from pico_studio.ui.panels.log import LogPanel
 from pico_studio.ui.panels.map_choice import MapPanel
 from pico_studio.ui.panels.run import RunPanel
 from pico_studio.ui.panels.tools import ToolsPanel
+from pico_studio.ui.panels.tune import TunePanel
 from pico_studio.ui.recording_panel import RecordingControls
 from pico_studio.ui.replay import ReplayDriver
 from pico_studio.ui.runtime import Studio
@@ -59,6 +61,7 @@ class StudioApp:
         self.studio = studio
         self.export_dir = Path(export_dir)
         self.server = viser.ViserServer(host=host, port=port, label="pico_studio", verbose=verbose)
+        guard_server(self.server, self._notify_tab)  # what a tab sends is checked first (client_input.py)
         self.server.scene.set_up_direction("+z")
         self.server.scene.world_axes.visible = False
         self.log = LogBook()
@@ -104,11 +107,13 @@ class StudioApp:
             self.config = ConfigTab(page, gui, self.export_dir)
         with tabs.add_tab("Tools"):
             self.tools = ToolsPanel(page, gui, self.export_dir)
+        with tabs.add_tab("Tune"):
+            self.tune = TunePanel(page, gui, self.export_dir, apply=self.config.apply)
         with tabs.add_tab("Log"):
             self.log_panel = LogPanel(page, gui)
         self.tab_group = tabs
         self.panels: list[Panel] = [self.run, self.behaviour, self.map, self.recording, self.layers_panel,
-                                    self.config, self.tools, self.log_panel, self.help]
+                                    self.config, self.tools, self.tune, self.log_panel, self.help]
 
     # ----- what tests and benchmarks read ---------------------------------------------------
     @property
@@ -162,6 +167,7 @@ class StudioApp:
         if self._thread is not None:
             self._thread.join(timeout=2.0)
         self.recording.recorder.stop()
+        self.tune.close()
         self.server.stop()
 
     # ----- the loop and drawing --------------------------------------------------------------------
@@ -273,7 +279,13 @@ class StudioApp:
         self.redraw()
 
     # ----- tabs ---------------------------------------------------------------------------------
+    def _notify_tab(self, client_id: int, title: str, body: str) -> None:
+        client = self.server.get_clients().get(client_id)
+        if client is not None:
+            self.page.notify(client, title, body)
+
     def _on_connect(self, client: viser.ClientHandle) -> None:
+        guard_connection(client, self._notify_tab)
         tab = TabState(client, LayerToggles(client))
         for panel in self.panels:
             panel.connect(tab)

@@ -14,10 +14,17 @@ CAMERA_MARGIN = 1.15  # the map fills ~85% of the view
 PANEL_PX = 420  # the control panel (control_width="large") covers this much of the view's right side
 
 
+def view_size(client: viser.ClientHandle) -> tuple[int, int]:
+    """The tab's view in pixels; 1200 x 800 until it has said, or when what it said is not a
+    size (its first camera message reaches viser before `ui.client_input` checks them)."""
+    w, h = client.camera.image_width, client.camera.image_height
+    ok = all(isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= 16384 for v in (w, h))
+    return (w, h) if ok else (1200, 800)
+
+
 def look_at(client: viser.ClientHandle, fov: float, cx: float, cy: float, span_x: float, span_y: float) -> None:
     """Look straight down at (cx, cy) so that span_x x span_y fits beside the panel."""
-    w = client.camera.image_width or 1200
-    h = client.camera.image_height or 800
+    w, h = view_size(client)
     panel = PANEL_PX if w > 2 * PANEL_PX else 0
     view_h = max(span_y, span_x * h / (w - panel)) * CAMERA_MARGIN  # world metres, vertically
     cx += 0.5 * panel * view_h / h  # centre the map in the part the panel leaves free
@@ -39,5 +46,7 @@ def fit(client: viser.ClientHandle, fov: float, bounds: tuple[float, float, floa
 def metres_per_pixel(client: viser.ClientHandle) -> float:
     """How many metres one screen pixel covers at the ground (looking straight down)."""
     height = float(client.camera.position[2])
-    h = client.camera.image_height or 800
+    if not math.isfinite(height):
+        height = 10.0
+    _, h = view_size(client)
     return 2.0 * height * math.tan(client.camera.fov / 2.0) / h

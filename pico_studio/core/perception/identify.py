@@ -234,7 +234,7 @@ def _doors(
     # a convex end (the laser saw the end) within a door's width that is a door, a T-opening;
     # from a loose end a possible door
     if params.end_face_doors:
-        face = np.flatnonzero(is_convex & (long | stub))
+        face = np.flatnonzero(is_convex & (lengths[wi] >= params.end_face_min_length))
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
             gaps, own, other_k = [], [], []

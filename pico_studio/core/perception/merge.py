@@ -20,8 +20,8 @@ with the pose instead, and every comparison is made there. One step:
    scans, at most `max_weight`), so one noisy scan cannot move a well-seen corner far. An end
    near the inside of another wall (a T, e.g. a cabinet against a wall) connects too.
 6. **Drop**: walls shorter than `min_length`; walls the laser passed through `miss_limit` scans in a row (a door opened, an
-   object moved); tentative walls not seen again within `tentative_life` scans; walls beyond
-   `keep_radius`; beyond `max_walls`, the least seen. What is shown are walls seen at least
+   object moved); tentative walls not seen again within `tentative_life` scans; walls not
+   seen for `forget_scans` scans (when set); walls beyond `keep_radius`; beyond `max_walls`, the least seen. What is shown are walls seen at least
    `confirm_hits` times and connected to another wall — or seen `unconnected_hits` times —
    so the map holds connected walls and does not flicker when one scan misses a wall.
 """
@@ -119,6 +119,8 @@ def merge(
     keep = (w.missed < params.miss_limit) & ~(tentative & ~linked & (age > params.tentative_life))
     keep &= ~(tentative & linked & (age > 4 * params.tentative_life))
     keep &= _within(w.walls, pose, params.keep_radius)
+    if params.forget_scans > 0:
+        keep &= age <= params.forget_scans
     keep &= np.hypot(w.walls[:, 2] - w.walls[:, 0], w.walls[:, 3] - w.walls[:, 1]) >= params.min_length
     if keep.sum() > params.max_walls:
         order = np.argsort(-(w.hits + 0.5 * linked))

@@ -9,12 +9,16 @@
    reaches `min_spacing` (vectorised: the first point of every `min_spacing` bin of the
    cumulative arc length), and always the first and last point of a cluster.
 4. Consecutive valid points farther apart than `break_distance + break_slope * range` start
-   a new cluster: walls never span a range jump.
+   a new cluster: walls never span a range jump. A surface seen at a grazing angle spreads its
+   points (spacing r dtheta / sin b, b between beam and surface): there the allowed gap grows
+   to `grazing_factor` times that, at most `grazing_max_break`.
 
 Each cluster end also records whether the wall's end was *seen*: the neighbouring beam
 beyond it returned nothing or hit something farther away (the laser looked past the end,
 as the spike method assumes). An end next to a nearer point (occluded) or at the edge of the
-field of view is not seen: a floating end.
+field of view is not seen: a floating end; so is an end whose next point past the break lies
+on the wall's extended line less than `grazing_max_break` away (the same wall going on,
+seen at a grazing angle; a door in line is wider).
 """
 
 from __future__ import annotations
@@ -145,7 +149,11 @@ def _cluster(
     r = ranges[idx]
     d = xy[1:] - xy[:-1]
     step = np.hypot(d[:, 0], d[:, 1])
-    brk = step > p.break_distance + p.break_slope * np.minimum(r[:-1], r[1:])
+    base = p.break_distance + p.break_slope * np.minimum(r[:-1], r[1:])
+    # a break to a point on the wall's extended line, shorter than a door (`grazing_max_break`)
+    short = np.append(step <= p.grazing_max_break, False)
+    fwd, bwd = (np.append(f, False) & short for f in _on_line(xy, p))  # padded: index by a point's own index
+    brk = step > np.maximum(base, _grazing_spacing(xy, angles[idx], p))
     first = np.empty(m, dtype=bool)  # first point of each cluster
     first[0] = True
     first[1:] = brk
@@ -171,7 +179,52 @@ def _cluster(
     ends[-1] = len(kept)
     clusters = np.column_stack([starts, ends])
     end_seen = _ends_seen(ranges, valid, beam[starts], beam[ends - 1], p)
+    # a short break whose next point lies on the wall's extended line is the wall going on at
+    # a grazing angle, not its end: floating (breaks are between valid points i and i + 1; a
+    # door's width in line is a real end)
+    end_seen[:, 1] &= ~fwd[kept[ends - 1]]  # (the last point: padded False)
+    end_seen[:, 0] &= ~((kept[starts] > 0) & bwd[np.maximum(kept[starts] - 1, 0)])
     return ScanPoints(ranges, angles, valid, points, beam, clusters, end_seen, xy)
+
+
+def _grazing_spacing(xy: np.ndarray, ang: np.ndarray, p: ScanParams) -> np.ndarray:
+    """(m - 1,) allowed gap between valid points i and i + 1 on a surface seen at a grazing
+    angle: `grazing_factor` x the spacing the surface's incidence predicts, r dtheta / sin(b)
+    (b between the beam and the surface, whose direction is the chord of the three points
+    before), at most `grazing_max_break`."""
+    m = len(xy)
+    if m < 5 or p.grazing_factor <= 0:
+        return np.zeros(max(m - 1, 0))
+    back = np.maximum(np.arange(m - 1) - 3, 0)
+    chord = xy[np.arange(m - 1)] - xy[back]
+    beam = xy[:-1] / np.maximum(np.hypot(xy[:-1, 0], xy[:-1, 1]), 1e-12)[:, None]
+    clen = np.hypot(chord[:, 0], chord[:, 1])
+    sin_b = np.abs(beam[:, 0] * chord[:, 1] - beam[:, 1] * chord[:, 0]) / np.maximum(clen, 1e-12)
+    r = np.hypot(xy[:-1, 0], xy[:-1, 1])
+    expected = r * np.abs(ang[1:] - ang[:-1]) / np.maximum(sin_b, 1e-3)
+    return np.where(clen > 0, np.minimum(p.grazing_factor * expected, p.grazing_max_break), 0.0)
+
+
+def _on_line(xy: np.ndarray, p: ScanParams) -> tuple[np.ndarray, np.ndarray]:
+    """(m - 1,) each twice: does point i + 1 lie within `grazing_line_distance` of the line
+    through points i - 3 and i (forward), and point i of the line through i + 1 and i + 4
+    (backward)?"""
+    m = len(xy)
+    if m < 5:
+        return np.zeros(max(m - 1, 0), dtype=bool), np.zeros(max(m - 1, 0), dtype=bool)
+    i = np.arange(m - 1)
+
+    def dist(a: np.ndarray, b: np.ndarray, q: np.ndarray) -> np.ndarray:
+        u = b - a
+        n = np.hypot(u[:, 0], u[:, 1])
+        off = np.abs(u[:, 0] * (q - a)[:, 1] - u[:, 1] * (q - a)[:, 0]) / np.maximum(n, 1e-12)
+        return np.where(n > 1e-6, off, np.inf)
+
+    fwd = dist(xy[np.maximum(i - 3, 0)], xy[i], xy[i + 1]) <= p.grazing_line_distance
+    bwd = dist(xy[np.minimum(i + 4, m - 1)], xy[i + 1], xy[i]) <= p.grazing_line_distance
+    fwd &= i >= 3
+    bwd &= i + 4 <= m - 1
+    return fwd, bwd
 
 
 def _ends_seen(

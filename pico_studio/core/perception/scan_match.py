@@ -18,7 +18,7 @@ the Huber loss over the point noise sigma_p^2 (`point_sigma`) and solves
 with the odometry's noise over the step s_xy = `odometry_sigma` + `odometry_sigma_per_m` x
 distance moved (likewise s_a for the heading): good odometry over a short step is hardly
 moved, a long step of a slow log is left to the walls, and what the walls do not pin down
-(along a corridor) stays where odometry put it. The start heading is the best of a few
+(along a corridor) stays where odometry put it. A pose already explaining `good_quality` of the scan is kept without matching. The start heading is the best of a few
 within `search_angle` (the most points within half the gate), so a heading off by more
 than the gate allows still converges.
 Only points whose nearest point lies inside the wall (not beyond its end) are used: a
@@ -41,6 +41,7 @@ import numpy as np
 
 from pico_studio.config.perception_params import ScanMatchParams
 from pico_studio.core.geometry import transform_points, wrap_angle
+from pico_studio.core.perception.scan_match_kernels import associate
 
 Pose = tuple[float, float, float]
 
@@ -62,6 +63,15 @@ def match_scan(points: np.ndarray, walls: np.ndarray, pose: Pose, step: Pose | N
         return none
     stride = max(1, int(math.ceil(len(points) / params.max_points)))
     pts = np.asarray(points, dtype=float)[::stride]
+    # only walls that can be near a point: within the scan's reach (plus the gate) of the pose
+    reach = float(np.hypot(pts[:, 0], pts[:, 1]).max()) + params.gate + params.max_correction
+    lo = np.minimum(walls[:, 0:2], walls[:, 2:4])
+    hi = np.maximum(walls[:, 0:2], walls[:, 2:4])
+    near = ((lo[:, 0] <= pose[0] + reach) & (hi[:, 0] >= pose[0] - reach)
+            & (lo[:, 1] <= pose[1] + reach) & (hi[:, 1] >= pose[1] - reach))
+    walls = walls[near]
+    if len(walls) == 0:
+        return none
     a = walls[:, 0:2]
     ab = walls[:, 2:4] - a
     length = np.maximum(np.hypot(ab[:, 0], ab[:, 1]), 1e-12)
@@ -75,6 +85,9 @@ def match_scan(points: np.ndarray, walls: np.ndarray, pose: Pose, step: Pose | N
         sig_a = params.odometry_sigma_angle + params.odometry_sigma_per_rad * abs(step[2])
     prior_info = np.diag([1 / sig_xy**2, 1 / sig_xy**2, 1 / sig_a**2])
     x0 = np.array(pose, dtype=float)
+    _, quality0 = _explained(pts, x0, a, ab, normal, length, params)
+    if quality0 >= params.good_quality:  # odometry is good here: nothing to correct
+        return ScanMatch(pose, quality0, 0, False)
     x = x0.copy()
     x[2] = _best_heading(pts, a, ab, normal, length, x0, params)
     for it in range(params.iterations):
@@ -101,7 +114,6 @@ def match_scan(points: np.ndarray, walls: np.ndarray, pose: Pose, step: Pose | N
         if abs(d[0]) + abs(d[1]) < 1e-4 and abs(d[2]) < 1e-4:
             break
     matched, quality = _explained(pts, x, a, ab, normal, length, params)
-    _, quality0 = _explained(pts, x0, a, ab, normal, length, params)
     moved = math.hypot(x[0] - x0[0], x[1] - x0[1])
     turned = abs(float(wrap_angle(x[2] - x0[2])))
     corrected = (float(x[0]), float(x[1]), float(wrap_angle(x[2])))
@@ -140,15 +152,9 @@ def _best_heading(pts: np.ndarray, a: np.ndarray, ab: np.ndarray, normal: np.nda
 
 def _associate(q: np.ndarray, a: np.ndarray, ab: np.ndarray, normal: np.ndarray, length: np.ndarray,
                gate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Nearest wall of each point (index, signed distance to its line, usable)."""
-    rel = q[:, None, :] - a[None, :, :]
-    t = (rel * ab[None]).sum(-1) / (length**2)[None]
-    closest = a[None] + np.clip(t, 0.0, 1.0)[..., None] * ab[None]
-    dist = np.hypot(*(q[:, None, :] - closest).transpose(2, 0, 1))
-    k = np.argmin(dist, axis=1)
-    rows = np.arange(len(q))
-    tk = t[rows, k]
-    inside = (tk >= 0.0) & (tk <= 1.0)
-    ok = inside & (dist[rows, k] < gate)
-    r = (rel[rows, k] * normal[k]).sum(-1)
-    return k, r, ok
+    """Nearest wall of each point (index, signed distance to its line, usable): one compiled
+    loop over points and walls (scan_match_kernels.associate)."""
+    def c(v: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(v, dtype=np.float64)
+
+    return associate(c(q), c(a), c(ab), c(normal), c(length), float(gate))

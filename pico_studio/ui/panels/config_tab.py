@@ -11,9 +11,10 @@ from typing import Any
 import viser
 
 from pico_studio.config import Config, dump_yaml, loads_config
-from pico_studio.errors import UserError
+from pico_studio.errors import ConfigError, UserError
 from pico_studio.ui.config_panel import ConfigPanel
 from pico_studio.ui.page import Page, Panel
+from pico_studio.user_files import check_upload
 
 
 class ConfigTab(Panel):
@@ -72,6 +73,7 @@ class ConfigTab(Panel):
 
     def _on_upload(self, event: viser.GuiEvent) -> None:
         f = event.target.value
+        check_upload(f.name, f.content, ConfigError, (".yaml", ".yml"))  # capped before parsing
         try:
             text = f.content.decode("utf-8")
         except UnicodeDecodeError:

@@ -13,6 +13,7 @@ from pico_studio.json_map import load_map
 from pico_studio.ui.gui_values import on_user
 from pico_studio.ui.page import Page, Panel
 from pico_studio.ui.sources import example_maps
+from pico_studio.user_files import check_upload
 
 KEEP = "(keep)"
 
@@ -43,13 +44,11 @@ class MapPanel(Panel):
 
     def _on_upload(self, event: viser.GuiEvent) -> None:
         f = event.target.value
-        suffix = Path(f.name).suffix.lower()
-        if suffix not in (".json", ".png", ".pgm"):
-            raise MapError("upload a JSON map or a PNG/PGM heightmap", file=f.name)
+        name = check_upload(f.name, f.content, MapError, (".json", ".png", ".pgm"))  # capped, a safe name
         folder = Path(tempfile.mkdtemp(prefix="pico_studio_map_"))
-        path = folder / Path(f.name).name
+        path = folder / name
         path.write_bytes(f.content)
-        self.switch(path, f.name, event.client)
+        self.switch(path, name, event.client)
 
     def switch(self, path: Path, name: str, client: viser.ClientHandle | None) -> None:
         """Load the map, restart the world in it and play from its first frame."""

@@ -12,6 +12,7 @@ import numpy as np
 import viser
 
 from pico_studio.ui import style
+from pico_studio.ui.camera import view_size
 from pico_studio.ui.colour import line_uniform
 from pico_studio.ui.gui_values import on_user
 from pico_studio.ui.inspect import Feature, features_near, measure_text, ray_to_ground
@@ -135,8 +136,7 @@ class ToolsPanel(Panel):
         client = event.client
         if client is None:
             return
-        w = client.camera.image_width or 1200
-        h = client.camera.image_height or 800
+        w, h = view_size(client)  # a size the tab sent, checked
         rgba = client.get_render(height=h, width=w, transport_format="png", timeout=20.0)
         rgb = rgba[:, :, :3].astype(np.float32)
         alpha = rgba[:, :, 3:4].astype(np.float32) / 255.0 if rgba.shape[2] == 4 else 1.0

@@ -1,0 +1,92 @@
+"""Small built scenes for the clutter rules: walls as segments, a ray-cast laser, a robot.
+
+Everything in metres, the laser at the robot's centre (no footprint)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pico_studio.core.io import LaserData, OdometryData
+
+Pose = tuple[float, float, float]
+
+
+def cast(walls: np.ndarray, pose: Pose, n: int = 720, fov: float = 2 * math.pi, max_range: float = 10.0) -> LaserData:
+    """A scan of `walls` (W, 4) from `pose`: beam i at -fov/2 + i fov/n (robot frame)."""
+    inc = fov / n
+    rel = -fov / 2 + np.arange(n) * inc
+    ang = rel + pose[2]
+    d = np.column_stack([np.cos(ang), np.sin(ang)])
+    a, e = walls[:, 0:2], walls[:, 2:4] - walls[:, 0:2]
+    ao = a[None] - np.array(pose[:2])
+    den = d[:, None, 0] * e[None, :, 1] - d[:, None, 1] * e[None, :, 0]
+    safe = np.where(np.abs(den) > 1e-12, den, 1.0)
+    t = (ao[..., 0] * e[None, :, 1] - ao[..., 1] * e[None, :, 0]) / safe
+    u = (ao[..., 0] * d[:, None, 1] - ao[..., 1] * d[:, None, 0]) / safe
+    t = np.where((np.abs(den) > 1e-12) & (t > 1e-9) & (u >= 0) & (u <= 1), t, np.inf).min(axis=1)
+    ranges = np.where(t <= max_range, t, np.inf)
+    return LaserData(0.01, max_range, float(rel[0]), float(rel[-1]), inc, 0.0, ranges)
+
+
+def box(cx: float, cy: float, w: float, h: float | None = None) -> np.ndarray:
+    """(4, 4) the sides of an axis-aligned box centred at (cx, cy)."""
+    h = w if h is None else h
+    x0, x1, y0, y1 = cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2
+    return np.array([[x0, y0, x1, y0], [x1, y0, x1, y1], [x1, y1, x0, y1], [x0, y1, x0, y0]], dtype=float)
+
+
+def room(w: float = 6.0, h: float = 4.0) -> np.ndarray:
+    """(4, 4) a w x h room with a corner at the origin."""
+    return box(w / 2, h / 2, w, h)
+
+
+def odometry(pose: Pose, t: float) -> OdometryData:
+    return OdometryData(pose[0], pose[1], pose[2], t)
+
+
+def clutter_world(seed: int) -> tuple[dict, dict]:
+    """A JSON map (the restaurant's format) and a sim config for it: a rectangular hall split by
+    a 0.2 m thick wall with two doorways (0.8-1.1 m), tables (0.7 x 1.2 m) standing 1-3 cm off
+    the outer walls, and a person (0.4 m box) walking across when the robot comes near."""
+    rng = np.random.default_rng(seed)
+    w, h = float(rng.uniform(7.0, 9.0)), float(rng.uniform(5.0, 6.5))
+    pts: list[dict] = []
+    walls: list[list[int]] = []
+    tables: list[list[list[int]]] = []
+
+    def p(x: float, y: float) -> int:
+        pts.append({"x": round(x, 3), "y": round(y, 3)})
+        return len(pts) - 1
+
+    def poly(corners: list[tuple[float, float]]) -> list[list[int]]:
+        ids = [p(x, y) for x, y in corners]
+        return [[ids[i], ids[(i + 1) % len(ids)]] for i in range(len(ids))]
+
+    def rect(x0: float, y0: float, x1: float, y1: float) -> list[list[int]]:
+        return poly([(x0, y0), (x1, y0), (x1, y1), (x0, y1)])
+
+    t = 0.2
+    walls += rect(0, 0, w, t) + rect(0, h - t, w, h) + rect(0, t, t, h - t) + rect(w - t, t, w, h - t)
+    # the dividing wall at x = xm with two doorways
+    xm = float(rng.uniform(0.45, 0.55)) * w
+    d1, d2 = (float(rng.uniform(0.8, 1.1)) for _ in range(2))
+    y1 = float(rng.uniform(0.8, h / 2 - d1 - 0.4))
+    y2 = float(rng.uniform(h / 2 + 0.2, h - 0.8 - d2))
+    for lo, hi in ((t, y1), (y1 + d1, y2), (y2 + d2, h - t)):
+        walls += rect(xm - t / 2, lo, xm + t / 2, hi)
+    # tables against the outer walls, a few cm off, away from the doorways and corners
+    for k, (side_x, lo_y) in enumerate(((t, 1.0), (w - t, 1.0), (t, h - 2.5))):
+        gap = float(rng.uniform(0.01, 0.03))
+        ty = lo_y + float(rng.uniform(0.0, 0.5))
+        x0 = side_x + gap if k != 1 else side_x - gap - 0.7
+        tables.append(rect(x0, ty, x0 + 0.7, ty + 1.2))
+    doc = {"walls": walls, "tables": tables, "doors": [], "points": pts}
+    start = (xm / 2, h / 2, 0.0)
+    sim = {
+        "initial_pose": list(start), "uncertain_odom": False, "provide_internal_pose": True,
+        "objects": [{"length": 0.4, "width": 0.4, "trigger_radius": 2.5, "repeat": True, "velocity": 0.4,
+                     "init_pose": [xm + 1.2, 0.8, 0.0], "final_pose": [xm + 1.2, h - 0.8, 0.0]}],
+    }
+    return doc, sim
