@@ -269,3 +269,27 @@ def test_scan_match_association_equals_its_python_and_the_broadcast_form():
         np.testing.assert_array_equal(got[2], (t[rows, k] >= 0) & (t[rows, k] <= 1) & (dist[rows, k] < 0.3))
         checked += int(got[2].sum() > 50)
     assert checked >= 3
+
+
+def test_scan_on_line_equals_its_python_and_the_vectorised_form(scans: list):
+    from pico_studio.core.perception.scan_kernels import on_line
+
+    d = P.scan.grazing_line_distance
+    for s in scans:
+        xy = np.ascontiguousarray(s.valid_xy)
+        got = on_line(xy, d)
+        _same(got, jit.py_func(on_line)(xy, d))
+        m = len(xy)
+        i = np.arange(m - 1)
+
+        def dist(a: np.ndarray, b: np.ndarray, q: np.ndarray) -> np.ndarray:
+            u = b - a
+            n = np.hypot(u[:, 0], u[:, 1])
+            off = np.abs(u[:, 0] * (q - a)[:, 1] - u[:, 1] * (q - a)[:, 0]) / np.maximum(n, 1e-12)
+            return np.where(n > 1e-6, off, np.inf)
+
+        fwd = (dist(xy[np.maximum(i - 3, 0)], xy[i], xy[i + 1]) <= d) & (i >= 3)
+        bwd = (dist(xy[np.minimum(i + 4, m - 1)], xy[i + 1], xy[i]) <= d) & (i + 4 <= m - 1)
+        np.testing.assert_array_equal(got[0], fwd)
+        np.testing.assert_array_equal(got[1], bwd)
+        assert got[0].sum() > 100  # most neighbours of a wall are on its line

@@ -31,6 +31,7 @@ import numpy as np
 from pico_studio.config.perception_params import ProximityParams, ScanParams
 from pico_studio.core.io import LaserData
 from pico_studio.core.perception.proximity import in_footprint
+from pico_studio.core.perception.scan_kernels import on_line
 
 
 @dataclass(frozen=True)
@@ -208,23 +209,8 @@ def _grazing_spacing(xy: np.ndarray, ang: np.ndarray, p: ScanParams) -> np.ndarr
 def _on_line(xy: np.ndarray, p: ScanParams) -> tuple[np.ndarray, np.ndarray]:
     """(m - 1,) each twice: does point i + 1 lie within `grazing_line_distance` of the line
     through points i - 3 and i (forward), and point i of the line through i + 1 and i + 4
-    (backward)?"""
-    m = len(xy)
-    if m < 5:
-        return np.zeros(max(m - 1, 0), dtype=bool), np.zeros(max(m - 1, 0), dtype=bool)
-    i = np.arange(m - 1)
-
-    def dist(a: np.ndarray, b: np.ndarray, q: np.ndarray) -> np.ndarray:
-        u = b - a
-        n = np.hypot(u[:, 0], u[:, 1])
-        off = np.abs(u[:, 0] * (q - a)[:, 1] - u[:, 1] * (q - a)[:, 0]) / np.maximum(n, 1e-12)
-        return np.where(n > 1e-6, off, np.inf)
-
-    fwd = dist(xy[np.maximum(i - 3, 0)], xy[i], xy[i + 1]) <= p.grazing_line_distance
-    bwd = dist(xy[np.minimum(i + 4, m - 1)], xy[i + 1], xy[i]) <= p.grazing_line_distance
-    fwd &= i >= 3
-    bwd &= i + 4 <= m - 1
-    return fwd, bwd
+    (backward)? One compiled loop (scan_kernels.on_line)."""
+    return on_line(np.ascontiguousarray(xy, dtype=np.float64), float(p.grazing_line_distance))
 
 
 def _ends_seen(
