@@ -375,8 +375,11 @@ def test_two_clicks_measure_a_distance(app, page) -> None:
     tab = app.tabs[client.client_id]
     assert wait_until(lambda: _camera_still(client)), "the view keeps moving"
     a, b = world_to_pixel(client, 1.0, 1.0), world_to_pixel(client, 3.0, 1.0)
-    page.mouse.click(*a)
-    assert wait_until(lambda: tab.handles["tools"]["measure_from"] is not None), "the first click did not arrive"
+    for _ in range(3):  # the first click after choosing in the dropdown may only close its list
+        page.mouse.click(*a)
+        if wait_until(lambda: tab.handles["tools"]["measure_from"] is not None, timeout=5.0):
+            break
+    assert tab.handles["tools"]["measure_from"] is not None, "the first click did not arrive"
     page.get_by_text(re.compile("click the second")).first.wait_for(timeout=20000)
     page.mouse.click(*b)
     text = page.get_by_text(re.compile(r"distance \d+\.\d+ m")).first
