@@ -143,6 +143,21 @@ class CombinedParams:
                                   help="Spacing of the samples taken along a local wall")
     seen_hits: int = param(5, lo=1, hi=1000, step=1, unit="beams",
                            help="Explained beams on a map wall before it counts as seen")
+    door_confirm_distance: float = param(
+        0.3, lo=0.0, hi=2.0, step=0.05, unit="m",
+        help="Once localised, a door (or possible door) whose middle lies this close to one of the map's "
+        "doors, and runs along it, is confirmed by the map",
+    )
+    jamb_confirm_distance: float = param(
+        0.15, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="Once localised, a door (or possible door) is confirmed by the map's walls too when one end "
+        "lies this close to a map wall's corner and the other this close to a map wall (cabinets and "
+        "tables are no jambs)",
+    )
+    door_confirm_angle: float = param(
+        0.35, lo=0.0, hi=1.57, step=0.05, unit="rad",
+        help="...and differs from the map door's direction by at most this",
+    )
 
 
 @dataclass(frozen=True)

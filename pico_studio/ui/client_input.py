@@ -38,7 +38,7 @@ def _finite(values: Any) -> bool:
     """True when every number in a (nested) tuple/list is a finite int or float."""
     if values is None:
         return True
-    if isinstance(values, (bool, str)):  # text (a dropdown's, a button group's choice) has no number
+    if isinstance(values, (bool, str)):  # text is not a number to check (a text field's value)
         return True
     if isinstance(values, (int, float)):
         return math.isfinite(values)
@@ -104,7 +104,8 @@ def gui_problem(server: viser.ViserServer, m: Any) -> str | None:
                 continue
         except (TypeError, ValueError, OverflowError):
             return f"{_label(state)}: must be a {type(current).__name__}, got {_short(value)}"
-        if not _finite(cast):
+        text = isinstance(cast, str) or (isinstance(cast, tuple) and all(isinstance(v, str) for v in cast))
+        if not text and not _finite(cast):  # text (a dropdown's choice, a text field) has no number to check
             return f"{_label(state)}: must be a finite number, got {_short(value)}"
         options = getattr(getattr(state, "props", None), "options", None)
         if isinstance(options, (tuple, list)) and options and isinstance(cast, str) and cast not in options:

@@ -67,7 +67,7 @@ DIFF_ADDED: RGB = (30, 180, 30)  # green: a wall, corner or door config B adds a
 DIFF_LOST: RGB = (210, 15, 15)  # red: ... one B loses
 MEASURE: RGB = (249, 22, 139)
 INSPECT: RGB = (230, 213, 82)
-PLUGIN_OUTPUT: RGB = (0, 110, 70)  # dark green: whatever a plugin handed the page (WorldModel.extras)
+PLUGIN_OUTPUT: RGB = (0, 0, 130)  # navy: whatever a plugin handed the page (WorldModel.extras)
 
 # line thickness in screen pixels (the same on screen at any zoom); drawn from the bottom up
 # in LAYERS order, so the map's thick black walls show either side of the thinner local and

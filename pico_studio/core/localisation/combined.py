@@ -6,7 +6,12 @@ every `sample_spacing`; it is *matched* when at least `match_fraction` of its sa
 within `match_distance` of a map wall (the distance field says), otherwise *unmatched* — an
 obstacle, a person, a moved object. A map wall is *seen* once `seen_hits` explained beams
 have landed on it (counted by the tracker while not lost). Doors and possible doors are
-carried into the global frame as they are.
+carried into the global frame and *confirmed* by the map when their middle lies within
+`door_confirm_distance` of one of the map's doors (the JSON map's `doors`: each polygon's
+line across the passage, `map_door_lines`) and their direction is within `door_confirm_angle`
+of it, or when they span an opening between the map's walls (one end within
+`jamb_confirm_distance` of a wall corner, the other of a wall); the rest are unconfirmed (a gap
+between two tables, a person beside a wall).
 """
 
 from __future__ import annotations
@@ -17,7 +22,13 @@ from typing import Any
 import numpy as np
 
 from pico_studio.config.localisation_params import CombinedParams
-from pico_studio.core.geometry import compose, invert, segment_lengths, transform_segments
+from pico_studio.core.geometry import (
+    compose,
+    invert,
+    point_segment_distance,
+    segment_lengths,
+    transform_segments,
+)
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose
 
@@ -30,6 +41,8 @@ class CombinedMap:
     doors: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))  # (D, 4) global frame
     possible_doors: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))  # (E, 4)
     possible_door_kind: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=object))
+    door_confirmed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (D,) by a map door
+    possible_door_confirmed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (E,)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -39,6 +52,8 @@ class CombinedMap:
             "doors": self.doors.tolist(),
             "possible_doors": self.possible_doors.tolist(),
             "possible_door_kind": [str(k) for k in self.possible_door_kind],
+            "door_confirmed": self.door_confirmed.tolist(),
+            "possible_door_confirmed": self.possible_door_confirmed.tolist(),
         }
 
 
@@ -62,6 +77,48 @@ def walls_on_map(walls: np.ndarray, dfield: DistanceField, params: CombinedParam
     return fraction >= params.match_fraction
 
 
+def map_door_lines(door_polygons: list[np.ndarray]) -> np.ndarray:
+    """(K, 4) the line across the passage of each map door polygon: its main axis through the
+    centroid, spanning the polygon (a door leaf 1 m x 0.2 m gives the 1 m line in its middle)."""
+    lines = []
+    for poly in door_polygons:
+        p = np.asarray(poly, dtype=float).reshape(-1, 2)
+        if len(p) < 2:
+            continue
+        c = p.mean(axis=0)
+        u = np.linalg.svd(p - c, full_matrices=False)[2][0]  # the main direction
+        t = (p - c) @ u
+        lines.append(np.concatenate([c + t.min() * u, c + t.max() * u]))
+    return np.array(lines, dtype=float).reshape(-1, 4)
+
+
+def confirmed_by_map(doors: np.ndarray, map_doors: np.ndarray, map_walls: np.ndarray,
+                     params: CombinedParams) -> np.ndarray:
+    """(D,) bool: doors (global frame) the map confirms. Either the door's middle lies within
+    `door_confirm_distance` of a map door line and its direction is within `door_confirm_angle`
+    of that line's, or it spans an opening between the map's walls: one end within
+    `jamb_confirm_distance` of a map wall's corner, the other of a map wall (a corner or a face:
+    a T-opening). `map_walls` are the map's walls only, so a table's corner is never a jamb."""
+    out = np.zeros(len(doors), dtype=bool)
+    if len(doors) == 0:
+        return out
+    if len(map_walls):
+        corners = map_walls.reshape(-1, 2)
+        r = params.jamb_confirm_distance
+        at_corner = [np.hypot(*(doors[:, None, 2 * e:2 * e + 2] - corners[None]).transpose(2, 0, 1)).min(axis=1) <= r
+                     for e in (0, 1)]
+        on_wall = [point_segment_distance(doors[:, 2 * e:2 * e + 2], map_walls).min(axis=1) <= r for e in (0, 1)]
+        out |= (at_corner[0] & on_wall[1]) | (at_corner[1] & on_wall[0])
+    if len(map_doors) == 0:
+        return out
+    mid = (doors[:, 0:2] + doors[:, 2:4]) / 2
+    near = point_segment_distance(mid, map_doors) <= params.door_confirm_distance  # (D, K)
+    a = np.arctan2(doors[:, 3] - doors[:, 1], doors[:, 2] - doors[:, 0])[:, None]
+    b = np.arctan2(map_doors[:, 3] - map_doors[:, 1], map_doors[:, 2] - map_doors[:, 0])[None, :]
+    diff = np.abs((a - b + np.pi / 2) % np.pi - np.pi / 2)  # undirected lines
+    return out | (near & (diff <= params.door_confirm_angle)).any(axis=1)
+
+
 def combine(
     global_pose: Pose,
     zero_pose: Pose,
@@ -74,18 +131,25 @@ def combine(
     doors: np.ndarray | None = None,
     possible_doors: np.ndarray | None = None,
     possible_door_kind: np.ndarray | list[str] | None = None,
+    map_doors: np.ndarray | None = None,
 ) -> CombinedMap:
-    """The combined map for one step; every input array in the zero frame."""
+    """The combined map for one step; every input array in the zero frame but `map_doors`
+    (`map_door_lines` of the global map, in its frame)."""
     t = zero_to_global(global_pose, zero_pose)
     walls = transform_segments(np.asarray(local_walls, dtype=float).reshape(-1, 4), t)
     kinds = np.asarray(possible_door_kind if possible_door_kind is not None else [], dtype=object)
+    found, possible = _carry(doors, t), _carry(possible_doors, t)
+    lines = np.zeros((0, 4)) if map_doors is None else np.asarray(map_doors, dtype=float).reshape(-1, 4)
+    map_walls = np.asarray(dfield.segments[:n_map_walls], dtype=float).reshape(-1, 4)
     return CombinedMap(
         walls=walls,
         wall_matched=walls_on_map(walls, dfield, params),
         map_wall_seen=np.asarray(seen_hits[:n_map_walls] >= params.seen_hits, dtype=bool),
-        doors=_carry(doors, t),
-        possible_doors=_carry(possible_doors, t),
+        doors=found,
+        possible_doors=possible,
         possible_door_kind=kinds,
+        door_confirmed=confirmed_by_map(found, lines, map_walls, params),
+        possible_door_confirmed=confirmed_by_map(possible, lines, map_walls, params),
     )
 
 
@@ -95,4 +159,4 @@ def _carry(segments: np.ndarray | None, t: Pose) -> np.ndarray:
     return transform_segments(np.asarray(segments, dtype=float).reshape(-1, 4), t)
 
 
-__all__ = ["CombinedMap", "combine", "walls_on_map", "zero_to_global"]
+__all__ = ["CombinedMap", "combine", "confirmed_by_map", "map_door_lines", "walls_on_map", "zero_to_global"]
