@@ -17,6 +17,7 @@ import json
 import math
 from typing import Any
 
+from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.config import Config, load_config
 from pico_studio.errors import UserError
 from pico_studio.evaluation.compare import (
@@ -34,6 +35,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("compare", help="judge two configs on the same sensor data; exit 1 when B regresses")
     p.add_argument("a", metavar="A.yaml", help="config A (a partial YAML over the defaults; 'defaults' for none)")
     p.add_argument("b", metavar="B.yaml", help="config B, compared against A")
+    add_plugin_argument(p)
     p.add_argument("--map", help="a JSON map or heightmap image: the simulator's (or, with --source, to localise on)")
     p.add_argument("--sim-config", help="the official simulator's config JSON (start pose, moving objects, ...)")
     p.add_argument("--source", default="sim", help="sim (default, needs --map), bag:FILE or carmen:FILE")

@@ -134,7 +134,11 @@ def compare_runs(runs: list[KeptRun], cfg_a: Config, cfg_b: Config, *, workers: 
     if workers > 1:
         import multiprocessing
 
-        pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+        from pico_studio import plugins
+
+        # the worker loads the plugins this process has (a config may select their stages)
+        pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=plugins.load_plugins, initargs=(plugins.specs(),))
     try:
         for run in runs:
             ja, jb = _judge_pair(run, cfg_a, cfg_b, pool)
