@@ -39,6 +39,7 @@ from pico_studio.sim.laser import Laser
 from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
 from pico_studio.sim.odometry import Odometry
 from pico_studio.sim.raycast import cast_rays
+from pico_studio.sim.truth_kernels import jamb_seen_lengths
 from pico_studio.sim.world import KIND_DOOR, World
 
 Pose = tuple[float, float, float]
@@ -129,33 +130,25 @@ class GroundTruth:
         segs = self._world.segments()
         not_doors = segs[self._world.kinds() != KIND_DOOR]
         seen = self._in_view((o[:, :2] + o[:, 2:]) / 2, not_doors)
-        seen &= self.jamb_seen_length(o[:, :2]) >= self._params.jamb_min_seen
-        seen &= self.jamb_seen_length(o[:, 2:]) >= self._params.jamb_min_seen
+        seen_length = self.jamb_seen_length(np.concatenate([o[:, :2], o[:, 2:]]))
+        seen &= (seen_length[: len(o)] >= self._params.jamb_min_seen) & (seen_length[len(o):] >= self._params.jamb_min_seen)
         return o[seen]
 
     def jamb_seen_length(self, jambs: np.ndarray) -> np.ndarray:
         """(J,) for each jamb point: how long a stretch of the walls touching it (within
         `max_wall_thickness / 2`: a thin wall's end, or a thick wall's end cap and the faces
         next to it) the latest scan's beams hit, within `jamb_reach` of the jamb — per wall
-        segment from its first to its last hit point, summed over the segments."""
+        segment from its first to its last hit point, summed over the segments (one compiled
+        loop: `truth_kernels.jamb_seen_lengths`; walls come first in `world.segments()`)."""
         t = self._params
         xy, hits = self._hit_points()
-        walls = self._world.walls
-        out = np.zeros(len(jambs))
-        on_wall = (hits >= 0) & (hits < len(walls))  # walls come first in world.segments()
-        if not on_wall.any() or len(walls) == 0:
-            return out
-        xy, hits = xy[on_wall], hits[on_wall]
-        a, ab = walls[:, 0:2], walls[:, 2:4] - walls[:, 0:2]
-        length2 = np.maximum((ab * ab).sum(1), 1e-18)
-        for j, p in enumerate(np.asarray(jambs, dtype=float).reshape(-1, 2)):
-            u = np.clip(((p - a) * ab).sum(1) / length2, 0.0, 1.0)
-            near = np.hypot(*(a + u[:, None] * ab - p).T) <= t.max_wall_thickness / 2 + 1e-3
-            close = np.isin(hits, np.flatnonzero(near)) & (np.hypot(*(xy - p).T) <= t.jamb_reach)
-            for k in np.unique(hits[close]):
-                along = (xy[close & (hits == k)] - a[k]) @ ab[k] / math.sqrt(length2[k])
-                out[j] += float(along.max() - along.min())
-        return out
+        jambs = np.ascontiguousarray(jambs, dtype=np.float64).reshape(-1, 2)
+        return jamb_seen_lengths(jambs, xy, np.ascontiguousarray(hits, dtype=np.int64), self._walls,
+                                 t.max_wall_thickness / 2 + 1e-3, float(t.jamb_reach))
+
+    @cached_property
+    def _walls(self) -> np.ndarray:
+        return np.ascontiguousarray(self._world.walls, dtype=np.float64).reshape(-1, 4)
 
     @cached_property
     def _graph(self) -> Vertices:
