@@ -28,8 +28,9 @@ truth parameters), so `sim.truth` does not import `sim.simulator`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from functools import cached_property
-from typing import NamedTuple
+from typing import Any, NamedTuple, TypeVar, cast
 
 import numpy as np
 
@@ -43,6 +44,7 @@ from pico_studio.sim.truth_kernels import jamb_seen_lengths
 from pico_studio.sim.world import KIND_DOOR, World
 
 Pose = tuple[float, float, float]
+T = TypeVar("T")
 
 
 class Corners(NamedTuple):
@@ -55,6 +57,7 @@ class GroundTruth:
     def __init__(self, world: World, base: Base, laser: Laser, odometry: Odometry, params: TruthParams):
         self._world, self._base, self._laser, self._odometry = world, base, laser, odometry
         self._params = params
+        self._scan_cache: dict[str, tuple[np.ndarray, Any]] = {}  # per-scan answers, by the scan's ranges
 
     @property
     def pose(self) -> Pose:
@@ -103,12 +106,12 @@ class GroundTruth:
     # ----- what the robot sees --------------------------------------------------------------
     def visible_walls(self) -> np.ndarray:
         """(N, 4) the visible pieces of solid segments in the latest scan (*hit* visibility)."""
-        return self._visible_pieces()[0]
+        return self._visible_pieces()[0].copy()
 
     def visible_wall_sources(self) -> np.ndarray:
         """(N,) for each row of `visible_walls()`: the index into `segments()` it is a piece of
         (`sim.world.kinds()` says wall, object, door or moving object)."""
-        return self._visible_pieces()[1]
+        return self._visible_pieces()[1].copy()
 
     def visible_corners(self) -> Corners:
         """Corners of the static geometry *in view* from the robot, convex/concave from there."""
@@ -187,7 +190,19 @@ class GroundTruth:
 
     def _hit_points(self) -> tuple[np.ndarray, np.ndarray]:
         """(B, 2) map-frame noise-free end points of the latest scan's beams and (B,) the
-        segment each hit (-1: none, its point then at infinity)."""
+        segment each hit (-1: none, its point then at infinity). Once per scan: every query
+        of a frame reads them (the laser's `true_ranges` is a new array each scan)."""
+        return self._per_scan("hit points", self._compute_hit_points)
+
+    def _per_scan(self, name: str, compute: Callable[[], T]) -> T:
+        ranges = self._laser.true_ranges
+        kept = self._scan_cache.get(name)
+        if kept is None or kept[0] is not ranges:
+            kept = (ranges, compute())
+            self._scan_cache[name] = kept
+        return cast(T, kept[1])
+
+    def _compute_hit_points(self) -> tuple[np.ndarray, np.ndarray]:
         laser = self._laser
         pose = laser.last_pose
         n = len(laser.true_hits)
@@ -196,6 +211,9 @@ class GroundTruth:
         return np.column_stack([pose[0] + r * np.cos(angles), pose[1] + r * np.sin(angles)]), laser.true_hits
 
     def _visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
+        return self._per_scan("visible pieces", self._compute_visible_pieces)
+
+    def _compute_visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
         xy, hits = self._hit_points()
         n = len(hits)
         # runs of consecutive beams on the same segment
