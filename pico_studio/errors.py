@@ -51,3 +51,7 @@ class ConfigError(UserError):
 
 class SourceError(UserError):
     """A data source (simulator config, recording, robot connection) that cannot be used."""
+
+
+class PluginError(UserError):
+    """User code (a plugin) that cannot be loaded or registered: its file and line, and why."""

@@ -11,7 +11,12 @@ from perception_scenes import SQUARE, scan_of
 from pico_studio.config import Config
 from pico_studio.config.spec import params
 from pico_studio.core.perception.scan import process_scan
-from pico_studio.core.perception.segment import SEGMENTERS, register_segmenter, segment_scan
+from pico_studio.core.perception.segment import (
+    SEGMENTERS,
+    register_segmenter,
+    segment_scan,
+    unregister_segmenter,
+)
 from pico_studio.errors import ConfigError
 
 P = Config().perception
@@ -62,6 +67,6 @@ def test_a_registered_segmenter_is_the_one_that_runs() -> None:
             register_segmenter("longest_only", longest_only)
         segs = segment_scan(_scan(), _with_segmenter("longest_only"))
     finally:
-        del SEGMENTERS["longest_only"]
+        unregister_segmenter("longest_only")
     assert len(segs.segments) == 1
     assert len(segment_scan(_scan(), P).segments) >= 3  # the three walls in view

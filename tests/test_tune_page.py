@@ -37,7 +37,8 @@ def test_a_study_from_the_page_improves_a_bad_config_and_is_applied(app, tune_pa
     _set_text(page, "Parameters", PARAMS)
     set_number(page, "Trials", 8)
     set_number(page, "Poses", 2)
-    assert wait_until(lambda: app.tune.trials.value == 8 and app.tune.globs.value == PARAMS, timeout=60)
+    assert wait_until(lambda: app.tune.trials.value == 8 and app.tune.globs.value == PARAMS, timeout=60), (
+        app.tune.trials.value, app.tune.globs.value, app.tune.poses.value)
     page.get_by_role("button", name="Start study").click()
     assert wait_until(lambda: app.tune.live is not None and not app.tune.live.running
                       and "done" in app.tune.status.content, timeout=300)

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 
 from pico_studio import __version__
 from pico_studio.cli import config_cmd, eval_cmd, map_cmd, render_cmd, run_cmd, serve_cmd, tune_cmd
+from pico_studio.cli.plugin_args import load_requested
 from pico_studio.errors import UserError
 
 COMMAND_MODULES = [map_cmd, config_cmd, run_cmd, eval_cmd, serve_cmd, render_cmd, tune_cmd]
@@ -38,6 +39,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise
         return e.code if isinstance(e.code, int) else 2
     try:
+        load_requested(args)  # user code first: its stages and parameters exist for the config
         return int(args.func(args) or 0)
     except UserError as e:
         print(f"pico-studio: error: {e}", file=sys.stderr)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.config import Config, changed_params, dump_yaml, load_config
 
 
@@ -13,10 +14,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     d = csub.add_parser("defaults", help="print the full default config as commented YAML")
     d.add_argument("--no-comments", action="store_true", help="values only")
+    add_plugin_argument(d)
     d.set_defaults(func=_defaults)
 
     c = csub.add_parser("check", help="validate a (partial) config YAML file")
     c.add_argument("file", help="the YAML file to check")
+    add_plugin_argument(c)
     c.set_defaults(func=_check)
 
 

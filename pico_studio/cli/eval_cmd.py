@@ -18,6 +18,7 @@ import argparse
 import json
 
 from pico_studio.cli import limits
+from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.config import load_config
 from pico_studio.errors import UserError
 from pico_studio.evaluation.metrics import DEFAULT_OBJECTIVE, METRICS
@@ -41,6 +42,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--turn", type=limits.TURN, default=0.4, help="turn rate at each pose, rad/s (default 0.4)")
     p.add_argument("--clearance", type=limits.CLEARANCE, default=0.4, help="free space around each pose, m (default 0.4)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_plugin_argument(p)
     p.set_defaults(func=_eval)
 
 

@@ -14,6 +14,8 @@ import argparse
 import math
 from pathlib import Path
 
+from pico_studio.cli.plugin_args import add_plugin_argument
+
 DEFAULT_SIM_SECONDS = 20.0
 
 
@@ -31,6 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--width", type=int, default=900, help="image width in pixels (default 900)")
     p.add_argument("--fps", type=float, default=None, help="video frame rate (default: the control rate, ui.rate_hz)")
     p.add_argument("--out", required=True, help="FILE.mp4, FILE.gif or FILE.png")
+    add_plugin_argument(p)
     p.set_defaults(func=_render)
 
 

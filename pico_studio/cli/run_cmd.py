@@ -15,6 +15,7 @@ from typing import Any
 
 from pico_studio.cli import limits
 from pico_studio.cli.behaviour_run import print_behaviour_result, run_sim_behaviour
+from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.cli.run_sources import (
     check_source_args,
     open_recorder,
@@ -53,6 +54,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--localise", action="store_true",
                    help="run the perceptor and localisation on the map; report the pose error against the truth")
+    add_plugin_argument(p)
     p.set_defaults(func=_run)
 
 

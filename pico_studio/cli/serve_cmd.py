@@ -8,6 +8,7 @@ import threading
 import time
 from pathlib import Path
 
+from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.core.behaviours.registry import behaviour_help
 
 
@@ -23,6 +24,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=None, help="simulator random seed")
     p.add_argument("--export-dir", default="pico_studio_exports", help="where 'Export config' saves YAML files")
     p.add_argument("--paused", action="store_true", help="start paused")
+    add_plugin_argument(p)
     p.set_defaults(func=_serve)
 
 

@@ -16,18 +16,20 @@ import math
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.config import load_config
 from pico_studio.errors import ConfigError
 from pico_studio.progress import Progress
-from pico_studio.tuning.backend import Scenario, ScenarioSet, load_scenarios
-from pico_studio.tuning.objective import check_truth, parse_objective, relevant
-from pico_studio.tuning.report import summarise
 from pico_studio.tuning.space import DEFAULT_PARAMS, search_space
-from pico_studio.tuning.study import StudySpec, prepare, shown_url, storage_url
-from pico_studio.tuning.workers import run_workers
+
+if TYPE_CHECKING:
+    from pico_studio.tuning.backend import ScenarioSet
+
+# Optuna and the evaluation are imported when `tune` runs, not for every other command.
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -55,11 +57,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=0, help="seed of the sampler and of a fractional hold-out")
     p.add_argument("--out", default="tune-out", help="folder for best.yaml, report.html, the journal")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_plugin_argument(p)
     p.set_defaults(func=_tune)
 
 
 def _scenarios(args: argparse.Namespace) -> ScenarioSet:
     """The scenario set to search on: --scenarios, or one built from --map / --source."""
+    from pico_studio.tuning.backend import Scenario, ScenarioSet, load_scenarios
+
     if args.scenarios and (args.map or args.source):
         raise ConfigError("give either --scenarios or --map/--source, not both", field="--scenarios")
     if args.scenarios:
@@ -90,6 +95,8 @@ def _existing(path: str | None, field: str) -> str | None:
 
 def split_holdout(ss: ScenarioSet, holdout: str | None, seed: int) -> tuple[ScenarioSet, ScenarioSet | None]:
     """(search set, hold-out set) from `--holdout FILE|FRACTION`."""
+    from pico_studio.tuning.backend import ScenarioSet, load_scenarios
+
     if holdout is None:
         return ss, None
     try:
@@ -110,6 +117,11 @@ def split_holdout(ss: ScenarioSet, holdout: str | None, seed: int) -> tuple[Scen
 
 
 def _tune(args: argparse.Namespace) -> int:
+    from pico_studio.tuning.objective import check_truth, parse_objective, relevant
+    from pico_studio.tuning.report import summarise
+    from pico_studio.tuning.study import StudySpec, prepare, shown_url, storage_url
+    from pico_studio.tuning.workers import run_workers
+
     if args.trials < 1:
         raise ConfigError(f"must be at least 1, got {args.trials}", field="--trials")
     if args.workers < 1:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from pico_studio.config.plugin_params import BEHAVIOUR_PLUGINS, PluginSections, plugin_area
 from pico_studio.config.spec import param, section
 
 
@@ -174,3 +175,4 @@ class BehaviourParams:
     escape_room: EscapeRoomParams = section(EscapeRoomParams, "Escape room (seed 003)")
     room_finder: RoomFinderParams = section(RoomFinderParams, "Room finder (seed 000)")
     hospital: HospitalParams = section(HospitalParams, "Hospital tour: plan on the global map, visit cabinets")
+    plugins: PluginSections = plugin_area(BEHAVIOUR_PLUGINS, "Parameters of the loaded behaviour plugins")

@@ -14,6 +14,7 @@ from typing import Any, TypeVar
 
 import yaml
 
+from pico_studio.config.plugin_params import PluginSections, section_class
 from pico_studio.config.spec import ParamInfo, ParamSpec, SectionInfo, coerce, params, walk
 from pico_studio.errors import ConfigError, short
 from pico_studio.user_files import parse_yaml, read_text
@@ -38,13 +39,11 @@ def from_dict(cls: type[T], data: Any, *, file: str | Path | None = None, prefix
     for key, value in data.items():
         path = f"{prefix}{key}"
         if key not in fields:
-            raise ConfigError(
-                "unknown key" + _did_you_mean(str(key), list(fields)), file=file, field=path
-            )
+            what = "no plugin of that name is loaded (--plugin FILE.py)" if issubclass(cls, PluginSections) else "unknown key"
+            raise ConfigError(what + (_did_you_mean(str(key), list(fields)) if fields else ""), file=file, field=path)
         f = fields[key]
         if "pico_studio.section" in f.metadata:
-            sub_cls = f.default_factory
-            kwargs[key] = from_dict(sub_cls, value, file=file, prefix=path + ".")  # type: ignore[arg-type]
+            kwargs[key] = from_dict(section_class(f), value, file=file, prefix=path + ".")
         else:
             kwargs[key] = _coerce(f.metadata["pico_studio.param"], value, file=file, field=path)
     obj = cls(**kwargs)

@@ -8,11 +8,20 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from pico_studio.config.plugin_params import (
+    PERCEPTION_PLUGINS,
+    LiveChoices,
+    PluginSections,
+    plugin_area,
+)
 from pico_studio.config.spec import param, section
 
 # The built-in segmenters of core/perception/segment.py's registry, by name (config is the
 # ground floor and cannot import it; tests/test_perception_segmenters.py checks the two agree).
-SEGMENTER_NAMES = ("split_merge", "angle", "ransac")
+# Live lists: core's registries add a plugin's name, so YAML and sliders accept it.
+SEGMENTER_NAMES = LiveChoices(("split_merge", "angle", "ransac"))
+DOOR_DETECTOR_NAMES = LiveChoices(("builtin",))
+PERCEPTOR_NAMES = LiveChoices(("builtin",))
 
 
 @dataclass(frozen=True)
@@ -236,6 +245,10 @@ class MergeParams:
 
 @dataclass(frozen=True)
 class IdentifyParams:
+    door_detector: str = param(
+        "builtin", choices=DOOR_DETECTOR_NAMES,
+        help="Door detector: the built-in one, or a plugin's (pico_studio.plugins.door_detector)",
+    )
     door_min_width: float = param(
         0.5, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at least this wide",
     )
@@ -468,6 +481,10 @@ class ScanMatchParams:
 
 @dataclass(frozen=True)
 class PerceptionParams:
+    perceptor: str = param(
+        "builtin", choices=PERCEPTOR_NAMES,
+        help="The whole perceptor: these stages (builtin), or a plugin's (pico_studio.plugins.perceptor)",
+    )
     locate: LocateParams = section(LocateParams, "Init / Locate: zero pose and pose from odometry")
     proximity: ProximityParams = section(ProximityParams, "Close proximity circle and footprint")
     scan: ScanParams = section(ScanParams, "Scan: filtering, resampling, clustering, segmenting")
@@ -482,3 +499,4 @@ class PerceptionParams:
     laser_motion: LaserMotionParams = section(LaserMotionParams, "Motion from matched corners (seed 002)")
     objects: ObjectParams = section(ObjectParams, "Objects and people: small free-standing clusters, tracked")
     scan_match: ScanMatchParams = section(ScanMatchParams, "Pose correction: scan to local map, point to line")
+    plugins: PluginSections = plugin_area(PERCEPTION_PLUGINS, "Parameters of the loaded perception plugins")

@@ -14,9 +14,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
+
+from pico_studio.config.plugin_params import LiveChoices
 
 _SPEC = "pico_studio.param"
 _SECTION = "pico_studio.section"
@@ -32,7 +34,8 @@ class ParamSpec:
     lo: float | None = None
     hi: float | None = None
     step: float | None = None
-    choices: tuple[str, ...] | None = None
+    # a tuple, or a `LiveChoices` that plugins add names to (read it when needed, never copy)
+    choices: Sequence[str] | None = None
 
     @property
     def kind(self) -> str:
@@ -71,7 +74,7 @@ def param(
     lo: float | None = None,
     hi: float | None = None,
     step: float | None = None,
-    choices: tuple[str, ...] | list[str] | None = None,
+    choices: Sequence[str] | None = None,
 ) -> Any:
     """Declare a parameter field of a section dataclass."""
     spec = ParamSpec(
@@ -81,7 +84,7 @@ def param(
         lo=lo,
         hi=hi,
         step=step,
-        choices=tuple(choices) if choices is not None else None,
+        choices=choices if isinstance(choices, LiveChoices) or choices is None else tuple(choices),
     )
     if spec.kind in ("int", "float"):
         if spec.lo is None or spec.hi is None:

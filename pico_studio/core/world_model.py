@@ -73,6 +73,8 @@ class WorldModel:
     localisation_quality: float = 0.0
     lost: bool = False
     combined: Any = None  # a localisation CombinedMap
+    # plugins' extra named outputs, "plugin/name" -> (K, 2) points or (K, 4) segments, zero frame
+    extras: dict[str, np.ndarray] = field(default_factory=dict)
     # bookkeeping
     timings_ms: dict[str, float] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)

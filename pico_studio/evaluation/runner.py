@@ -311,8 +311,12 @@ def evaluate_scenarios(ss: ScenarioSet, cfg: Config, *, workers: int = 1,
     if workers > 1 and len(ss.scenarios) > 1:
         import multiprocessing
 
+        from pico_studio import plugins
+
         ctx = multiprocessing.get_context("spawn")  # no forked numba / thread state
-        with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        # each worker loads the plugins this process has (a config may select their stages)
+        with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=plugins.load_plugins,
+                                 initargs=(plugins.specs(),)) as pool:
             futures = [pool.submit(evaluate_scenario, s, cfg) for s in ss.scenarios]
             for k, f in enumerate(futures):
                 results.append(f.result())

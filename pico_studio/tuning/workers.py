@@ -27,7 +27,10 @@ class Workers:
     def __init__(self, spec: StudySpec, k: int, *, first_worker: int = 0):
         self.spec = spec
         self._study: optuna.Study | None = None
-        self.pool = ProcessPoolExecutor(max_workers=k, mp_context=mp.get_context("spawn"))
+        from pico_studio import plugins  # each worker loads the plugins this process has
+
+        self.pool = ProcessPoolExecutor(max_workers=k, mp_context=mp.get_context("spawn"),
+                                        initializer=plugins.load_plugins, initargs=(plugins.specs(),))
         self.futures: list[Future[list[int]]] = [
             self.pool.submit(_worker, spec, first_worker + w) for w in range(k)]
 

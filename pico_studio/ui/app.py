@@ -34,6 +34,7 @@ from pico_studio.ui.panels.help import HelpPanel
 from pico_studio.ui.panels.layers import LayersPanel
 from pico_studio.ui.panels.log import LogPanel
 from pico_studio.ui.panels.map_choice import MapPanel
+from pico_studio.ui.panels.plugins import PluginsPanel
 from pico_studio.ui.panels.run import RunPanel
 from pico_studio.ui.panels.tools import ToolsPanel
 from pico_studio.ui.panels.tune import TunePanel
@@ -111,9 +112,11 @@ class StudioApp:
             self.tune = TunePanel(page, gui, self.export_dir, apply=self.config.apply)
         with tabs.add_tab("Log"):
             self.log_panel = LogPanel(page, gui)
+        with tabs.add_tab("Plugins"):
+            self.plugins = PluginsPanel(page, gui)
         self.tab_group = tabs
         self.panels: list[Panel] = [self.run, self.behaviour, self.map, self.recording, self.layers_panel,
-                                    self.config, self.tools, self.tune, self.log_panel, self.help]
+                                    self.config, self.tools, self.tune, self.log_panel, self.plugins, self.help]
 
     # ----- what tests and benchmarks read ---------------------------------------------------
     @property

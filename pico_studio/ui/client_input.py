@@ -38,7 +38,7 @@ def _finite(values: Any) -> bool:
     """True when every number in a (nested) tuple/list is a finite int or float."""
     if values is None:
         return True
-    if isinstance(values, bool):
+    if isinstance(values, (bool, str)):  # text is not a number to check (a text field's value)
         return True
     if isinstance(values, (int, float)):
         return math.isfinite(values)

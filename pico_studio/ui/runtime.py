@@ -62,7 +62,12 @@ def _check_behaviour(spec: str, field: str) -> str:
 
 # what the behaviour dropdown offers: the registry's behaviours (those a bare name makes),
 # and driving by hand; `set_behaviour` takes any registry spec (`drive:0.2,0,0`)
-BEHAVIOURS: tuple[str, ...] = (*(n for n, e in REGISTRY.items() if not e.needs_argument), "teleop")
+def behaviour_names() -> tuple[str, ...]:
+    """Read when the page is built, so behaviours a plugin registered are in the list."""
+    return (*(n for n, e in REGISTRY.items() if not e.needs_argument), "teleop")
+
+
+BEHAVIOURS: tuple[str, ...] = behaviour_names()
 
 
 class Studio:

@@ -107,6 +107,10 @@ LAYERS: tuple[LayerSpec, ...] = (
         PrimSpec("plan", S, style.BEHAVIOUR_PLAN, 2.0),
         PrimSpec("target", P, style.BEHAVIOUR_TARGET, point_size=12.0),
     )),
+    LayerSpec("plugins", "Plugin outputs", (
+        PrimSpec("plugin_segments", S, style.PLUGIN_OUTPUT, 2.0),
+        PrimSpec("plugin_points", P, style.PLUGIN_OUTPUT, point_size=0.07),
+    )),
     LayerSpec("robot", "Robot footprint", (
         PrimSpec("robot_true", S, style.ROBOT_TRUE, 2.0),
         PrimSpec("robot_estimate", S, style.ROBOT_ESTIMATE, 2.0),
@@ -238,6 +242,7 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
             kinds = np.where(flags, 2, 3) if len(flags) == len(corners) else np.full(len(corners), 2)
             out["corners"] = Prim(P, transform_points(corners, zero), _palette(kinds, style.ENDPOINT))
     out.update(_door_prims(wm, zero))
+    out.update(plugin_prims(wm.extras, zero))
     behaviour_frame = _behaviour_frame_in_map(frame, robot, zero)
     if behaviour_frame is not None:
         if frame.behaviour_target is not None:
@@ -282,6 +287,17 @@ def _scan_corner_prims(wm: WorldModel, robot: tuple[float, float, float]) -> dic
     colours = np.where(flags[:, None], style.VECTOR_CORNER_INNER, style.VECTOR_CORNER_OUTER).astype(np.uint8)
     out["vector_corners"] = Prim(P, transform_points(vc, robot), colours)
     return out
+
+
+def plugin_prims(extras: dict[str, np.ndarray], zero: tuple[float, float, float] | None) -> dict[str, Prim]:
+    """Every plugin's extra outputs (zero frame): (K, 2) ones as points, (K, 4) as segments."""
+    if zero is None or not extras:
+        return {}
+    arrays = [np.asarray(a, dtype=float) for a in extras.values()]
+    segs = [a for a in arrays if a.ndim == 2 and a.shape[1] == 4]
+    pts = [a for a in arrays if a.ndim == 2 and a.shape[1] == 2]
+    return {"plugin_segments": Prim(S, transform_segments(np.vstack(segs) if segs else np.zeros((0, 4)), zero)),
+            "plugin_points": Prim(P, transform_points(np.vstack(pts) if pts else np.zeros((0, 2)), zero))}
 
 
 def _door_prims(wm: WorldModel, zero: tuple[float, float, float] | None) -> dict[str, Prim]:

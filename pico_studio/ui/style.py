@@ -65,6 +65,7 @@ ROOM_SIDE: RGB = (148, 100, 227)  # lilac: the watched side beam
 ROOM_JUMP: RGB = (150, 130, 0)  # ... when its range jumped: a side room's opening
 MEASURE: RGB = (249, 22, 139)
 INSPECT: RGB = (230, 213, 82)
+PLUGIN_OUTPUT: RGB = (0, 110, 70)  # dark green: whatever a plugin handed the page (WorldModel.extras)
 
 # line thickness in screen pixels (the same on screen at any zoom); drawn from the bottom up
 # in LAYERS order, so the map's thick black walls show either side of the thinner local and
@@ -103,6 +104,7 @@ LEGEND: list[tuple[str, list[tuple[RGB, str]]]] = [
     ("Entrance", [(ENTRANCE, "entrance estimate"), (HALLWAY, "... in a hallway")]),
     ("Side room watch (seed 000)", [(ROOM_SIDE, "side beam"), (ROOM_JUMP, "side range jumped: a room")]),
     ("Tools", [(MEASURE, "measure"), (INSPECT, "inspected feature")]),
+    ("Plugins", [(PLUGIN_OUTPUT, "a plugin's extra points / segments")]),
 ]
 
 
@@ -118,7 +120,8 @@ def swatches(colours: list[RGB]) -> str:
 
 
 # colours drawn as points (point clouds are not tone-mapped: they show as declared)
-POINT_COLOURS = {LASER, *ENDPOINT.values(), SPIKE_CORNER, VECTOR_CORNER_INNER, VECTOR_CORNER_OUTER, BEHAVIOUR_TARGET}
+POINT_COLOURS = {LASER, *ENDPOINT.values(), SPIKE_CORNER, VECTOR_CORNER_INNER, VECTOR_CORNER_OUTER, BEHAVIOUR_TARGET,
+                 PLUGIN_OUTPUT}
 
 # the layer key -> its colours as the Layers tab shows them beside the toggle
 LAYER_COLOURS: dict[str, list[RGB]] = {
@@ -137,6 +140,7 @@ LAYER_COLOURS: dict[str, list[RGB]] = {
     "behaviour": [BEHAVIOUR_TARGET, BEHAVIOUR_PLAN],
     "entrance": [ENTRANCE, HALLWAY],
     "room": [ROOM_SIDE, ROOM_JUMP],
+    "plugins": [PLUGIN_OUTPUT],
 }
 
 

@@ -32,6 +32,7 @@ from pico_studio.core.perception.laser_motion import laser_motion
 from pico_studio.core.perception.locate import LocateState, locate
 from pico_studio.core.perception.merge import LocalMapState, drop_near, merge
 from pico_studio.core.perception.objects import ObjectsState, track_objects
+from pico_studio.core.perception.plugin_hooks import perceive_with_plugins
 from pico_studio.core.perception.proximity import proximity_flags
 from pico_studio.core.perception.rooms import rooms
 from pico_studio.core.perception.scan import process_scan
@@ -61,8 +62,8 @@ class PerceptorState:
 def perceive(
     state: PerceptorState, laser: LaserData | None, odom: OdometryData | None, params: PerceptionParams
 ) -> tuple[WorldModel, PerceptorState]:
-    try:
-        return _perceive(state, laser, odom, params)
+    try:  # the built-in stages below, unless plugins are selected (`plugin_hooks`)
+        return perceive_with_plugins(state, laser, odom, params, _perceive)
     except Exception as e:  # a bug must not stop the robot: report it, keep the old state
         wm = WorldModel(time=state.time, pose=state.locate.pose, zero_pose=state.locate.zero_pose)
         wm.warnings.append(f"perceptor failed on this frame ({type(e).__name__}: {e}); state kept")

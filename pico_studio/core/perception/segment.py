@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pico_studio.config.perception_params import PerceptionParams
+from pico_studio.config.perception_params import SEGMENTER_NAMES, PerceptionParams
 from pico_studio.core.perception import (
     segment_angle,
     segment_ransac,
@@ -57,6 +57,14 @@ def register_segmenter(name: str, fn: Segmenter, *, replace: bool = False) -> No
     if name in SEGMENTERS and not replace:
         raise ValueError(f"a segmenter named {name!r} is already registered")
     SEGMENTERS[name] = fn
+    SEGMENTER_NAMES.add(name)  # the config's choice list: YAML and sliders accept it now
+
+
+def unregister_segmenter(name: str) -> None:
+    """Forget a registered segmenter (a plugin unloaded); the built-ins stay."""
+    if name not in SEGMENTER_NAMES.builtin:
+        SEGMENTERS.pop(name, None)
+        SEGMENTER_NAMES.remove(name)
 
 
 # the built-in three, each handed its own params section

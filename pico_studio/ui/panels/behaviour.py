@@ -12,7 +12,7 @@ from pico_studio.ui.behaviour_text import behaviour_lines
 from pico_studio.ui.clock import is_replay
 from pico_studio.ui.gui_values import on_user
 from pico_studio.ui.page import Page, Panel, Shown
-from pico_studio.ui.runtime import BEHAVIOURS
+from pico_studio.ui.runtime import behaviour_names
 
 TELEOP: list[tuple[str, str, tuple[float, float, float]]] = [
     ("Forward", "W", (1, 0, 0)), ("Back", "S", (-1, 0, 0)),
@@ -31,7 +31,7 @@ class BehaviourPanel(Panel):
         self.drives = not is_replay(s.source)
         self.folder = gui.add_folder("Behaviour", visible=self.drives)
         with self.folder:
-            self.dropdown = gui.add_dropdown("Behaviour", list(BEHAVIOURS), initial_value=s.behaviour_name)
+            self.dropdown = gui.add_dropdown("Behaviour", list(behaviour_names()), initial_value=s.behaviour_name)
             self.info = gui.add_markdown("")
             self.door = gui.add_button("Open door", icon=viser.Icon.DOOR, hint="Ask the door in front of the robot to open")
         on_user(self.dropdown, page.guard("behaviour", lambda e: s.set_behaviour(e.target.value)))
