@@ -57,7 +57,7 @@ class GroundTruth:
     def __init__(self, world: World, base: Base, laser: Laser, odometry: Odometry, params: TruthParams):
         self._world, self._base, self._laser, self._odometry = world, base, laser, odometry
         self._params = params
-        self._scan_cache: dict[str, tuple[np.ndarray, Any]] = {}  # per-scan answers, by the scan's ranges
+        self._scan_cache: dict[str, tuple[int, Any]] = {}  # per-scan answers, by the laser's scan count
 
     @property
     def pose(self) -> Pose:
@@ -191,14 +191,15 @@ class GroundTruth:
     def _hit_points(self) -> tuple[np.ndarray, np.ndarray]:
         """(B, 2) map-frame noise-free end points of the latest scan's beams and (B,) the
         segment each hit (-1: none, its point then at infinity). Once per scan: every query
-        of a frame reads them (the laser's `true_ranges` is a new array each scan)."""
+        of a frame reads them."""
         return self._per_scan("hit points", self._compute_hit_points)
 
     def _per_scan(self, name: str, compute: Callable[[], T]) -> T:
-        ranges = self._laser.true_ranges
+        """`compute()` once per scan of the laser (kept by `name` until the next scan)."""
+        scan = self._laser.scans
         kept = self._scan_cache.get(name)
-        if kept is None or kept[0] is not ranges:
-            kept = (ranges, compute())
+        if kept is None or kept[0] != scan:
+            kept = (scan, compute())
             self._scan_cache[name] = kept
         return cast(T, kept[1])
 
