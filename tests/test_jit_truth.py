@@ -17,7 +17,9 @@ from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator, truth_kernels
 from pico_studio.sim.map_features import Vertices, classify_corners, corner_candidates, sector_width
+from pico_studio.sim.raycast import cast_rays
 from pico_studio.sim.truth import GroundTruth
+from pico_studio.sim.world import KIND_DOOR
 from tests.conftest import MAPS
 
 
@@ -58,8 +60,48 @@ def reference_classify_corners(graph: Vertices, viewpoint: tuple[float, float], 
     return np.array(idx, dtype=np.int64), np.array(convex, dtype=bool), np.array(loose, dtype=bool)
 
 
+def free_args(truth: GroundTruth) -> tuple:
+    """`free_lengths`'s arguments towards every vertex of the map, and `cast_rays`' answer."""
+    x, y, _ = truth.pose
+    d = truth._graph.points - (x, y)
+    angles = np.arctan2(d[:, 1], d[:, 0])
+    segs = np.ascontiguousarray(truth._world.segments())
+    return (float(x), float(y), np.cos(angles), np.sin(angles), segs), cast_rays((x, y), angles, segs)
+
+
 SECONDS = {"hospital_2019.json": 12.0, "restaurant_2024.json": 40.0}
 MAP_NAMES = list(SECONDS)
+
+
+def reference_in_view(truth: GroundTruth, points: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    seen = truth._in_fov(points)
+    if not seen.any():
+        return seen
+    x, y, _ = truth.pose
+    d = points[seen] - (x, y)
+    dist = np.hypot(d[:, 0], d[:, 1])
+    free = cast_rays((x, y), np.arctan2(d[:, 1], d[:, 0]), segments)
+    seen[seen] = free >= dist - truth._params.visible_tolerance
+    return seen
+
+
+def reference_visible_corners(truth: GroundTruth):
+    idx, convex, loose = reference_classify_corners(truth._graph, truth.pose[:2], truth._params.straight_tolerance)
+    pts = truth._graph.points[idx]
+    seen = reference_in_view(truth, pts, truth._world.segments())
+    return pts[seen], convex[seen], loose[seen]
+
+
+def reference_visible_doors(truth: GroundTruth) -> np.ndarray:
+    o = truth._openings
+    if len(o) == 0:
+        return o.copy()
+    segs = truth._world.segments()
+    not_doors = segs[truth._world.kinds() != KIND_DOOR]
+    seen = reference_in_view(truth, (o[:, :2] + o[:, 2:]) / 2, not_doors)
+    seen &= reference_jamb_seen_length(truth, o[:, :2]) >= truth._params.jamb_min_seen
+    seen &= reference_jamb_seen_length(truth, o[:, 2:]) >= truth._params.jamb_min_seen
+    return o[seen]
 
 
 # ----- real frames ---------------------------------------------------------------------------
@@ -93,6 +135,8 @@ def wander_frames(map_name: str, every: int = 6) -> list[dict]:
                 "xy_hits": truth._hit_points(), "walls": truth._walls,
                 "pose": truth.pose, "graph": truth._graph,
                 "doors": truth.visible_doors(), "corners": truth.visible_corners(),
+                "doors_ref": reference_visible_doors(truth), "corners_ref": reference_visible_corners(truth),
+                "free_args": free_args(truth),
             })
 
         def summary(self) -> dict:
@@ -139,6 +183,19 @@ def test_corner_classes_are_the_python_they_replaced(map_name: str):
                         strict=True):
             np.testing.assert_array_equal(x, y)
     assert sum(len(f["corners"].points) for f in frames) >= 10
+
+
+@pytest.mark.parametrize("map_name", MAP_NAMES)
+def test_whole_queries_are_the_python_they_replaced(map_name: str):
+    """visible_doors and visible_corners (every compiled loop together) against the old code."""
+    for f in wander_frames(map_name):
+        np.testing.assert_array_equal(f["doors"], f["doors_ref"])
+        for x, y in zip(f["corners"], f["corners_ref"], strict=True):
+            np.testing.assert_array_equal(x, y)
+        args, ref = f["free_args"]
+        got = truth_kernels.free_lengths(*args)
+        np.testing.assert_array_equal(got, ref)
+        np.testing.assert_array_equal(got, jit.py_func(truth_kernels.free_lengths)(*args))
 
 
 def test_the_frames_see_doors():

@@ -39,8 +39,7 @@ from pico_studio.sim.base import Base, CollisionEvent
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
 from pico_studio.sim.odometry import Odometry
-from pico_studio.sim.raycast import cast_rays
-from pico_studio.sim.truth_kernels import jamb_seen_lengths
+from pico_studio.sim.truth_kernels import free_lengths, jamb_seen_lengths
 from pico_studio.sim.world import KIND_DOOR, World
 
 Pose = tuple[float, float, float]
@@ -184,7 +183,9 @@ class GroundTruth:
         x, y, _ = self.pose
         d = points[seen] - (x, y)
         dist = np.hypot(d[:, 0], d[:, 1])
-        free = cast_rays((x, y), np.arctan2(d[:, 1], d[:, 0]), segments)
+        angles = np.arctan2(d[:, 1], d[:, 0])
+        free = free_lengths(float(x), float(y), np.cos(angles), np.sin(angles),
+                            np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4))
         seen[seen] = free >= dist - self._params.visible_tolerance
         return seen
 

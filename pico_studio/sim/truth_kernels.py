@@ -1,5 +1,6 @@
 """The truth's compiled loops: how much of the walls at each door jamb the scan's beams hit,
-and which map vertices are corners as seen from the robot.
+which map vertices are corners as seen from the robot, and how far rays run free (whether a
+corner or a door's middle is in view).
 
 Jamb seen length (`sim.truth.GroundTruth.jamb_seen_length`). A wall w = a + u (b - a),
 u in [0, 1], *touches* jamb p when its point-to-segment distance is at most `touch`:
@@ -15,6 +16,10 @@ directions of the segments leaving it, taken relative to the direction towards t
 R and wrapped to [0, 2 pi), cut the plane into sectors; R lies in the one from the largest
 (as a negative angle) to the smallest: w = min + (2 pi - max); a single direction gives
 w = 2 pi. |w - pi| <= tol: straight on, not a corner; w > pi: convex; else concave.
+
+Free lengths (`GroundTruth._in_view`): `raycast.cast_rays`'s ray-segment test, one ray at a
+time, without its (rays x segments) arrays; the rays' cosines and sines come from numpy, so
+the answers are those of `cast_rays`.
 """
 
 from __future__ import annotations
@@ -109,3 +114,30 @@ def corner_classes(points: np.ndarray, candidates: np.ndarray, starts: np.ndarra
         loose[kept] = stop - first == 1
         kept += 1
     return idx[:kept], convex[:kept], loose[:kept]
+
+
+def _free_example() -> tuple:
+    segs = np.array([[1.0, -1.0, 1.0, 1.0], [-1.0, 1.0, -1.0, -1.0]])
+    return 0.0, 0.0, np.array([1.0, 0.0]), np.array([0.0, 1.0]), segs
+
+
+@kernel(_free_example)
+def free_lengths(ox: float, oy: float, cos_a: np.ndarray, sin_a: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """(K,) distance from (ox, oy) along each ray (cos_a, sin_a) to the nearest of `segments`
+    (N, 4), inf where none: `raycast.cast_rays`'s test, ray by ray. With p1 = a - o, d = b - a
+    and den = c d_y - s d_x, the ray meets the segment at t = (p1 x d) / den when t >= 0 and
+    u = (p1 x (c, s)) / den lies in [0, 1]."""
+    out = np.empty(cos_a.shape[0])
+    for i in range(cos_a.shape[0]):
+        c, s = cos_a[i], sin_a[i]
+        best = np.inf
+        for k in range(segments.shape[0]):
+            p1x, p1y = segments[k, 0] - ox, segments[k, 1] - oy
+            dx, dy = segments[k, 2] - segments[k, 0], segments[k, 3] - segments[k, 1]
+            den = c * dy - s * dx
+            t = (p1x * dy - p1y * dx) / den
+            u = (p1x * s - p1y * c) / den
+            if t >= 0.0 and u >= 0.0 and u <= 1.0 and t < best:
+                best = t
+        out[i] = best
+    return out
