@@ -81,5 +81,4 @@ def _play_when_warm(app, warm: threading.Thread, play: bool) -> None:  # noqa: A
         warm.join()
         print("pico-studio: fast paths compiled", flush=True)
     if play and not app.studio.playing:
-        app.studio.playing = True
-        app._sync_play_button()
+        app.studio.playing = True  # the loop ticks again; its redraw turns the button to "Pause"
