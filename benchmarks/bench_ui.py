@@ -102,7 +102,7 @@ def long_run_metrics(scored: int = 2400, repeats: int = 50) -> tuple[float, floa
     return median_ms(studio.metrics), median_ms(peer)
 
 
-def replay_seek(frames: int = 2400, jumps: int = 15, peer_jumps: int = 3) -> tuple[float, float, float, int]:
+def replay_seek(frames: int = 2400, jumps: int = 15, peer_jumps: int = 1) -> tuple[float, float, float, int]:
     """(median ms per jump, max ms, peer median ms, frames in the file)."""
     import random
 

@@ -104,7 +104,8 @@ def gui_problem(server: viser.ViserServer, m: Any) -> str | None:
                 continue
         except (TypeError, ValueError, OverflowError):
             return f"{_label(state)}: must be a {type(current).__name__}, got {_short(value)}"
-        if not _finite(cast):
+        text = isinstance(cast, str) or (isinstance(cast, tuple) and all(isinstance(v, str) for v in cast))
+        if not text and not _finite(cast):  # text (a dropdown's choice, a text field) has no number to check
             return f"{_label(state)}: must be a finite number, got {_short(value)}"
         options = getattr(getattr(state, "props", None), "options", None)
         if isinstance(options, (tuple, list)) and options and isinstance(cast, str) and cast not in options:

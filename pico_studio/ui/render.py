@@ -164,7 +164,7 @@ def render_run(
 
 
 def _write_gif(out: Path, images: list[np.ndarray], fps: float) -> None:
-    from PIL import Image  # Pillow comes with scikit-image
+    from PIL import Image  # Pillow: a declared dependency, only GIFs need it
 
     frames = [Image.fromarray(im).convert("P", palette=Image.Palette.ADAPTIVE, colors=64) for im in images]
     frames[0].save(out, save_all=True, append_images=frames[1:], duration=int(round(1000 / fps)), loop=0)

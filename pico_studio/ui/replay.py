@@ -122,7 +122,7 @@ class ReplayDriver:
     def _start_for(self, k: int) -> tuple[int, Any, bool]:
         """(frame to start from, the state before it, whether made with the current params).
         Without a checkpoint made with the current params: from the start when that is near,
-        else from the nearest older-params checkpoint (fast, and said so on the page)."""
+        else from the nearest older-params checkpoint (fast; `last_seek["current_params"]` is then False)."""
         self._check_source()
         params = self.params()
         same = [i for i, c in self.checkpoints.items() if i <= k and c.params == params]

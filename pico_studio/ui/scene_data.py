@@ -109,7 +109,7 @@ LAYERS: tuple[LayerSpec, ...] = (
     )),
     LayerSpec("plugins", "Plugin outputs", (
         PrimSpec("plugin_segments", S, style.PLUGIN_OUTPUT, 2.0),
-        PrimSpec("plugin_points", P, style.PLUGIN_OUTPUT, point_size=0.07),
+        PrimSpec("plugin_points", P, style.PLUGIN_OUTPUT, point_size=6.0),
     )),
     LayerSpec("robot", "Robot footprint", (
         PrimSpec("robot_true", S, style.ROBOT_TRUE, 2.0),

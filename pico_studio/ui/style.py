@@ -65,7 +65,7 @@ ROOM_SIDE: RGB = (148, 100, 227)  # lilac: the watched side beam
 ROOM_JUMP: RGB = (150, 130, 0)  # ... when its range jumped: a side room's opening
 MEASURE: RGB = (249, 22, 139)
 INSPECT: RGB = (230, 213, 82)
-PLUGIN_OUTPUT: RGB = (0, 110, 70)  # dark green: whatever a plugin handed the page (WorldModel.extras)
+PLUGIN_OUTPUT: RGB = (0, 0, 130)  # navy: whatever a plugin handed the page (WorldModel.extras)
 
 # line thickness in screen pixels (the same on screen at any zoom); drawn from the bottom up
 # in LAYERS order, so the map's thick black walls show either side of the thinner local and

@@ -63,6 +63,8 @@ class RunPanel(Panel):
     # ----- actions (the buttons, the keys and the log's jumps) -------------------------------
     def toggle_play(self) -> None:
         s = self.page.studio
+        if self.replay and not s.playing and not s.source.ok():  # at the end: play it again
+            self.page.hooks["seek"](0)
         with s.lock:
             s.playing = not s.playing
             if s.playing and not self.replay:
