@@ -8,6 +8,10 @@ frames), every frame kept with the truth of that instant (`evaluation.kept_truth
   truth (what `pico-studio run` and the page do per scan), CPU ms per frame (median over the
   frames, `--repeats` times), compiled and uncompiled (`jit.uncompiled`: every compiled loop
   as its Python) in the same process;
+- *the truth queries of a frame*: everything scoring asks the simulator's truth for one scan
+  (`kept_truth.TruthSnapshot`: visible walls, corners in view, door openings and the doors
+  seen — what a live `pico-studio run` pays on top of scoring), CPU ms per frame while
+  recording (median), compiled and, on the first `--python-frames` scans, uncompiled;
 - *re-judging the run*: the kept frames replayed (`sources.frames.FramesReplay`) through a
   fresh perceptor and scored against the kept truth, as after a slider change: CPU seconds
   for the whole run;
@@ -31,7 +35,7 @@ from timing import load
 from pico_studio.config import Config
 from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.perception import Perceptor
-from pico_studio.evaluation.kept_truth import TruthKeeper
+from pico_studio.evaluation.kept_truth import TruthKeeper, TruthSnapshot
 from pico_studio.evaluation.run_score import TruthScorer
 from pico_studio.jit import uncompiled, warm_up
 from pico_studio.json_map import load_map
@@ -57,11 +61,39 @@ class Keep:
         return {"frames": len(self.frames)}
 
 
-def record(seconds: float, seed: int = 0) -> tuple[Keep, TruthKeeper]:
+class TimedKeeper(TruthKeeper):
+    """A `TruthKeeper` that times each snapshot (the truth queries of a frame), CPU ms; on the
+    first `python_frames` scans also uncompiled, the same snapshot again (same answers)."""
+
+    def __init__(self, sim: Simulator, python_frames: int = 0):
+        super().__init__(sim)
+        self.python_frames = python_frames
+        self.ms: list[float] = []
+        self.ms_python: list[float] = []
+        self.same = True
+
+    def on_frame(self, sf: SessionFrame) -> None:
+        if sf.frame.laser is None:
+            return
+        c0 = time.process_time()
+        super().on_frame(sf)
+        self.ms.append((time.process_time() - c0) * 1000)
+        if len(self.ms_python) < self.python_frames:
+            with uncompiled():
+                c0 = time.process_time()
+                slow = TruthSnapshot(self.sim.truth, self.sim.params.odometry.form)
+                self.ms_python.append((time.process_time() - c0) * 1000)
+            fast = self.snapshots[sf.index]
+            self.same &= all(np.array_equal(getattr(fast, k), getattr(slow, k))
+                             for k in ("_visible_walls", "_door_openings", "_visible_doors"))
+            self.same &= all(np.array_equal(a, b) for a, b in zip(fast.visible_corners(), slow.visible_corners(), strict=True))
+
+
+def record(seconds: float, seed: int = 0, python_frames: int = 0) -> tuple[Keep, TimedKeeper]:
     cfg = Config()
     gmap = load_map(MAP)
     sim = Simulator(gmap, cfg.sim, seed=seed)
-    keep, keeper = Keep(), TruthKeeper(sim)
+    keep, keeper = Keep(), TimedKeeper(sim, python_frames)
     behaviour = make_behaviour("wander", cfg.behaviour, gmap, initial_pose=sim.truth.pose)
     Session(sim, perceptor=Perceptor(cfg.perception), behaviour=behaviour, observers=[keep, keeper]).run(seconds, 0.05)
     return keep, keeper
@@ -83,7 +115,7 @@ def rejudge(keep: Keep, keeper: TruthKeeper, limit: int | None = None) -> tuple[
 def measure(seconds: float, repeats: int, python_frames: int) -> dict[str, Any]:
     """Scoring a frame (compiled / uncompiled ms), re-judging the run (CPU s), same answers."""
     warm_up()
-    keep, keeper = record(seconds)
+    keep, keeper = record(seconds, python_frames=python_frames)
     scored = [(sf.world_model, keeper.at(sf.index)) for sf in keep.frames
               if sf.frame.laser is not None and sf.world_model is not None]
 
@@ -104,8 +136,9 @@ def measure(seconds: float, repeats: int, python_frames: int) -> dict[str, Any]:
     _, a = rejudge(keep, keeper, python_frames)
     with uncompiled():
         _, b = rejudge(keep, keeper, python_frames)
-    same = all(math.isclose(a[k], b[k], rel_tol=1e-9, abs_tol=1e-12) for k in a)
+    same = all(math.isclose(a[k], b[k], rel_tol=1e-9, abs_tol=1e-12) for k in a) and keeper.same
     return {"frames": len(keep.frames), "scored": len(scored), "score_ms": fast, "score_ms_python": slow,
+            "truth_ms": float(np.median(keeper.ms)), "truth_ms_python": float(np.median(keeper.ms_python)),
             "rejudge_s": cpu, "same": same, "compiled": a, "uncompiled": b}
 
 
@@ -120,9 +153,12 @@ def main() -> None:
     print(f"hospital_2019, wander: {n} recorded frames ({r['scored']} scans); {load()}")
     print(f"  scoring a frame     {r['score_ms']:8.3f} ms compiled  {r['score_ms_python']:8.3f} ms .py_func  "
           f"({r['score_ms_python'] / r['score_ms']:.1f}x)")
+    print(f"  truth queries       {r['truth_ms']:8.3f} ms compiled  {r['truth_ms_python']:8.3f} ms .py_func  "
+          f"({r['truth_ms_python'] / r['truth_ms']:.1f}x)  (live scoring of a frame: "
+          f"{r['truth_ms'] + r['score_ms']:.3f} ms)")
     print(f"  re-judging the run  {r['rejudge_s']:8.2f} s CPU for {n} frames "
           f"({r['rejudge_s'] / n * 1000:.3f} ms a frame: perceive + score)")
-    print(f"  same answers compiled and uncompiled ({args.python_frames} frames, every eval figure): {r['same']}")
+    print(f"  same answers compiled and uncompiled ({args.python_frames} frames, every eval figure, and the truth queries): {r['same']}")
     if not r["same"]:
         raise SystemExit(f"differ: {r['compiled']} vs {r['uncompiled']}")
 

@@ -51,6 +51,7 @@ KERNEL_MODULES = (
     "pico_studio.core.perception.scan_match_kernels",
     "pico_studio.core.localisation.match_kernels",
     "pico_studio.core.behaviours.planner",
+    "pico_studio.sim.truth_kernels",
     "pico_studio.evaluation.score_kernels",
 )
 

@@ -208,7 +208,8 @@ def score_arrays(
     s.convexity_ok = sum(bool(corner_convex[i]) == bool(visible_convex[j]) for i, j in pairs)
     # a detected corner next to a true corner that is just out of view is still a true corner
     if len(corners) > len(pairs) and len(true_vertices):
-        rest = np.setdiff1d(np.arange(len(corners)), [i for i, _ in pairs])
+        rest = np.ones(len(corners), dtype=bool)
+        rest[[i for i, _ in pairs]] = False
         d = nearest_distances(np.ascontiguousarray(corners[rest], dtype=np.float64), true_vertices)
         s.corners_ok += int((d <= tol.corner_distance).sum())
     s.doors = len(doors)

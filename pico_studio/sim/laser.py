@@ -47,6 +47,7 @@ class Laser:
         self.true_ranges = np.full(p.beams, np.inf)  # the last scan without noise (ground truth)
         self._hits: np.ndarray | None = None
         self.last_pose: Pose = (0.0, 0.0, 0.0)  # where the last scan was taken
+        self.scans = 0  # scans taken so far (what the truth's per-scan answers are keyed by)
         self._noise_block = np.zeros((0, p.beams))
         self._noise_row = 0
 
@@ -67,6 +68,7 @@ class Laser:
         self.true_ranges = ranges
         self.last_pose = pose
         self._hits = None
+        self.scans += 1
         return LaserData(
             range_min=p.range_min,
             range_max=p.range_max,

@@ -42,6 +42,7 @@ import numpy as np
 
 from pico_studio.sim.doors import door_frame
 from pico_studio.sim.raycast import cast_rays
+from pico_studio.sim.truth_kernels import corner_classes
 
 _FACING = math.cos(math.radians(45))  # a gap is "straight ahead" of an end within 45 degrees
 _SQUARE = math.cos(math.radians(15))  # a passage wall leaves its mouth within 15 degrees of square
@@ -119,19 +120,19 @@ def sector_width(directions: np.ndarray, toward: float) -> float:
 def classify_corners(
     graph: Vertices, viewpoint: tuple[float, float], straight_tolerance: float
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(vertex indices that are corners as seen from `viewpoint`, convex flags, loose-end flags)."""
-    idx, convex, loose = [], [], []
-    for v in corner_candidates(graph, straight_tolerance):
-        dirs = graph.directions[v]
-        p = graph.points[v]
-        toward = math.atan2(viewpoint[1] - p[1], viewpoint[0] - p[0])
-        w = sector_width(dirs, toward)
-        if abs(w - math.pi) <= straight_tolerance:
-            continue
-        idx.append(v)
-        convex.append(w > math.pi)
-        loose.append(len(dirs) == 1)
-    return np.array(idx, dtype=np.int64), np.array(convex, dtype=bool), np.array(loose, dtype=bool)
+    """(vertex indices that are corners as seen from `viewpoint`, convex flags, loose-end flags):
+    `sector_width` towards the viewpoint at every candidate, as one compiled loop
+    (`truth_kernels.corner_classes`) over the candidates' directions flattened once per graph."""
+    key = ("flat candidates", straight_tolerance)
+    if key not in graph.cache:
+        cand = corner_candidates(graph, straight_tolerance)
+        counts = np.array([len(graph.directions[v]) for v in cand], dtype=np.int64)
+        starts = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        dirs = np.concatenate([graph.directions[v] for v in cand]) if len(cand) else np.zeros(0)
+        graph.cache[key] = (np.ascontiguousarray(graph.points, dtype=np.float64), cand, starts,
+                            np.ascontiguousarray(dirs, dtype=np.float64))
+    points, cand, starts, dirs = graph.cache[key]
+    return corner_classes(points, cand, starts, dirs, float(viewpoint[0]), float(viewpoint[1]), float(straight_tolerance))
 
 
 def corner_candidates(graph: Vertices, straight_tolerance: float) -> np.ndarray:

@@ -28,8 +28,9 @@ truth parameters), so `sim.truth` does not import `sim.simulator`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from functools import cached_property
-from typing import NamedTuple
+from typing import Any, NamedTuple, TypeVar, cast
 
 import numpy as np
 
@@ -38,10 +39,11 @@ from pico_studio.sim.base import Base, CollisionEvent
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
 from pico_studio.sim.odometry import Odometry
-from pico_studio.sim.raycast import cast_rays
+from pico_studio.sim.truth_kernels import free_lengths, jamb_seen_lengths
 from pico_studio.sim.world import KIND_DOOR, World
 
 Pose = tuple[float, float, float]
+T = TypeVar("T")
 
 
 class Corners(NamedTuple):
@@ -54,6 +56,7 @@ class GroundTruth:
     def __init__(self, world: World, base: Base, laser: Laser, odometry: Odometry, params: TruthParams):
         self._world, self._base, self._laser, self._odometry = world, base, laser, odometry
         self._params = params
+        self._scan_cache: dict[str, tuple[int, Any]] = {}  # per-scan answers, by the laser's scan count
 
     @property
     def pose(self) -> Pose:
@@ -102,12 +105,12 @@ class GroundTruth:
     # ----- what the robot sees --------------------------------------------------------------
     def visible_walls(self) -> np.ndarray:
         """(N, 4) the visible pieces of solid segments in the latest scan (*hit* visibility)."""
-        return self._visible_pieces()[0]
+        return self._visible_pieces()[0].copy()
 
     def visible_wall_sources(self) -> np.ndarray:
         """(N,) for each row of `visible_walls()`: the index into `segments()` it is a piece of
         (`sim.world.kinds()` says wall, object, door or moving object)."""
-        return self._visible_pieces()[1]
+        return self._visible_pieces()[1].copy()
 
     def visible_corners(self) -> Corners:
         """Corners of the static geometry *in view* from the robot, convex/concave from there."""
@@ -129,33 +132,25 @@ class GroundTruth:
         segs = self._world.segments()
         not_doors = segs[self._world.kinds() != KIND_DOOR]
         seen = self._in_view((o[:, :2] + o[:, 2:]) / 2, not_doors)
-        seen &= self.jamb_seen_length(o[:, :2]) >= self._params.jamb_min_seen
-        seen &= self.jamb_seen_length(o[:, 2:]) >= self._params.jamb_min_seen
+        seen_length = self.jamb_seen_length(np.concatenate([o[:, :2], o[:, 2:]]))
+        seen &= (seen_length[: len(o)] >= self._params.jamb_min_seen) & (seen_length[len(o):] >= self._params.jamb_min_seen)
         return o[seen]
 
     def jamb_seen_length(self, jambs: np.ndarray) -> np.ndarray:
         """(J,) for each jamb point: how long a stretch of the walls touching it (within
         `max_wall_thickness / 2`: a thin wall's end, or a thick wall's end cap and the faces
         next to it) the latest scan's beams hit, within `jamb_reach` of the jamb — per wall
-        segment from its first to its last hit point, summed over the segments."""
+        segment from its first to its last hit point, summed over the segments (one compiled
+        loop: `truth_kernels.jamb_seen_lengths`; walls come first in `world.segments()`)."""
         t = self._params
         xy, hits = self._hit_points()
-        walls = self._world.walls
-        out = np.zeros(len(jambs))
-        on_wall = (hits >= 0) & (hits < len(walls))  # walls come first in world.segments()
-        if not on_wall.any() or len(walls) == 0:
-            return out
-        xy, hits = xy[on_wall], hits[on_wall]
-        a, ab = walls[:, 0:2], walls[:, 2:4] - walls[:, 0:2]
-        length2 = np.maximum((ab * ab).sum(1), 1e-18)
-        for j, p in enumerate(np.asarray(jambs, dtype=float).reshape(-1, 2)):
-            u = np.clip(((p - a) * ab).sum(1) / length2, 0.0, 1.0)
-            near = np.hypot(*(a + u[:, None] * ab - p).T) <= t.max_wall_thickness / 2 + 1e-3
-            close = np.isin(hits, np.flatnonzero(near)) & (np.hypot(*(xy - p).T) <= t.jamb_reach)
-            for k in np.unique(hits[close]):
-                along = (xy[close & (hits == k)] - a[k]) @ ab[k] / math.sqrt(length2[k])
-                out[j] += float(along.max() - along.min())
-        return out
+        jambs = np.ascontiguousarray(jambs, dtype=np.float64).reshape(-1, 2)
+        return jamb_seen_lengths(jambs, xy, np.ascontiguousarray(hits, dtype=np.int64), self._walls,
+                                 t.max_wall_thickness / 2 + 1e-3, float(t.jamb_reach))
+
+    @cached_property
+    def _walls(self) -> np.ndarray:
+        return np.ascontiguousarray(self._world.walls, dtype=np.float64).reshape(-1, 4)
 
     @cached_property
     def _graph(self) -> Vertices:
@@ -188,13 +183,28 @@ class GroundTruth:
         x, y, _ = self.pose
         d = points[seen] - (x, y)
         dist = np.hypot(d[:, 0], d[:, 1])
-        free = cast_rays((x, y), np.arctan2(d[:, 1], d[:, 0]), segments)
+        angles = np.arctan2(d[:, 1], d[:, 0])
+        free = free_lengths(float(x), float(y), np.cos(angles), np.sin(angles),
+                            np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4))
         seen[seen] = free >= dist - self._params.visible_tolerance
         return seen
 
     def _hit_points(self) -> tuple[np.ndarray, np.ndarray]:
         """(B, 2) map-frame noise-free end points of the latest scan's beams and (B,) the
-        segment each hit (-1: none, its point then at infinity)."""
+        segment each hit (-1: none, its point then at infinity). Once per scan: every query
+        of a frame reads them."""
+        return self._per_scan("hit points", self._compute_hit_points)
+
+    def _per_scan(self, name: str, compute: Callable[[], T]) -> T:
+        """`compute()` once per scan of the laser (kept by `name` until the next scan)."""
+        scan = self._laser.scans
+        kept = self._scan_cache.get(name)
+        if kept is None or kept[0] != scan:
+            kept = (scan, compute())
+            self._scan_cache[name] = kept
+        return cast(T, kept[1])
+
+    def _compute_hit_points(self) -> tuple[np.ndarray, np.ndarray]:
         laser = self._laser
         pose = laser.last_pose
         n = len(laser.true_hits)
@@ -203,6 +213,9 @@ class GroundTruth:
         return np.column_stack([pose[0] + r * np.cos(angles), pose[1] + r * np.sin(angles)]), laser.true_hits
 
     def _visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
+        return self._per_scan("visible pieces", self._compute_visible_pieces)
+
+    def _compute_visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
         xy, hits = self._hit_points()
         n = len(hits)
         # runs of consecutive beams on the same segment
