@@ -110,11 +110,8 @@ def headless(minutes: float, every_s: float = 10.0) -> list[tuple[float, float]]
     """RSS every `every_s` simulated seconds while the session runs `minutes` simulated."""
     cfg = Config()
     sim = Simulator.from_files(MAP, None, cfg.sim, seed=1)
-    wander = Wander(cfg.ui.wander)
-    session = Session(  # the session's behaviour protocol: (frame, world model) -> command
-        sim, perceptor=Perceptor(cfg.perception),
-        behaviour=lambda frame, wm: wander.step(wm, frame.laser, frame.odometry, frame.time),
-    )
+    # the one behaviour protocol: the loop calls wander.step(world_model, laser, odometry, now, ok=)
+    session = Session(sim, perceptor=Perceptor(cfg.perception), behaviour=Wander(cfg.ui.wander))
     samples = [(0.0, rss_mb())]
     t0 = time.perf_counter()
     while sim.now() < minutes * 60.0 - 1e-9:
