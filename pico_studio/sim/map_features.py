@@ -2,7 +2,9 @@
 door openings. Pure functions of segments, so scoring and tests can call them on any map.
 
 Corners. End points closer than `snap` are one vertex. Each vertex keeps the directions of the
-segments leaving it. Seen from a point R, the segments at a vertex V cut the plane around V
+segments leaving it, and of every segment it abuts (lies within `abut` of: a T-junction, a wall
+rectangle's corner on another's face, a table a few cm off a wall) both ways, or the one way
+along it when near that segment's end. Seen from a point R, the segments at a vertex V cut the plane around V
 into sectors; R lies in one of them, of angular width w:
 - w < pi - tol: R looks into the corner: **concave** (a room's inner corner);
 - w > pi + tol: the corner points at R: **convex** (the outer corner of a wall end, a jamb;
@@ -60,7 +62,7 @@ class Vertices:
     cache: dict = field(default_factory=dict, compare=False, repr=False)
 
 
-def vertex_graph(segments: np.ndarray, snap: float = 1e-3, abut: float = 0.01) -> Vertices:
+def vertex_graph(segments: np.ndarray, snap: float = 1e-3, abut: float = 0.03) -> Vertices:
     """End points closer than `snap` are one vertex. A vertex within `abut` of another segment
     (one not leaving it) is where two walls or polygons abut: it also gets
     that segment's directions, both ways on its inside (a T-junction, a rectangle's corner on
@@ -226,7 +228,7 @@ def door_openings(
     mouth_margin: float = 0.1,
     mouth_wall_length: float = 0.5,
     straight_tolerance: float = 0.15,
-    abut: float = 0.01,
+    abut: float = 0.03,
 ) -> np.ndarray:
     """The map's door openings (D, 4), each from one jamb to the other (see the module doc).
 
