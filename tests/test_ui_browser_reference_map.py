@@ -11,7 +11,15 @@ from pathlib import Path
 import pytest
 
 from pico_studio.ui import style
-from tests.ui_browser_helpers import CHROMIUM, CHROMIUM_ARGS, VIEWPORT, count_colour, free_port, screenshot, wait_until
+from tests.ui_browser_helpers import (
+    CHROMIUM,
+    CHROMIUM_ARGS,
+    VIEWPORT,
+    count_colour,
+    free_port,
+    screenshot,
+    wait_until,
+)
 
 pytestmark = pytest.mark.browser
 sync_api = pytest.importorskip("playwright.sync_api")
