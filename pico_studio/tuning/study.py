@@ -141,6 +141,12 @@ def _refuse_other(study: optuna.Study, spec: StudySpec, where: str, *, fresh: bo
         for k, v in want.items():
             study.set_user_attr(k, v)
         return
+    # a peer that has just made the study writes its attributes one at a time: a machine that
+    # joins in between sees some of them; wait (bounded) for the rest before comparing
+    deadline = time.monotonic() + 30.0
+    while set(want) - set(have) and time.monotonic() < deadline:
+        time.sleep(0.2)
+        have = study.user_attrs
     for key, what in (("space", "search space (--params)"), ("objective", "objective"),
                       ("max_ms", "--max-ms"), ("scenarios", "scenario set")):
         if have.get(key) != want[key]:
