@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
+from pico_studio.core.perception.identify_kernels import blocked_many, ray_hits
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall")
@@ -400,47 +401,23 @@ def wall_len_of(walls: np.ndarray, idx: np.ndarray) -> np.ndarray:
 
 
 def _blocked_many(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray) -> np.ndarray:
-    """(G,) bool: does a wall other than the gap's own two cross the middle 80% of the gap?"""
+    """(G,) bool: does a wall other than the gap's own two cross the middle 80% of the gap?
+    (The loop and its maths: identify_kernels.blocked_many.)"""
     if len(segs) == 0:
         return np.zeros(0, dtype=bool)
-    a = segs[:, 0:2] + 0.1 * (segs[:, 2:4] - segs[:, 0:2])
-    b = segs[:, 0:2] + 0.9 * (segs[:, 2:4] - segs[:, 0:2])
-    hit = _intersects(a[:, None, :], b[:, None, :], walls[None, :, 0:2], walls[None, :, 2:4])
-    k = np.arange(len(walls))[None, :]
-    hit &= (k != own_a[:, None]) & (k != own_b[:, None])
-    return hit.any(axis=1)
-
-
-def _intersects(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.ndarray:
-    def orient(p, q, r):  # noqa: ANN001, ANN202
-        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
-
-    o1, o2 = orient(a, b, c), orient(a, b, d)
-    o3, o4 = orient(c, d, a), orient(c, d, b)
-    return (o1 * o2 < 0) & (o3 * o4 < 0)
+    return blocked_many(np.ascontiguousarray(segs, dtype=float), np.ascontiguousarray(walls, dtype=float),
+                        np.ascontiguousarray(own_a, dtype=np.int64), np.ascontiguousarray(own_b, dtype=np.int64))
 
 
 def _ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray,
               exclude: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Nearest wall hit (distance, index; inf/-1 for none) of rays (R, 2) + t (R, 2); `exclude`:
-    per ray two wall indices not to hit."""
-    a = walls[None, :, 0:2]
-    e = walls[None, :, 2:4] - a
-    o = origin[:, None, :]
-    dr = direction[:, None, :]
-    den = dr[..., 0] * e[..., 1] - dr[..., 1] * e[..., 0]
-    ao = a - o
-    safe = np.where(np.abs(den) > 1e-12, den, 1.0)
-    t = (ao[..., 0] * e[..., 1] - ao[..., 1] * e[..., 0]) / safe
-    u = (ao[..., 0] * dr[..., 1] - ao[..., 1] * dr[..., 0]) / safe
-    ok = (np.abs(den) > 1e-12) & (t > 1e-6) & (u >= 0) & (u <= 1)
-    if exclude is not None:
-        k_all = np.arange(len(walls))[None, :]
-        ok &= (k_all != exclude[0][:, None]) & (k_all != exclude[1][:, None])
-    t = np.where(ok, t, np.inf)
-    k = np.argmin(t, axis=1)
-    best = t[np.arange(len(origin)), k]
-    return best, np.where(np.isfinite(best), k, -1)
+    per ray two wall indices not to hit. (The loop and its maths: identify_kernels.ray_hits.)"""
+    r = len(origin)
+    ex_a, ex_b = exclude if exclude is not None else (np.full(r, -1), np.full(r, -1))
+    return ray_hits(np.ascontiguousarray(origin, dtype=float), np.ascontiguousarray(direction, dtype=float),
+                    np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(ex_a, dtype=np.int64),
+                    np.ascontiguousarray(ex_b, dtype=np.int64))
 
 
 __all__ = ["CONNECTED", "DOOR_KINDS", "POSSIBLE_DOOR_KINDS", "Identified", "View", "identify", "object_walls"]

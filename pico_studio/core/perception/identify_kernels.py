@@ -1,0 +1,89 @@
+"""Identify's compiled loops: rays against walls, and gaps crossed by walls (identify.py's maths).
+
+Ray hits. A ray o + t r meets wall k (from a_k, e_k = b_k - a_k) where o + t r = a_k + u e_k:
+
+    den = r x e_k,   t = (a_k - o) x e_k / den,   u = (a_k - o) x r / den
+
+(x: the 2-D cross product). It hits when |den| > 1e-12 (not parallel), t > 1e-6 (ahead of
+the origin) and 0 <= u <= 1 (on the wall); the ray's answer is the smallest such t (the
+first such wall, as numpy's argmin) and its wall, or (inf, -1). Two walls per ray may be
+left out (`ex_a`, `ex_b`; -1: none).
+
+Gaps crossed. Wall k (c, d) crosses the middle 80% of a gap (p, q) — from a = p + 0.1 (q - p)
+to b = p + 0.9 (q - p) — when each segment's ends lie strictly on both sides of the other's
+line: orient(a, b, c) orient(a, b, d) < 0 and orient(c, d, a) orient(c, d, b) < 0, with
+orient(p, q, r) = (q - p) x (r - p). The gap's own two walls do not count.
+
+The same floating-point operations in the same order as the numpy they replace, so the
+answers are the same to the last bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pico_studio.jit import kernel
+
+
+def _example_rays() -> tuple:
+    walls = np.array([[1.0, -1.0, 1.0, 1.0], [2.0, -1.0, 2.0, 1.0]])
+    origin = np.zeros((2, 2))
+    direction = np.array([[1.0, 0.0], [0.0, 1.0]])
+    return origin, direction, walls, np.array([-1, 0], dtype=np.int64), np.array([-1, -1], dtype=np.int64)
+
+
+@kernel(_example_rays)
+def ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray, ex_a: np.ndarray,
+             ex_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(nearest hit distance (R,), its wall (R,) int64; inf / -1 for none)."""
+    n_rays, n_walls = origin.shape[0], walls.shape[0]
+    best = np.full(n_rays, np.inf)
+    best_k = np.full(n_rays, -1, dtype=np.int64)
+    for i in range(n_rays):
+        ox, oy = origin[i, 0], origin[i, 1]
+        rx, ry = direction[i, 0], direction[i, 1]
+        for k in range(n_walls):
+            if k == ex_a[i] or k == ex_b[i]:
+                continue
+            ax, ay = walls[k, 0], walls[k, 1]
+            ex, ey = walls[k, 2] - ax, walls[k, 3] - ay
+            den = rx * ey - ry * ex
+            if not abs(den) > 1e-12:
+                continue
+            aox, aoy = ax - ox, ay - oy
+            t = (aox * ey - aoy * ex) / den
+            u = (aox * ry - aoy * rx) / den
+            if t > 1e-6 and u >= 0 and u <= 1 and t < best[i]:  # strict: the first smallest
+                best[i] = t
+                best_k[i] = k
+    return best, best_k
+
+
+def _example_blocked() -> tuple:
+    segs = np.array([[0.0, 0.0, 2.0, 0.0]])
+    walls = np.array([[1.0, -1.0, 1.0, 1.0], [0.0, 0.0, 0.0, 1.0]])
+    return segs, walls, np.array([1], dtype=np.int64), np.array([1], dtype=np.int64)
+
+
+@kernel(_example_blocked)
+def blocked_many(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray) -> np.ndarray:
+    """(G,) bool: does a wall other than the gap's own two cross the middle 80% of the gap?"""
+    g, n_walls = segs.shape[0], walls.shape[0]
+    out = np.zeros(g, dtype=np.bool_)
+    for m in range(g):
+        ax = segs[m, 0] + 0.1 * (segs[m, 2] - segs[m, 0])
+        ay = segs[m, 1] + 0.1 * (segs[m, 3] - segs[m, 1])
+        bx = segs[m, 0] + 0.9 * (segs[m, 2] - segs[m, 0])
+        by = segs[m, 1] + 0.9 * (segs[m, 3] - segs[m, 1])
+        for k in range(n_walls):
+            if k == own_a[m] or k == own_b[m]:
+                continue
+            cx, cy, dx, dy = walls[k, 0], walls[k, 1], walls[k, 2], walls[k, 3]
+            o1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+            o2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax)
+            o3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx)
+            o4 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx)
+            if o1 * o2 < 0 and o3 * o4 < 0:
+                out[m] = True
+                break
+    return out
