@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
-from pico_studio.core.perception.identify_kernels import blocked_many, ray_hits
+from pico_studio.core.perception.identify_kernels import blocked_many, door_pairs, ray_hits
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall")
@@ -177,48 +177,25 @@ def _doors(
     far = connected[wi, 1 - we]
     long = lengths[wi] >= params.door_wall_min_length
     stub = ~long & (far >= 0) & (lengths[np.maximum(far, 0)] >= params.door_wall_min_length)
-    # only pairs of a door's width apart can be anything: find those first, then test
-    # everything else on that short list of pairs (ia, ja), ia < ja
-    diff = pts[None, :, :] - pts[:, None, :]
-    dist_all = np.hypot(diff[..., 0], diff[..., 1])
-    width_ok = (dist_all >= params.door_min_width) & (dist_all <= params.door_max_width)
-    ia, ja = np.nonzero(width_ok)
-    upper = ia < ja
-    ia, ja = ia[upper], ja[upper]
+    # the pairs (ia, ja), ia < ja, a door's width apart that may be a door or a possible door:
+    # the gap continues one wall's line (the other point ahead of its end, within door_angle
+    # and door_offset), and the other point's wall either comes back along that line or
+    # stands across it (the end cap of a thick wall seen from the side, when the face beyond
+    # the gap is out of view); the tests and their maths: identify_kernels.door_pairs
+    ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
+        np.ascontiguousarray(pts), np.ascontiguousarray(out_dir), wi.astype(np.int64), we.astype(np.int64),
+        np.ascontiguousarray(is_convex), np.ascontiguousarray(long), np.ascontiguousarray(stub),
+        np.ascontiguousarray(connected, dtype=np.int64), float(params.door_min_width),
+        float(params.door_max_width), float(params.door_angle), float(params.door_offset),
+        float(params.door_offset_short))
     doors: list[list[float]] = []
     door_kinds: list[str] = []
     possible: list[np.ndarray] = []
     kinds: list[str] = []
     if len(ia):
-        pq = pts[ja] - pts[ia]  # P_i -> P_j
-        dist = dist_all[ia, ja]
-        u = pq / dist[:, None]
-        oi, oj = out_dir[ia], out_dir[ja]
-        # offsets of P_j from wall i's line and of P_i from wall j's line
-        off_ij = np.abs(pq[:, 0] * oi[:, 1] - pq[:, 1] * oi[:, 0])
-        off_ji = np.abs(pq[:, 0] * oj[:, 1] - pq[:, 1] * oj[:, 0])
-        ui, uj = (u * oi).sum(1), (u * oj).sum(1)  # cosines of the gap with each wall's outward
-        base = (wi[ia] != wi[ja]) & (connected[wi[ia], we[ia]] != wi[ja])
-        cos_a, sin_a = math.cos(params.door_angle), math.sin(params.door_angle)
-        # door: the gap continues one wall's line (the other point ahead of its end, within
-        # door_angle and door_offset), and the other point's wall either comes back along that
-        # line or stands across it (the end cap of a thick wall seen from the side, when the
-        # face beyond the gap is out of view)
-        short = params.door_offset_short
-        line_i = (ui > cos_a) & (((off_ij < params.door_offset) & long[ia]) | ((off_ij < short) & stub[ia]))
-        line_j = (-uj > cos_a) & (((off_ji < params.door_offset) & long[ja]) | ((off_ji < short) & stub[ja]))
-        door_ij = line_i & ((-uj > cos_a) | (np.abs(uj) < sin_a))
-        door_ji = line_j & ((ui > cos_a) | (np.abs(ui) < sin_a))
-        both_convex = is_convex[ia] & is_convex[ja]
-        is_door = base & both_convex & (door_ij | door_ji)
-        collinear = (np.abs((oi * oj).sum(1)) > cos_a) & (off_ij < params.door_offset) & (off_ji < params.door_offset)
-        facing = (ui > 0) & (uj < 0)
-        is_possible = base & collinear & facing & ~both_convex
         segs = np.concatenate([pts[ia], pts[ja]], axis=1)
-        blocked = np.zeros(len(ia), dtype=bool)
-        some = np.flatnonzero(is_door | is_possible)
-        blocked[some] = _blocked_many(segs[some], walls, wi[ia[some]], wi[ja[some]])
-        some = np.flatnonzero((is_door | is_possible) & ~blocked)
+        blocked = _blocked_many(segs, walls, wi[ia], wi[ja])
+        some = np.flatnonzero(~blocked)
         blocked[some] = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
         # best aligned first; a later door from the same point in about the same direction is
         # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)

@@ -20,6 +20,8 @@ answers are the same to the last bit.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from pico_studio.jit import kernel
@@ -87,3 +89,69 @@ def blocked_many(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: 
                 out[m] = True
                 break
     return out
+
+
+def _example_pairs() -> tuple:
+    pts = np.array([[0.0, 0.0], [0.9, 0.0], [0.9, 1.0]])
+    out_dir = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0]])
+    wi = np.array([0, 1, 2], dtype=np.int64)
+    we = np.array([1, 0, 0], dtype=np.int64)
+    is_convex = np.array([True, True, False])
+    long = np.array([True, True, True])
+    stub = np.array([False, False, False])
+    connected = np.full((3, 2), -1, dtype=np.int64)
+    return pts, out_dir, wi, we, is_convex, long, stub, connected, 0.6, 1.2, 0.3, 0.1, 0.05
+
+
+@kernel(_example_pairs)
+def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
+               long: np.ndarray, stub: np.ndarray, connected: np.ndarray, min_width: float, max_width: float,
+               angle: float, offset: float, offset_short: float,
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The pairs (i < j, in row order) of door-point candidates P_i, P_j (wall wi, end we,
+    outward direction o) that may be a door or a possible door: (i, j, off_ij, off_ji,
+    is_door, is_possible) of those pairs only.
+
+    With pq = P_j - P_i, d = |pq|, u = pq / d: a pair counts when min_width <= d <= max_width
+    and the points lie on different, unconnected walls. off_ij = |pq x o_i| (P_j from wall
+    i's line), off_ji = |pq x o_j|; u_i = u . o_i, u_j = u . o_j. Wall i's line continues
+    through the gap when u_i > cos(angle) and off_ij < offset (a long wall) or < offset_short
+    (a stub); wall j's when -u_j > cos(angle) likewise. A door: both convex, and one wall's
+    line continues with the other wall coming back along it (-u_j > cos, resp. u_i > cos) or
+    standing across it (|u_j| < sin(angle), resp. |u_i|). A possible door: not both convex,
+    the two walls collinear (|o_i . o_j| > cos, both offsets < offset) and facing (u_i > 0,
+    u_j < 0)."""
+    n = pts.shape[0]
+    cos_a, sin_a = math.cos(angle), math.sin(angle)
+    cap = n * (n - 1) // 2
+    oi_, oj_ = np.empty(cap, dtype=np.int64), np.empty(cap, dtype=np.int64)
+    off_a, off_b = np.empty(cap), np.empty(cap)
+    door, possible = np.empty(cap, dtype=np.bool_), np.empty(cap, dtype=np.bool_)
+    m = 0
+    for i in range(n):
+        for j in range(i + 1, n):
+            px, py = pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1]
+            dist = math.hypot(px, py)
+            if not (dist >= min_width and dist <= max_width):
+                continue
+            if wi[i] == wi[j] or connected[wi[i], we[i]] == wi[j]:
+                continue
+            ux, uy = px / dist, py / dist
+            off_ij = abs(px * out_dir[i, 1] - py * out_dir[i, 0])
+            off_ji = abs(px * out_dir[j, 1] - py * out_dir[j, 0])
+            ui = ux * out_dir[i, 0] + uy * out_dir[i, 1]
+            uj = ux * out_dir[j, 0] + uy * out_dir[j, 1]
+            line_i = ui > cos_a and ((off_ij < offset and long[i]) or (off_ij < offset_short and stub[i]))
+            line_j = -uj > cos_a and ((off_ji < offset and long[j]) or (off_ji < offset_short and stub[j]))
+            door_ij = line_i and (-uj > cos_a or abs(uj) < sin_a)
+            door_ji = line_j and (ui > cos_a or abs(ui) < sin_a)
+            both_convex = is_convex[i] and is_convex[j]
+            is_door = both_convex and (door_ij or door_ji)
+            collinear = (abs(out_dir[i, 0] * out_dir[j, 0] + out_dir[i, 1] * out_dir[j, 1]) > cos_a
+                         and off_ij < offset and off_ji < offset)
+            is_possible = collinear and ui > 0 and uj < 0 and not both_convex
+            if not (is_door or is_possible):
+                continue
+            oi_[m], oj_[m], off_a[m], off_b[m], door[m], possible[m] = i, j, off_ij, off_ji, is_door, is_possible
+            m += 1
+    return oi_[:m].copy(), oj_[:m].copy(), off_a[:m].copy(), off_b[:m].copy(), door[:m].copy(), possible[:m].copy()
