@@ -1,0 +1,146 @@
+"""Merge's compiled loops: near pairs, and connecting wall ends into corners (merge.py's maths).
+
+Near pairs. Walls i != k whose bounding boxes, grown by r, overlap — in row order (i, then
+k), as numpy's nonzero lists them: the only pairs that can merge or connect.
+
+Corner candidates. For a pair (i, k) of walls from p_i with unit direction d_i and length
+l_i, the lines cross where p_i + s d_i = p_k + u d_k:
+
+    c = d_i x d_k,   s = (p_k - p_i) x d_k / c,   u = (p_k - p_i) x d_i / c
+
+(c replaced by 1 when |c| <= 1e-9). The crossing's distance from i's nearer end is
+|s - l_i| (end 1, s > l_i / 2) or |s| (end 0), likewise for k. The pair is an end-to-end
+corner when |c| > sin(connect_min_angle) and both distances are below r; a T (i's end on
+k's inside) when i's distance is below r and -r < u < l_k + r instead. Its cost: the two
+distances, plus r for each tentative wall (seen fewer than `confirm_hits` times).
+
+Connecting. Corners in order of cost, then T's in order of i's distance, each taking ends
+still free: the corner is the crossing x = p_i + s d_i pulled towards the previous corner
+(the mean of the two ends) by the end weight w = min(max(w_i, w_k), max_weight):
+(w prev + x) / (w + 1); a T pulls i's end towards x alike. Ends read p_i from the walls as
+they move, so a moved end moves later crossings (the order matters, as in the Python).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pico_studio.jit import kernel
+
+
+def _example_walls() -> tuple:
+    return np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.05, 1.0, 1.0], [3.0, 3.0, 4.0, 3.0]]), 0.1
+
+
+@kernel(_example_walls)
+def near_pairs(walls: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
+    """Ordered pairs (i, k), i != k, whose bounding boxes grown by r overlap."""
+    n = walls.shape[0]
+    lo = np.empty((n, 2))
+    hi = np.empty((n, 2))
+    for i in range(n):
+        for c in range(2):
+            lo[i, c] = min(walls[i, c], walls[i, 2 + c]) - r
+            hi[i, c] = max(walls[i, c], walls[i, 2 + c]) + r
+    ia = np.empty(n * n, dtype=np.int64)
+    ka = np.empty(n * n, dtype=np.int64)
+    m = 0
+    for i in range(n):
+        for k in range(n):
+            if (i != k and lo[i, 0] <= hi[k, 0] and lo[k, 0] <= hi[i, 0]
+                    and lo[i, 1] <= hi[k, 1] and lo[k, 1] <= hi[i, 1]):
+                ia[m], ka[m] = i, k
+                m += 1
+    return ia[:m].copy(), ka[:m].copy()
+
+
+def _example_candidates() -> tuple:
+    walls, r = _example_walls()
+    ia, ka = np.array([0, 1], dtype=np.int64), np.array([1, 0], dtype=np.int64)
+    return walls, ia, ka, np.array([1.0, 3.0, 2.0]), r, 0.5, 2.0
+
+
+@kernel(_example_candidates)
+def connect_candidates(walls: np.ndarray, ia: np.ndarray, ka: np.ndarray, hits: np.ndarray, r: float,
+                       sin_min: float, confirm_hits: float) -> tuple:
+    """Per pair: (directions d (W, 2), ends ei, ek (P,) int64, s (P,), i's distance (P,),
+    cost (P,), end-to-end (P,) bool, T (P,) bool)."""
+    n, p = walls.shape[0], ia.shape[0]
+    d = np.empty((n, 2))
+    length = np.empty(n)
+    for i in range(n):
+        dx, dy = walls[i, 2] - walls[i, 0], walls[i, 3] - walls[i, 1]
+        length[i] = math.hypot(dx, dy)
+        den = max(length[i], 1e-12)
+        d[i, 0], d[i, 1] = dx / den, dy / den
+    ei, ek = np.empty(p, dtype=np.int64), np.empty(p, dtype=np.int64)
+    s_out, dist_out, cost = np.empty(p), np.empty(p), np.empty(p)
+    end_end, t_join = np.empty(p, dtype=np.bool_), np.empty(p, dtype=np.bool_)
+    for m in range(p):
+        i, k = ia[m], ka[m]
+        cross = d[i, 0] * d[k, 1] - d[i, 1] * d[k, 0]
+        fx, fy = walls[k, 0] - walls[i, 0], walls[k, 1] - walls[i, 1]
+        safe = cross if abs(cross) > 1e-9 else 1.0
+        s = (fx * d[k, 1] - fy * d[k, 0]) / safe
+        u = (fx * d[i, 1] - fy * d[i, 0]) / safe
+        li, lk = length[i], length[k]
+        ei[m] = 1 if s > li / 2 else 0
+        ek[m] = 1 if u > lk / 2 else 0
+        dist_i = abs(s - li) if ei[m] == 1 else abs(s)
+        dist_k = abs(u - lk) if ek[m] == 1 else abs(u)
+        sin_ok = abs(cross) > sin_min
+        end_end[m] = sin_ok and dist_i < r and dist_k < r
+        t_join[m] = sin_ok and dist_i < r and u > -r and u < lk + r and not end_end[m]
+        weak_i = r if hits[i] < confirm_hits else 0.0
+        weak_k = r if hits[k] < confirm_hits else 0.0
+        cost[m] = dist_i + dist_k + weak_i + weak_k
+        s_out[m], dist_out[m] = s, dist_i
+    return d, ei, ek, s_out, dist_out, cost, end_end, t_join
+
+
+def _example_walk() -> tuple:
+    walls, _ = _example_walls()
+    d = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 0.0]])
+    one = np.array([0], dtype=np.int64)
+    return (walls.copy(), d, np.zeros((3, 2)), np.zeros((3, 2), dtype=np.bool_), np.array([0, 1], dtype=np.int64),
+            np.array([1, 0], dtype=np.int64), np.array([1, 0], dtype=np.int64), np.array([0, 1], dtype=np.int64),
+            np.array([1.0, 0.05]), one, np.zeros(0, dtype=np.int64), 5.0)
+
+
+@kernel(_example_walk)
+def connect_walk(walls: np.ndarray, d: np.ndarray, old_weight: np.ndarray, seen: np.ndarray, ia: np.ndarray,
+                 ka: np.ndarray, ei: np.ndarray, ek: np.ndarray, s: np.ndarray, pairs: np.ndarray,
+                 tees: np.ndarray, cap: float) -> tuple[np.ndarray, np.ndarray]:
+    """Connect the corners `pairs` then the T's `tees` (pair indices, in order), moving
+    `walls` and clearing `seen` in place: (connected (W, 2) int64, end weights (W, 2))."""
+    n = walls.shape[0]
+    conn = np.full((n, 2), -1, dtype=np.int64)
+    ew = np.zeros((n, 2))
+    for m in pairs:
+        i, k, a, b = ia[m], ka[m], ei[m], ek[m]
+        if conn[i, a] >= 0 or conn[k, b] >= 0:
+            continue
+        xx, xy = walls[i, 0] + s[m] * d[i, 0], walls[i, 1] + s[m] * d[i, 1]
+        px = (walls[i, 2 * a] + walls[k, 2 * b]) / 2
+        py = (walls[i, 2 * a + 1] + walls[k, 2 * b + 1]) / 2
+        wt = min(max(old_weight[i, a], old_weight[k, b]), cap)
+        cx, cy = (wt * px + xx) / (wt + 1.0), (wt * py + xy) / (wt + 1.0)
+        walls[i, 2 * a], walls[i, 2 * a + 1] = cx, cy
+        walls[k, 2 * b], walls[k, 2 * b + 1] = cx, cy
+        conn[i, a], conn[k, b] = k, i
+        ew[i, a] = ew[k, b] = wt + 1.0
+        seen[i, a] = seen[k, b] = False
+    for m in tees:
+        i, k, a = ia[m], ka[m], ei[m]
+        if conn[i, a] >= 0:
+            continue
+        xx, xy = walls[i, 0] + s[m] * d[i, 0], walls[i, 1] + s[m] * d[i, 1]
+        wt = min(old_weight[i, a], cap)
+        walls[i, 2 * a] = (wt * walls[i, 2 * a] + xx) / (wt + 1.0)
+        walls[i, 2 * a + 1] = (wt * walls[i, 2 * a + 1] + xy) / (wt + 1.0)
+        conn[i, a] = k
+        ew[i, a] = wt + 1.0
+        seen[i, a] = False
+    return conn, ew
