@@ -131,7 +131,7 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     for i in range(n):
         for j in range(i + 1, n):
             px, py = pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1]
-            dist = math.hypot(px, py)
+            dist = np.hypot(px, py)
             if not (dist >= min_width and dist <= max_width):
                 continue
             if wi[i] == wi[j] or connected[wi[i], we[i]] == wi[j]:

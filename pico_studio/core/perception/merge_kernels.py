@@ -23,8 +23,6 @@ they move, so a moved end moves later crossings (the order matters, as in the Py
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from pico_studio.jit import kernel
@@ -72,7 +70,7 @@ def connect_candidates(walls: np.ndarray, ia: np.ndarray, ka: np.ndarray, hits: 
     length = np.empty(n)
     for i in range(n):
         dx, dy = walls[i, 2] - walls[i, 0], walls[i, 3] - walls[i, 1]
-        length[i] = math.hypot(dx, dy)
+        length[i] = np.hypot(dx, dy)
         den = max(length[i], 1e-12)
         d[i, 0], d[i, 1] = dx / den, dy / den
     ei, ek = np.empty(p, dtype=np.int64), np.empty(p, dtype=np.int64)

@@ -1,0 +1,73 @@
+"""Identify's and merge's compiled loops give the answers of their own Python (`.py_func`) on
+the very arguments the perceptor passes them on real hospital_2019 scans."""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import pytest
+
+from pico_studio import jit
+from pico_studio.config import Config
+from pico_studio.core.perception import Perceptor, identify, merge
+from tests.jit_scenes import hospital_frames
+
+KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs"),
+           merge: ("near_pairs", "connect_candidates", "connect_walk")}
+
+
+@pytest.fixture(scope="module")
+def calls() -> dict[str, list[tuple]]:
+    """Every call of each kernel while a perceptor sees each of 8 real scans four times
+    (so the local map fuses, merges and connects walls it has seen before)."""
+    recorded: dict[str, list[tuple]] = {name: [] for names in KERNELS.values() for name in names}
+    mp = pytest.MonkeyPatch()
+
+    def recorder(name: str, fn: Callable[..., Any]) -> Callable[..., Any]:
+        def call(*args: Any) -> Any:
+            recorded[name].append(copy.deepcopy(args))
+            return fn(*args)
+        return call
+
+    for module, names in KERNELS.items():
+        for name in names:
+            mp.setattr(module, name, recorder(name, getattr(module, name)))
+    try:
+        params = Config().perception
+        for _, laser, odom in hospital_frames(8):
+            p = Perceptor(params)
+            for _ in range(4):
+                p.step(laser, odom)
+    finally:
+        mp.undo()
+    return recorded
+
+
+def _same(a: Any, b: Any) -> None:
+    a, b = (a if isinstance(a, tuple) else (a,)), (b if isinstance(b, tuple) else (b,))
+    assert len(a) == len(b)
+    for x, y in zip(map(np.asarray, a), map(np.asarray, b), strict=True):
+        assert x.dtype == y.dtype and x.shape == y.shape
+        np.testing.assert_array_equal(x, y)  # the same floats, to the last bit
+
+
+@pytest.mark.parametrize("module,name", [(m, n) for m, names in KERNELS.items() for n in names])
+def test_kernel_equals_its_python_on_real_scans(calls: dict[str, list[tuple]], module: Any, name: str):
+    kernel = getattr(module, name)
+    assert calls[name], f"{name} was never called on the hospital scans"
+    answered = 0
+    for args in calls[name]:
+        mine, theirs = copy.deepcopy(args), copy.deepcopy(args)  # connect_walk moves its inputs
+        got = kernel(*mine)
+        _same(got, jit.py_func(kernel)(*theirs))
+        _same(mine, theirs)  # and moves them alike
+        answered += sum(len(x) for x in (got if isinstance(got, tuple) else (got,)))
+    assert answered > 0  # real work, not only empty inputs
+
+
+def test_doors_found_on_real_scans(calls: dict[str, list[tuple]]):
+    """The door-pair test is not vacuous: on hospital scans some pairs are doors."""
+    assert any(out[4].any() for out in (identify.door_pairs(*a) for a in calls["door_pairs"]))
