@@ -15,7 +15,7 @@ from pico_studio.config import Config
 from pico_studio.core.perception import Perceptor, identify, merge
 from tests.jit_scenes import hospital_frames
 
-KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs"),
+KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed"),
            merge: ("near_pairs", "connect_candidates", "connect_walk")}
 
 

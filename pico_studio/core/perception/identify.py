@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
-from pico_studio.core.perception.identify_kernels import blocked_many, door_pairs, ray_hits
+from pico_studio.core.perception.identify_kernels import backed, blocked_many, door_pairs, ray_hits
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall")
@@ -292,72 +292,18 @@ def _backed(
     if g == 0:
         return np.zeros(0, dtype=bool)
     face_end = np.zeros(g, dtype=bool) if face_end is None else face_end
-    fr = np.array([0.2, 0.35, 0.5, 0.65, 0.8])
-    sample = segs[:, None, 0:2] + fr[None, :, None] * (segs[:, None, 2:4] - segs[:, None, 0:2])  # (G, 5, 2)
-    origin = np.array(robot, dtype=float)
-    rel = sample - origin
-    dist = np.hypot(rel[..., 0], rel[..., 1])
-    direction = rel / np.maximum(dist, 1e-12)[..., None]
-    # local map: the first wall along each ray (excluding the gap's own walls)
-    t, _ = _ray_hits(np.broadcast_to(origin, (g * 5, 2)), direction.reshape(-1, 2), walls,
-                     exclude=(np.repeat(own_a, 5), np.repeat(own_b, 5)))
-    reach = t.reshape(g, 5)
-    known = np.ones((g, 5), dtype=bool)
-    if view is not None and len(view.ranges) > 1:  # the scan, where it looks through the gap
-        in_view, scan_reach = _scan_reach(sample, dist, view)
-        reach = np.where(in_view, scan_reach, reach)
-        known = np.where(in_view, ~np.isnan(scan_reach), known)
-    with np.errstate(invalid="ignore"):
-        informative = known & (reach >= dist - params.door_occlusion)
-    # where each ray ends, in the gap's frame: along the gap (s) and behind it (n)
-    length = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
-    along = (segs[:, 2:4] - segs[:, 0:2]) / np.maximum(length, 1e-12)[:, None]
-    end = origin + np.where(np.isfinite(reach), reach, 0.0)[..., None] * direction
-    rel_end = end - segs[:, None, 0:2]
-    s_ = (rel_end * along[:, None, :]).sum(-1)
-    n_ = np.abs(rel_end[..., 0] * along[:, None, 1] - rel_end[..., 1] * along[:, None, 0])
-    m = params.door_occlusion
-    ended = informative & np.isfinite(reach)
-    # a ray ending at a jamb's side (|s| or |s - L| within m) cannot tell a bay's side from the
-    # face a T-opening ends on: it says nothing
-    near_first = np.abs(s_) < m
-    near_last = np.abs(s_ - length[:, None]) < m
-    side = ended & (near_first | near_last)
-    # ...unless it ends deeper behind the gap than a wall is thick, at a jamb that is a wall's
-    # end: then the jamb's side runs back from the gap, as a bay's does (the face a T-opening
-    # ends on runs across the gap line: its side says nothing at any depth)
-    deep_side = side & (n_ > params.jamb_cap_max) & (near_first | ~face_end[:, None])
-    informative &= ~side | deep_side
-    closed = ended & (n_ < params.door_depth) & ((~side & (s_ > 0) & (s_ < length[:, None])) | deep_side)
-    inf_n = informative.sum(axis=1)
-    return (inf_n > 0) & (closed.sum(axis=1) >= params.door_backed_share * inf_n)
-
-
-def _scan_reach(sample: np.ndarray, dist: np.ndarray, view: View) -> tuple[np.ndarray, np.ndarray]:
-    """Per sample: is its beam in view, and how far that beam reached (inf: no return or a
-    return beyond the sample; nan: an invalid beam that says nothing, e.g. too short)."""
-    x, y, a = view.pose
-    c, s_ = math.cos(a), math.sin(a)
-    rel = sample - np.array([x, y])
-    bx = c * rel[..., 0] + s_ * rel[..., 1]
-    by = -s_ * rel[..., 0] + c * rel[..., 1]
-    bearing = np.arctan2(by, bx)
-    a0 = float(view.angles[0])
-    inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
-    if inc == 0 or not math.isfinite(inc):
-        return np.zeros(dist.shape, dtype=bool), np.full(dist.shape, np.nan)
-    n = len(view.ranges)
-    beam = np.rint((bearing - a0) / inc).astype(np.int64)
-    wrap = 2 * math.pi / abs(inc)  # a full-circle scan: bearings just past the last beam
-    beam = np.where((beam >= n) & (beam - wrap > -1), np.rint(beam - wrap).astype(np.int64), beam)
-    in_view = (beam >= 0) & (beam < n)
-    bc = np.clip(beam, 0, n - 1)
-    raw = view.ranges[bc]
-    valid = view.valid[bc]
-    # an invalid beam reached far when it returned nothing or beyond the sample, else unknown
-    far_invalid = ~valid & ~(np.isfinite(raw) & (raw > 0) & (raw < dist))
-    reach = np.where(valid, raw, np.where(far_invalid, np.inf, np.nan))
-    return in_view, reach
+    # the loop and its maths: identify_kernels.backed
+    has_view, ranges, valid, pose, a0, inc = False, np.zeros(0), np.zeros(0, dtype=bool), (0.0, 0.0, 0.0), 0.0, 0.0
+    if view is not None and len(view.ranges) > 1:
+        a0 = float(view.angles[0])
+        inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
+        has_view = inc != 0 and math.isfinite(inc)  # else no beam is in view
+        ranges, valid, pose = np.ascontiguousarray(view.ranges, dtype=float), np.ascontiguousarray(view.valid, dtype=bool), view.pose
+    return backed(np.ascontiguousarray(segs, dtype=float), np.ascontiguousarray(walls, dtype=float),
+                  np.ascontiguousarray(own_a, dtype=np.int64), np.ascontiguousarray(own_b, dtype=np.int64),
+                  float(robot[0]), float(robot[1]), bool(has_view), ranges, valid, float(pose[0]), float(pose[1]),
+                  float(pose[2]), a0, inc, np.ascontiguousarray(face_end, dtype=bool), float(params.door_occlusion),
+                  float(params.door_depth), float(params.jamb_cap_max), float(params.door_backed_share))
 
 
 def _same_opening(a: list[float], b: list[float], max_angle: float = 0.5, tol: float = 1e-6) -> bool:

@@ -155,3 +155,102 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             oi_[m], oj_[m], off_a[m], off_b[m], door[m], possible[m] = i, j, off_ij, off_ji, is_door, is_possible
             m += 1
     return oi_[:m].copy(), oj_[:m].copy(), off_a[:m].copy(), off_b[:m].copy(), door[:m].copy(), possible[:m].copy()
+
+
+def _example_backed() -> tuple:
+    segs = np.array([[1.0, -0.5, 1.0, 0.5]])
+    walls = np.array([[1.0, -1.0, 1.0, -0.5], [1.0, 0.5, 1.0, 1.0], [2.0, -1.0, 2.0, 1.0]])
+    own = np.array([0], dtype=np.int64), np.array([1], dtype=np.int64)
+    ranges, valid = np.array([2.0, 2.0, 2.0]), np.array([True, True, False])
+    return (segs, walls, *own, 0.0, 0.0, True, ranges, valid, 0.0, 0.0, 0.0, -0.1, 0.1,
+            np.zeros(1, dtype=np.bool_), 0.1, 0.3, 0.12, 0.5)
+
+
+@kernel(_example_backed)
+def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, rx: float, ry: float,
+           has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
+           inc: float, face_end: np.ndarray, occlusion: float, depth: float, jamb_cap_max: float,
+           backed_share: float) -> np.ndarray:
+    """(G,) bool: is there no seeing through gap g? (identify._backed says what and why.)
+
+    Five samples q = p + f (p' - p), f in 0.2 .. 0.8, of each gap (p, p'); the ray from the
+    robot R through q has direction r = (q - R) / |q - R|. How far it reaches: the current
+    scan's beam at q's bearing (beam = rint((bearing - a0) / inc), wrapped once for a full
+    circle; an invalid beam reaches far when it returned nothing or beyond q, else says
+    nothing: nan) when that beam exists, else the first wall along the ray (ray_hits' maths,
+    the gap's two walls left out). A ray stopping short of |q - R| - occlusion says nothing.
+    Where the others end, in the gap's frame (s along from p, n across): a ray ending within
+    `occlusion` of a jamb's normal (|s| or |s - L|) says nothing unless deeper than
+    `jamb_cap_max` behind a jamb that is a wall's end; a ray is closed when it ends within
+    `depth` of the gap line between the jambs (or deep beside one). Backed when some rays
+    say something and at least `backed_share` of them are closed."""
+    g, n_walls, n_beams = segs.shape[0], walls.shape[0], ranges.shape[0]
+    out = np.zeros(g, dtype=np.bool_)
+    c, sn = math.cos(va), math.sin(va)
+    wrap = 2 * math.pi / abs(inc) if has_view else 0.0
+    for m in range(g):
+        length = np.hypot(segs[m, 2] - segs[m, 0], segs[m, 3] - segs[m, 1])
+        den = max(length, 1e-12)
+        alx, aly = (segs[m, 2] - segs[m, 0]) / den, (segs[m, 3] - segs[m, 1]) / den
+        inf_n = 0
+        closed_n = 0
+        for f in (0.2, 0.35, 0.5, 0.65, 0.8):
+            qx = segs[m, 0] + f * (segs[m, 2] - segs[m, 0])
+            qy = segs[m, 1] + f * (segs[m, 3] - segs[m, 1])
+            relx, rely = qx - rx, qy - ry
+            dist = np.hypot(relx, rely)
+            dd = max(dist, 1e-12)
+            dx, dy = relx / dd, rely / dd
+            # the local map: the first wall along the ray
+            reach = np.inf
+            for k in range(n_walls):
+                if k == own_a[m] or k == own_b[m]:
+                    continue
+                ax, ay = walls[k, 0], walls[k, 1]
+                ex, ey = walls[k, 2] - ax, walls[k, 3] - ay
+                dn = dx * ey - dy * ex
+                if not abs(dn) > 1e-12:
+                    continue
+                aox, aoy = ax - rx, ay - ry
+                t = (aox * ey - aoy * ex) / dn
+                u = (aox * dy - aoy * dx) / dn
+                if t > 1e-6 and u >= 0 and u <= 1 and t < reach:
+                    reach = t
+            known = True
+            if has_view:  # the scan, where it looks through the gap
+                sx, sy = qx - vx, qy - vy
+                bx = c * sx + sn * sy
+                by = -sn * sx + c * sy
+                bearing = np.arctan2(by, bx)
+                beam = np.rint((bearing - a0) / inc)
+                if beam >= n_beams and beam - wrap > -1:
+                    beam = np.rint(beam - wrap)
+                if beam >= 0 and beam < n_beams:
+                    b = int(beam)
+                    raw = ranges[b]
+                    if valid[b]:
+                        reach = raw
+                    elif not (np.isfinite(raw) and raw > 0 and raw < dist):
+                        reach = np.inf
+                    else:
+                        reach = np.nan
+                    known = not np.isnan(reach)
+            informative = known and reach >= dist - occlusion
+            finite = np.isfinite(reach)
+            r_ = reach if finite else 0.0
+            ex_, ey_ = rx + r_ * dx - segs[m, 0], ry + r_ * dy - segs[m, 1]
+            s_ = ex_ * alx + ey_ * aly
+            n_ = abs(ex_ * aly - ey_ * alx)
+            ended = informative and finite
+            near_first = abs(s_) < occlusion
+            near_last = abs(s_ - length) < occlusion
+            side = ended and (near_first or near_last)
+            deep_side = side and n_ > jamb_cap_max and (near_first or not face_end[m])
+            informative = informative and (not side or deep_side)
+            closed = ended and n_ < depth and ((not side and s_ > 0 and s_ < length) or deep_side)
+            if informative:
+                inf_n += 1
+            if closed:
+                closed_n += 1
+        out[m] = inf_n > 0 and closed_n >= backed_share * inf_n
+    return out
