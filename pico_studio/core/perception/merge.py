@@ -35,7 +35,12 @@ import numpy as np
 
 from pico_studio.config.perception_params import MergeParams
 from pico_studio.core.geometry import transform_segments
-from pico_studio.core.perception.merge_kernels import connect_candidates, connect_walk, near_pairs
+from pico_studio.core.perception.merge_kernels import (
+    connect_candidates,
+    connect_walk,
+    fuse,
+    near_pairs,
+)
 from pico_studio.core.perception.scan import ScanPoints
 from pico_studio.core.perception.segment import END_FLOATING, END_SEEN, Segments
 
@@ -176,39 +181,13 @@ def _associate(walls: np.ndarray, new: np.ndarray, params: MergeParams) -> np.nd
 
 
 def _fuse(w: _Work, i: np.ndarray, seg: np.ndarray, real: np.ndarray, seen: np.ndarray, params: MergeParams) -> None:
-    """Fuse new walls seg (ka, 4) into local walls i (ka,) (distinct), all at once."""
-    old = w.walls[i]
-    d_old, _ = _dir(old)
-    d_new, _ = _dir(seg)
-    flip = (d_new * d_old).sum(axis=1) < 0  # orient each new wall like its old one
-    seg = np.where(flip[:, None], seg[:, [2, 3, 0, 1]], seg)
-    d_new = np.where(flip[:, None], -d_new, d_new)
-    real = np.where(flip[:, None], real[:, ::-1], real)
-    seen = np.where(flip[:, None], seen[:, ::-1], seen)
-    wo = np.minimum(w.hits[i], params.max_weight)
-    da = np.arctan2(d_old[:, 0] * d_new[:, 1] - d_old[:, 1] * d_new[:, 0], (d_old * d_new).sum(axis=1))
-    ang = np.arctan2(d_old[:, 1], d_old[:, 0]) + da / (wo + 1.0)
-    d = np.column_stack([np.cos(ang), np.sin(ang)])
-    nrm = np.column_stack([-d[:, 1], d[:, 0]])
-    mid_old = (old[:, 0:2] + old[:, 2:4]) / 2
-    mid_new = (seg[:, 0:2] + seg[:, 2:4]) / 2
-    rho = (wo * (nrm * mid_old).sum(1) + (nrm * mid_new).sum(1)) / (wo + 1.0)
-    origin = rho[:, None] * nrm
-    a = np.column_stack([((old[:, 0:2] - origin) * d).sum(1), ((old[:, 2:4] - origin) * d).sum(1)])
-    b = np.column_stack([((seg[:, 0:2] - origin) * d).sum(1), ((seg[:, 2:4] - origin) * d).sum(1)])
-    beyond = (b - a) * np.array([-1.0, 1.0])  # > 0: the new wall reaches past the old end
-    old_seen = w.seen_end[i]
-    blend = (wo[:, None] * a + b) / (wo[:, None] + 1.0)
-    # a real end (seen past, or a corner of the scan) near the old end wins over a shorter
-    # floating old end, else pulls the old end by the weights; a floating end only extends
-    near_real = real & (beyond > -params.gap)
-    take_new = (beyond > params.gap) | ((beyond >= 0) & ~old_seen)
-    ends = np.where(near_real, np.where(take_new, b, blend), np.where(beyond > 0, b, a))
-    w.seen_end[i] = np.where(near_real, seen, np.where(beyond > params.gap, False, old_seen))
-    w.walls[i] = np.column_stack([origin + ends[:, 0:1] * d, origin + ends[:, 1:2] * d])
-    w.hits[i] += 1
-    w.last_seen[i] = w.step
-    w.missed[i] = 0
+    """Fuse new walls seg (ka, 4) into local walls i (ka,) (distinct), all at once; the
+    weighted line and the ends' rules with their maths: merge_kernels.fuse."""
+    for name in ("walls", "hits", "last_seen", "missed", "seen_end"):  # fused in place
+        setattr(w, name, np.ascontiguousarray(getattr(w, name)))
+    fuse(w.walls, w.hits, w.last_seen, w.missed, w.seen_end, np.ascontiguousarray(i, dtype=np.int64),
+         np.ascontiguousarray(seg, dtype=float), np.ascontiguousarray(real, dtype=bool),
+         np.ascontiguousarray(seen, dtype=bool), int(w.step), float(params.max_weight), float(params.gap))
 
 
 # ----- 4. merging local walls ----------------------------------------------------------------

@@ -142,3 +142,71 @@ def connect_walk(walls: np.ndarray, d: np.ndarray, old_weight: np.ndarray, seen:
         ew[i, a] = wt + 1.0
         seen[i, a] = False
     return conn, ew
+
+
+def _example_fuse() -> tuple:
+    walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.05, 1.0, 1.0]])
+    seg = np.array([[1.2, 0.02, 0.1, 0.01]])
+    real = np.array([[True, False]])
+    return (walls, np.array([3.0, 1.0]), np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64),
+            np.zeros((2, 2), dtype=np.bool_), np.array([0], dtype=np.int64), seg, real, real.copy(), 1, 5.0, 0.3)
+
+
+@kernel(_example_fuse)
+def fuse(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray, seen_end: np.ndarray,
+         idx: np.ndarray, seg: np.ndarray, real: np.ndarray, seen: np.ndarray, step: int, max_weight: float,
+         gap: float) -> None:
+    """Fuse new walls seg (K, 4) into local walls idx (K,) (distinct), in place.
+
+    Each new wall is oriented like its old one (flipped when d_new . d_old < 0). With the
+    old wall's weight w = min(hits, max_weight): the direction turns from the old one by
+    atan2(d_old x d_new, d_old . d_new) / (w + 1), the line's offset rho (along the normal
+    n) is the weighted mean (w n.mid_old + n.mid_new) / (w + 1). On that line, with old ends
+    at a and new ends at b (positions along d from rho n), `beyond` says how far the new
+    end reaches past the old one. A real new end (seen past, or a corner of the scan) no
+    further than `gap` inside: it wins when past the old end by more than `gap` (or past a
+    floating old end), else pulls the old end to (w a + b) / (w + 1). Any other new end only
+    extends the wall."""
+    for r in range(idx.shape[0]):
+        i = idx[r]
+        ox0, oy0, ox1, oy1 = walls[i, 0], walls[i, 1], walls[i, 2], walls[i, 3]
+        lo = max(np.hypot(ox1 - ox0, oy1 - oy0), 1e-12)
+        dox, doy = (ox1 - ox0) / lo, (oy1 - oy0) / lo
+        nx0, ny0, nx1, ny1 = seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3]
+        ln = max(np.hypot(nx1 - nx0, ny1 - ny0), 1e-12)
+        dnx, dny = (nx1 - nx0) / ln, (ny1 - ny0) / ln
+        real0, real1, seen0, seen1 = real[r, 0], real[r, 1], seen[r, 0], seen[r, 1]
+        if dnx * dox + dny * doy < 0:
+            nx0, ny0, nx1, ny1 = nx1, ny1, nx0, ny0
+            dnx, dny = -dnx, -dny
+            real0, real1, seen0, seen1 = real1, real0, seen1, seen0
+        wo = min(hits[i], max_weight)
+        da = np.arctan2(dox * dny - doy * dnx, dox * dnx + doy * dny)
+        ang = np.arctan2(doy, dox) + da / (wo + 1.0)
+        dx, dy = np.cos(ang), np.sin(ang)
+        mx, my = -dy, dx
+        rho = (wo * (mx * ((ox0 + ox1) / 2) + my * ((oy0 + oy1) / 2))
+               + (mx * ((nx0 + nx1) / 2) + my * ((ny0 + ny1) / 2))) / (wo + 1.0)
+        cx, cy = rho * mx, rho * my
+        a0, a1 = (ox0 - cx) * dx + (oy0 - cy) * dy, (ox1 - cx) * dx + (oy1 - cy) * dy
+        b0, b1 = (nx0 - cx) * dx + (ny0 - cy) * dy, (nx1 - cx) * dx + (ny1 - cy) * dy
+        out = np.empty(2)
+        for e in range(2):
+            a, b = (a0, b0) if e == 0 else (a1, b1)
+            beyond = (b - a) * (-1.0 if e == 0 else 1.0)
+            old_seen = seen_end[i, e]
+            blend = (wo * a + b) / (wo + 1.0)
+            is_real = real0 if e == 0 else real1
+            near_real = is_real and beyond > -gap
+            take_new = beyond > gap or (beyond >= 0 and not old_seen)
+            if near_real:
+                out[e] = b if take_new else blend
+                seen_end[i, e] = seen0 if e == 0 else seen1
+            else:
+                out[e] = b if beyond > 0 else a
+                seen_end[i, e] = False if beyond > gap else old_seen
+        walls[i, 0], walls[i, 1] = cx + out[0] * dx, cy + out[0] * dy
+        walls[i, 2], walls[i, 3] = cx + out[1] * dx, cy + out[1] * dy
+        hits[i] += 1
+        last_seen[i] = step
+        missed[i] = 0
