@@ -15,7 +15,7 @@ from pico_studio.config import Config
 from pico_studio.core.perception import Perceptor, identify, merge
 from tests.jit_scenes import hospital_frames
 
-KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed"),
+KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "object_groups"),
            merge: ("near_pairs", "connect_candidates", "connect_walk", "fuse")}
 
 

@@ -24,7 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
-from pico_studio.core.perception.identify_kernels import backed, blocked_many, door_pairs, ray_hits
+from pico_studio.core.perception.identify_kernels import (
+    backed,
+    blocked_many,
+    door_pairs,
+    object_groups,
+    ray_hits,
+)
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall")
@@ -122,27 +128,15 @@ def object_walls(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max
     n = len(walls)
     if n == 0 or max_size <= 0:
         return np.zeros(n, dtype=bool)
-    root = list(range(n))
-
-    def find(i: int) -> int:
-        while root[i] != i:
-            root[i] = root[root[i]]
-            i = root[i]
-        return i
-
-    for i, k in zip(*np.nonzero(connected >= 0), strict=True):
-        a, b = find(int(i)), find(int(connected[i, k]))
-        if a != b:
-            root[a] = b
-    group = np.array([find(i) for i in range(n)])
+    # the groups of connected walls, and which are small with no floating end (the loop:
+    # identify_kernels.object_groups); the depth across the main direction by SVD here
+    group, candidate = object_groups(np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
+                                     np.ascontiguousarray(prop, dtype=np.int64), float(max_size), FLOATING)
     pts = walls.reshape(n, 2, 2)
     out = np.zeros(n, dtype=bool)
-    for g in np.unique(group):
+    for g in np.unique(group[candidate]):
         members = group == g
         p = pts[members].reshape(-1, 2)
-        size = np.hypot(*(p.max(axis=0) - p.min(axis=0)))
-        if size > max_size or (prop[members] == FLOATING).any():
-            continue
         centred = p - p.mean(axis=0)
         minor = np.linalg.svd(centred, full_matrices=False)[2][-1]  # the main direction's normal
         depth = float(np.ptp(centred @ minor))

@@ -254,3 +254,55 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
                 closed_n += 1
         out[m] = inf_n > 0 and closed_n >= backed_share * inf_n
     return out
+
+
+def _example_groups() -> tuple:
+    walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 1.0, 1.0], [3.0, 3.0, 4.0, 3.0]])
+    connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    prop = np.array([[1, 2], [2, 1], [0, 0]], dtype=np.int64)
+    return walls, connected, prop, 2.0, 0
+
+
+@kernel(_example_groups)
+def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float,
+                  floating: int) -> tuple[np.ndarray, np.ndarray]:
+    """(group (W,) int64: a label shared by connected walls, candidate (W,) bool: the wall's
+    group spans at most `max_size` (its bounding box's diagonal) and none of its ends has the
+    property `floating`). Groups by union-find over the connections (path halving)."""
+    n = walls.shape[0]
+    root = np.arange(n)
+    for i in range(n):
+        for e in range(2):
+            k = connected[i, e]
+            if k < 0:
+                continue
+            a, b = i, k
+            while root[a] != a:
+                root[a] = root[root[a]]
+                a = root[a]
+            while root[b] != b:
+                root[b] = root[root[b]]
+                b = root[b]
+            if a != b:
+                root[a] = b
+    group = np.empty(n, dtype=np.int64)
+    lo_x, lo_y = np.full(n, np.inf), np.full(n, np.inf)
+    hi_x, hi_y = np.full(n, -np.inf), np.full(n, -np.inf)
+    loose = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        a = i
+        while root[a] != a:
+            root[a] = root[root[a]]
+            a = root[a]
+        group[i] = a
+        for e in range(2):
+            x, y = walls[i, 2 * e], walls[i, 2 * e + 1]
+            lo_x[a], hi_x[a] = min(lo_x[a], x), max(hi_x[a], x)
+            lo_y[a], hi_y[a] = min(lo_y[a], y), max(hi_y[a], y)
+            if prop[i, e] == floating:
+                loose[a] = True
+    candidate = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        g = group[i]
+        candidate[i] = not (np.hypot(hi_x[g] - lo_x[g], hi_y[g] - lo_y[g]) > max_size) and not loose[g]
+    return group, candidate
