@@ -40,6 +40,7 @@ from pico_studio.core.perception.merge_kernels import (
     connect_walk,
     fuse,
     near_pairs,
+    see_through,
 )
 from pico_studio.core.perception.scan import ScanPoints
 from pico_studio.core.perception.segment import END_FLOATING, END_SEEN, Segments
@@ -319,31 +320,15 @@ def _see_through(w: _Work, pose: Pose, scan: ScanPoints, params: MergeParams) ->
     unseen = w.last_seen != w.step
     if not unseen.any():
         return
-    fr = np.array([0.2, 0.35, 0.5, 0.65, 0.8])
-    walls = w.walls[unseen]
-    pts = walls[:, None, 0:2] + fr[None, :, None] * (walls[:, None, 2:4] - walls[:, None, 0:2])
-    c, s_ = math.cos(pose[2]), math.sin(pose[2])
-    rel = pts - np.array(pose[:2])
-    x = c * rel[..., 0] + s_ * rel[..., 1]
-    y = -s_ * rel[..., 0] + c * rel[..., 1]
-    dist = np.hypot(x, y)
-    bearing = np.arctan2(y, x)
-    a0 = scan.angles[0]
-    inc = (scan.angles[-1] - a0) / (len(scan.angles) - 1)
-    if inc == 0 or not np.isfinite(inc):
+    a0 = float(scan.angles[0])
+    inc = (float(scan.angles[-1]) - a0) / (len(scan.angles) - 1)
+    if inc == 0 or not math.isfinite(inc):
         return
-    beam = np.rint((bearing - a0) / inc).astype(np.int64)
-    in_view = (beam >= 0) & (beam < len(scan.ranges))
-    bc = np.clip(beam, 0, len(scan.ranges) - 1)
-    measured = np.where(scan.valid[bc], scan.ranges[bc], np.inf)
-    through = in_view & (measured > dist + params.see_through)
-    blocked = in_view & ~through
-    passed = through.sum(axis=1) > blocked.sum(axis=1) + through.shape[1] // 2
-    # beams ending on the wall (not in front of it: an occluder says nothing) confirm it, so
-    # the count of see-through scans is one "in a row"
-    on_wall = (in_view & (np.abs(measured - dist) <= params.see_through)).sum(axis=1) > through.shape[1] // 2
-    idx = np.flatnonzero(unseen)
-    w.missed[idx] = np.where(passed, w.missed[idx] + 1, np.where(on_wall, 0, w.missed[idx]))
+    # the points, beams and counts with their maths: merge_kernels.see_through
+    w.missed = np.ascontiguousarray(w.missed, dtype=np.int64)
+    see_through(np.ascontiguousarray(w.walls, dtype=float), np.ascontiguousarray(unseen), w.missed,
+                float(pose[0]), float(pose[1]), float(pose[2]), np.ascontiguousarray(scan.ranges, dtype=float),
+                np.ascontiguousarray(scan.valid, dtype=bool), a0, inc, float(params.see_through))
 
 
 def drop_near(state: LocalMapState, places: np.ndarray, radius: float) -> LocalMapState:

@@ -23,6 +23,8 @@ they move, so a moved end moves later crossings (the order matters, as in the Py
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from pico_studio.jit import kernel
@@ -210,3 +212,50 @@ def fuse(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.
         hits[i] += 1
         last_seen[i] = step
         missed[i] = 0
+
+
+def _example_see_through() -> tuple:
+    walls = np.array([[1.0, -1.0, 1.0, 1.0], [3.0, 3.0, 4.0, 3.0]])
+    unseen = np.array([True, True])
+    ranges, valid = np.array([2.0, 2.0, 0.5]), np.array([True, True, False])
+    return walls, unseen, np.zeros(2, dtype=np.int64), 0.0, 0.0, 0.0, ranges, valid, -0.5, 0.5, 0.1
+
+
+@kernel(_example_see_through)
+def see_through(walls: np.ndarray, unseen: np.ndarray, missed: np.ndarray, px: float, py: float, pa: float,
+                ranges: np.ndarray, valid: np.ndarray, a0: float, inc: float, margin: float) -> None:
+    """Count, in place in `missed`, the scans the laser passed through each unseen wall.
+
+    Five points q of the wall (fractions 0.2 .. 0.8), in the robot's frame at distance |q|
+    and bearing atan2; the beam at that bearing (rint((bearing - a0) / inc)) measured m
+    (inf when invalid). A point is seen through when m > |q| + margin, else blocked; the
+    wall was passed when the seen-through points outnumber the blocked ones by more than
+    half the points (missed + 1). Beams ending on the wall (|m - |q|| <= margin) at more
+    than half the points confirm it (missed = 0): an occluder in front says nothing."""
+    n_beams = ranges.shape[0]
+    c, s_ = math.cos(pa), math.sin(pa)
+    for k in range(walls.shape[0]):
+        if not unseen[k]:
+            continue
+        through_n, blocked_n, on_n = 0, 0, 0
+        for f in (0.2, 0.35, 0.5, 0.65, 0.8):
+            rx = walls[k, 0] + f * (walls[k, 2] - walls[k, 0]) - px
+            ry = walls[k, 1] + f * (walls[k, 3] - walls[k, 1]) - py
+            x = c * rx + s_ * ry
+            y = -s_ * rx + c * ry
+            dist = np.hypot(x, y)
+            beam = np.rint((np.arctan2(y, x) - a0) / inc)
+            if not (beam >= 0 and beam < n_beams):
+                continue
+            b = int(beam)
+            measured = ranges[b] if valid[b] else np.inf
+            if measured > dist + margin:
+                through_n += 1
+            else:
+                blocked_n += 1
+            if abs(measured - dist) <= margin:
+                on_n += 1
+        if through_n > blocked_n + 5 // 2:
+            missed[k] += 1
+        elif on_n > 5 // 2:
+            missed[k] = 0
