@@ -47,6 +47,8 @@ KERNEL_MODULES = (
     "pico_studio.core.perception.segment_angle",
     "pico_studio.core.perception.segment_ransac",
     "pico_studio.core.perception.corners",
+    "pico_studio.core.perception.identify_kernels",
+    "pico_studio.core.perception.merge_kernels",
     "pico_studio.core.perception.laser_motion",
     "pico_studio.core.perception.scan_match_kernels",
     "pico_studio.core.localisation.match_kernels",

@@ -24,6 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
+from pico_studio.core.perception.identify_kernels import (
+    backed,
+    blocked_many,
+    door_pairs,
+    object_groups,
+    ray_hits,
+)
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall")
@@ -121,27 +128,15 @@ def object_walls(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max
     n = len(walls)
     if n == 0 or max_size <= 0:
         return np.zeros(n, dtype=bool)
-    root = list(range(n))
-
-    def find(i: int) -> int:
-        while root[i] != i:
-            root[i] = root[root[i]]
-            i = root[i]
-        return i
-
-    for i, k in zip(*np.nonzero(connected >= 0), strict=True):
-        a, b = find(int(i)), find(int(connected[i, k]))
-        if a != b:
-            root[a] = b
-    group = np.array([find(i) for i in range(n)])
+    # the groups of connected walls, and which are small with no floating end (the loop:
+    # identify_kernels.object_groups); the depth across the main direction by SVD here
+    group, candidate = object_groups(np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
+                                     np.ascontiguousarray(prop, dtype=np.int64), float(max_size), FLOATING)
     pts = walls.reshape(n, 2, 2)
     out = np.zeros(n, dtype=bool)
-    for g in np.unique(group):
+    for g in np.unique(group[candidate]):
         members = group == g
         p = pts[members].reshape(-1, 2)
-        size = np.hypot(*(p.max(axis=0) - p.min(axis=0)))
-        if size > max_size or (prop[members] == FLOATING).any():
-            continue
         centred = p - p.mean(axis=0)
         minor = np.linalg.svd(centred, full_matrices=False)[2][-1]  # the main direction's normal
         depth = float(np.ptp(centred @ minor))
@@ -176,48 +171,25 @@ def _doors(
     far = connected[wi, 1 - we]
     long = lengths[wi] >= params.door_wall_min_length
     stub = ~long & (far >= 0) & (lengths[np.maximum(far, 0)] >= params.door_wall_min_length)
-    # only pairs of a door's width apart can be anything: find those first, then test
-    # everything else on that short list of pairs (ia, ja), ia < ja
-    diff = pts[None, :, :] - pts[:, None, :]
-    dist_all = np.hypot(diff[..., 0], diff[..., 1])
-    width_ok = (dist_all >= params.door_min_width) & (dist_all <= params.door_max_width)
-    ia, ja = np.nonzero(width_ok)
-    upper = ia < ja
-    ia, ja = ia[upper], ja[upper]
+    # the pairs (ia, ja), ia < ja, a door's width apart that may be a door or a possible door:
+    # the gap continues one wall's line (the other point ahead of its end, within door_angle
+    # and door_offset), and the other point's wall either comes back along that line or
+    # stands across it (the end cap of a thick wall seen from the side, when the face beyond
+    # the gap is out of view); the tests and their maths: identify_kernels.door_pairs
+    ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
+        np.ascontiguousarray(pts), np.ascontiguousarray(out_dir), wi.astype(np.int64), we.astype(np.int64),
+        np.ascontiguousarray(is_convex), np.ascontiguousarray(long), np.ascontiguousarray(stub),
+        np.ascontiguousarray(connected, dtype=np.int64), float(params.door_min_width),
+        float(params.door_max_width), float(params.door_angle), float(params.door_offset),
+        float(params.door_offset_short))
     doors: list[list[float]] = []
     door_kinds: list[str] = []
     possible: list[np.ndarray] = []
     kinds: list[str] = []
     if len(ia):
-        pq = pts[ja] - pts[ia]  # P_i -> P_j
-        dist = dist_all[ia, ja]
-        u = pq / dist[:, None]
-        oi, oj = out_dir[ia], out_dir[ja]
-        # offsets of P_j from wall i's line and of P_i from wall j's line
-        off_ij = np.abs(pq[:, 0] * oi[:, 1] - pq[:, 1] * oi[:, 0])
-        off_ji = np.abs(pq[:, 0] * oj[:, 1] - pq[:, 1] * oj[:, 0])
-        ui, uj = (u * oi).sum(1), (u * oj).sum(1)  # cosines of the gap with each wall's outward
-        base = (wi[ia] != wi[ja]) & (connected[wi[ia], we[ia]] != wi[ja])
-        cos_a, sin_a = math.cos(params.door_angle), math.sin(params.door_angle)
-        # door: the gap continues one wall's line (the other point ahead of its end, within
-        # door_angle and door_offset), and the other point's wall either comes back along that
-        # line or stands across it (the end cap of a thick wall seen from the side, when the
-        # face beyond the gap is out of view)
-        short = params.door_offset_short
-        line_i = (ui > cos_a) & (((off_ij < params.door_offset) & long[ia]) | ((off_ij < short) & stub[ia]))
-        line_j = (-uj > cos_a) & (((off_ji < params.door_offset) & long[ja]) | ((off_ji < short) & stub[ja]))
-        door_ij = line_i & ((-uj > cos_a) | (np.abs(uj) < sin_a))
-        door_ji = line_j & ((ui > cos_a) | (np.abs(ui) < sin_a))
-        both_convex = is_convex[ia] & is_convex[ja]
-        is_door = base & both_convex & (door_ij | door_ji)
-        collinear = (np.abs((oi * oj).sum(1)) > cos_a) & (off_ij < params.door_offset) & (off_ji < params.door_offset)
-        facing = (ui > 0) & (uj < 0)
-        is_possible = base & collinear & facing & ~both_convex
         segs = np.concatenate([pts[ia], pts[ja]], axis=1)
-        blocked = np.zeros(len(ia), dtype=bool)
-        some = np.flatnonzero(is_door | is_possible)
-        blocked[some] = _blocked_many(segs[some], walls, wi[ia[some]], wi[ja[some]])
-        some = np.flatnonzero((is_door | is_possible) & ~blocked)
+        blocked = _blocked_many(segs, walls, wi[ia], wi[ja])
+        some = np.flatnonzero(~blocked)
         blocked[some] = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
         # best aligned first; a later door from the same point in about the same direction is
         # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
@@ -314,72 +286,18 @@ def _backed(
     if g == 0:
         return np.zeros(0, dtype=bool)
     face_end = np.zeros(g, dtype=bool) if face_end is None else face_end
-    fr = np.array([0.2, 0.35, 0.5, 0.65, 0.8])
-    sample = segs[:, None, 0:2] + fr[None, :, None] * (segs[:, None, 2:4] - segs[:, None, 0:2])  # (G, 5, 2)
-    origin = np.array(robot, dtype=float)
-    rel = sample - origin
-    dist = np.hypot(rel[..., 0], rel[..., 1])
-    direction = rel / np.maximum(dist, 1e-12)[..., None]
-    # local map: the first wall along each ray (excluding the gap's own walls)
-    t, _ = _ray_hits(np.broadcast_to(origin, (g * 5, 2)), direction.reshape(-1, 2), walls,
-                     exclude=(np.repeat(own_a, 5), np.repeat(own_b, 5)))
-    reach = t.reshape(g, 5)
-    known = np.ones((g, 5), dtype=bool)
-    if view is not None and len(view.ranges) > 1:  # the scan, where it looks through the gap
-        in_view, scan_reach = _scan_reach(sample, dist, view)
-        reach = np.where(in_view, scan_reach, reach)
-        known = np.where(in_view, ~np.isnan(scan_reach), known)
-    with np.errstate(invalid="ignore"):
-        informative = known & (reach >= dist - params.door_occlusion)
-    # where each ray ends, in the gap's frame: along the gap (s) and behind it (n)
-    length = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
-    along = (segs[:, 2:4] - segs[:, 0:2]) / np.maximum(length, 1e-12)[:, None]
-    end = origin + np.where(np.isfinite(reach), reach, 0.0)[..., None] * direction
-    rel_end = end - segs[:, None, 0:2]
-    s_ = (rel_end * along[:, None, :]).sum(-1)
-    n_ = np.abs(rel_end[..., 0] * along[:, None, 1] - rel_end[..., 1] * along[:, None, 0])
-    m = params.door_occlusion
-    ended = informative & np.isfinite(reach)
-    # a ray ending at a jamb's side (|s| or |s - L| within m) cannot tell a bay's side from the
-    # face a T-opening ends on: it says nothing
-    near_first = np.abs(s_) < m
-    near_last = np.abs(s_ - length[:, None]) < m
-    side = ended & (near_first | near_last)
-    # ...unless it ends deeper behind the gap than a wall is thick, at a jamb that is a wall's
-    # end: then the jamb's side runs back from the gap, as a bay's does (the face a T-opening
-    # ends on runs across the gap line: its side says nothing at any depth)
-    deep_side = side & (n_ > params.jamb_cap_max) & (near_first | ~face_end[:, None])
-    informative &= ~side | deep_side
-    closed = ended & (n_ < params.door_depth) & ((~side & (s_ > 0) & (s_ < length[:, None])) | deep_side)
-    inf_n = informative.sum(axis=1)
-    return (inf_n > 0) & (closed.sum(axis=1) >= params.door_backed_share * inf_n)
-
-
-def _scan_reach(sample: np.ndarray, dist: np.ndarray, view: View) -> tuple[np.ndarray, np.ndarray]:
-    """Per sample: is its beam in view, and how far that beam reached (inf: no return or a
-    return beyond the sample; nan: an invalid beam that says nothing, e.g. too short)."""
-    x, y, a = view.pose
-    c, s_ = math.cos(a), math.sin(a)
-    rel = sample - np.array([x, y])
-    bx = c * rel[..., 0] + s_ * rel[..., 1]
-    by = -s_ * rel[..., 0] + c * rel[..., 1]
-    bearing = np.arctan2(by, bx)
-    a0 = float(view.angles[0])
-    inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
-    if inc == 0 or not math.isfinite(inc):
-        return np.zeros(dist.shape, dtype=bool), np.full(dist.shape, np.nan)
-    n = len(view.ranges)
-    beam = np.rint((bearing - a0) / inc).astype(np.int64)
-    wrap = 2 * math.pi / abs(inc)  # a full-circle scan: bearings just past the last beam
-    beam = np.where((beam >= n) & (beam - wrap > -1), np.rint(beam - wrap).astype(np.int64), beam)
-    in_view = (beam >= 0) & (beam < n)
-    bc = np.clip(beam, 0, n - 1)
-    raw = view.ranges[bc]
-    valid = view.valid[bc]
-    # an invalid beam reached far when it returned nothing or beyond the sample, else unknown
-    far_invalid = ~valid & ~(np.isfinite(raw) & (raw > 0) & (raw < dist))
-    reach = np.where(valid, raw, np.where(far_invalid, np.inf, np.nan))
-    return in_view, reach
+    # the loop and its maths: identify_kernels.backed
+    has_view, ranges, valid, pose, a0, inc = False, np.zeros(0), np.zeros(0, dtype=bool), (0.0, 0.0, 0.0), 0.0, 0.0
+    if view is not None and len(view.ranges) > 1:
+        a0 = float(view.angles[0])
+        inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
+        has_view = inc != 0 and math.isfinite(inc)  # else no beam is in view
+        ranges, valid, pose = np.ascontiguousarray(view.ranges, dtype=float), np.ascontiguousarray(view.valid, dtype=bool), view.pose
+    return backed(np.ascontiguousarray(segs, dtype=float), np.ascontiguousarray(walls, dtype=float),
+                  np.ascontiguousarray(own_a, dtype=np.int64), np.ascontiguousarray(own_b, dtype=np.int64),
+                  float(robot[0]), float(robot[1]), bool(has_view), ranges, valid, float(pose[0]), float(pose[1]),
+                  float(pose[2]), a0, inc, np.ascontiguousarray(face_end, dtype=bool), float(params.door_occlusion),
+                  float(params.door_depth), float(params.jamb_cap_max), float(params.door_backed_share))
 
 
 def _same_opening(a: list[float], b: list[float], max_angle: float = 0.5, tol: float = 1e-6) -> bool:
@@ -400,47 +318,23 @@ def wall_len_of(walls: np.ndarray, idx: np.ndarray) -> np.ndarray:
 
 
 def _blocked_many(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray) -> np.ndarray:
-    """(G,) bool: does a wall other than the gap's own two cross the middle 80% of the gap?"""
+    """(G,) bool: does a wall other than the gap's own two cross the middle 80% of the gap?
+    (The loop and its maths: identify_kernels.blocked_many.)"""
     if len(segs) == 0:
         return np.zeros(0, dtype=bool)
-    a = segs[:, 0:2] + 0.1 * (segs[:, 2:4] - segs[:, 0:2])
-    b = segs[:, 0:2] + 0.9 * (segs[:, 2:4] - segs[:, 0:2])
-    hit = _intersects(a[:, None, :], b[:, None, :], walls[None, :, 0:2], walls[None, :, 2:4])
-    k = np.arange(len(walls))[None, :]
-    hit &= (k != own_a[:, None]) & (k != own_b[:, None])
-    return hit.any(axis=1)
-
-
-def _intersects(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.ndarray:
-    def orient(p, q, r):  # noqa: ANN001, ANN202
-        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
-
-    o1, o2 = orient(a, b, c), orient(a, b, d)
-    o3, o4 = orient(c, d, a), orient(c, d, b)
-    return (o1 * o2 < 0) & (o3 * o4 < 0)
+    return blocked_many(np.ascontiguousarray(segs, dtype=float), np.ascontiguousarray(walls, dtype=float),
+                        np.ascontiguousarray(own_a, dtype=np.int64), np.ascontiguousarray(own_b, dtype=np.int64))
 
 
 def _ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray,
               exclude: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Nearest wall hit (distance, index; inf/-1 for none) of rays (R, 2) + t (R, 2); `exclude`:
-    per ray two wall indices not to hit."""
-    a = walls[None, :, 0:2]
-    e = walls[None, :, 2:4] - a
-    o = origin[:, None, :]
-    dr = direction[:, None, :]
-    den = dr[..., 0] * e[..., 1] - dr[..., 1] * e[..., 0]
-    ao = a - o
-    safe = np.where(np.abs(den) > 1e-12, den, 1.0)
-    t = (ao[..., 0] * e[..., 1] - ao[..., 1] * e[..., 0]) / safe
-    u = (ao[..., 0] * dr[..., 1] - ao[..., 1] * dr[..., 0]) / safe
-    ok = (np.abs(den) > 1e-12) & (t > 1e-6) & (u >= 0) & (u <= 1)
-    if exclude is not None:
-        k_all = np.arange(len(walls))[None, :]
-        ok &= (k_all != exclude[0][:, None]) & (k_all != exclude[1][:, None])
-    t = np.where(ok, t, np.inf)
-    k = np.argmin(t, axis=1)
-    best = t[np.arange(len(origin)), k]
-    return best, np.where(np.isfinite(best), k, -1)
+    per ray two wall indices not to hit. (The loop and its maths: identify_kernels.ray_hits.)"""
+    r = len(origin)
+    ex_a, ex_b = exclude if exclude is not None else (np.full(r, -1), np.full(r, -1))
+    return ray_hits(np.ascontiguousarray(origin, dtype=float), np.ascontiguousarray(direction, dtype=float),
+                    np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(ex_a, dtype=np.int64),
+                    np.ascontiguousarray(ex_b, dtype=np.int64))
 
 
 __all__ = ["CONNECTED", "DOOR_KINDS", "POSSIBLE_DOOR_KINDS", "Identified", "View", "identify", "object_walls"]

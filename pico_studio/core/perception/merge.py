@@ -35,6 +35,13 @@ import numpy as np
 
 from pico_studio.config.perception_params import MergeParams
 from pico_studio.core.geometry import transform_segments
+from pico_studio.core.perception.merge_kernels import (
+    connect_candidates,
+    connect_walk,
+    fuse,
+    near_pairs,
+    see_through,
+)
 from pico_studio.core.perception.scan import ScanPoints
 from pico_studio.core.perception.segment import END_FLOATING, END_SEEN, Segments
 
@@ -175,39 +182,13 @@ def _associate(walls: np.ndarray, new: np.ndarray, params: MergeParams) -> np.nd
 
 
 def _fuse(w: _Work, i: np.ndarray, seg: np.ndarray, real: np.ndarray, seen: np.ndarray, params: MergeParams) -> None:
-    """Fuse new walls seg (ka, 4) into local walls i (ka,) (distinct), all at once."""
-    old = w.walls[i]
-    d_old, _ = _dir(old)
-    d_new, _ = _dir(seg)
-    flip = (d_new * d_old).sum(axis=1) < 0  # orient each new wall like its old one
-    seg = np.where(flip[:, None], seg[:, [2, 3, 0, 1]], seg)
-    d_new = np.where(flip[:, None], -d_new, d_new)
-    real = np.where(flip[:, None], real[:, ::-1], real)
-    seen = np.where(flip[:, None], seen[:, ::-1], seen)
-    wo = np.minimum(w.hits[i], params.max_weight)
-    da = np.arctan2(d_old[:, 0] * d_new[:, 1] - d_old[:, 1] * d_new[:, 0], (d_old * d_new).sum(axis=1))
-    ang = np.arctan2(d_old[:, 1], d_old[:, 0]) + da / (wo + 1.0)
-    d = np.column_stack([np.cos(ang), np.sin(ang)])
-    nrm = np.column_stack([-d[:, 1], d[:, 0]])
-    mid_old = (old[:, 0:2] + old[:, 2:4]) / 2
-    mid_new = (seg[:, 0:2] + seg[:, 2:4]) / 2
-    rho = (wo * (nrm * mid_old).sum(1) + (nrm * mid_new).sum(1)) / (wo + 1.0)
-    origin = rho[:, None] * nrm
-    a = np.column_stack([((old[:, 0:2] - origin) * d).sum(1), ((old[:, 2:4] - origin) * d).sum(1)])
-    b = np.column_stack([((seg[:, 0:2] - origin) * d).sum(1), ((seg[:, 2:4] - origin) * d).sum(1)])
-    beyond = (b - a) * np.array([-1.0, 1.0])  # > 0: the new wall reaches past the old end
-    old_seen = w.seen_end[i]
-    blend = (wo[:, None] * a + b) / (wo[:, None] + 1.0)
-    # a real end (seen past, or a corner of the scan) near the old end wins over a shorter
-    # floating old end, else pulls the old end by the weights; a floating end only extends
-    near_real = real & (beyond > -params.gap)
-    take_new = (beyond > params.gap) | ((beyond >= 0) & ~old_seen)
-    ends = np.where(near_real, np.where(take_new, b, blend), np.where(beyond > 0, b, a))
-    w.seen_end[i] = np.where(near_real, seen, np.where(beyond > params.gap, False, old_seen))
-    w.walls[i] = np.column_stack([origin + ends[:, 0:1] * d, origin + ends[:, 1:2] * d])
-    w.hits[i] += 1
-    w.last_seen[i] = w.step
-    w.missed[i] = 0
+    """Fuse new walls seg (ka, 4) into local walls i (ka,) (distinct), all at once; the
+    weighted line and the ends' rules with their maths: merge_kernels.fuse."""
+    for name in ("walls", "hits", "last_seen", "missed", "seen_end"):  # fused in place
+        setattr(w, name, np.ascontiguousarray(getattr(w, name)))
+    fuse(w.walls, w.hits, w.last_seen, w.missed, w.seen_end, np.ascontiguousarray(i, dtype=np.int64),
+         np.ascontiguousarray(seg, dtype=float), np.ascontiguousarray(real, dtype=bool),
+         np.ascontiguousarray(seen, dtype=bool), int(w.step), float(params.max_weight), float(params.gap))
 
 
 # ----- 4. merging local walls ----------------------------------------------------------------
@@ -289,16 +270,13 @@ def _absorb(w: _Work, i: int, k: int, params: MergeParams) -> None:
 
 def _near_pairs(walls: np.ndarray, r: float) -> tuple[np.ndarray, ...]:
     """Ordered pairs (i, k), i != k, whose bounding boxes grown by r overlap: the only pairs
-    that can connect or merge, found without an all-pairs geometry pass."""
-    lo = np.minimum(walls[:, 0:2], walls[:, 2:4]) - r
-    hi = np.maximum(walls[:, 0:2], walls[:, 2:4]) + r
-    ov = (lo[:, None, 0] <= hi[None, :, 0]) & (lo[None, :, 0] <= hi[:, None, 0])
-    ov &= (lo[:, None, 1] <= hi[None, :, 1]) & (lo[None, :, 1] <= hi[:, None, 1])
-    np.fill_diagonal(ov, False)
-    return np.nonzero(ov)
+    that can connect or merge, found without an all-pairs geometry pass (merge_kernels)."""
+    return near_pairs(np.ascontiguousarray(walls, dtype=float), float(r))
 
 
 def _connect(w: _Work, params: MergeParams) -> np.ndarray:
+    """Connect wall ends into corners and T's; the maths: merge_kernels (connect_candidates
+    finds the pairs, connect_walk takes them one after the other)."""
     n = len(w.walls)
     connected = np.full((n, 2), -1, dtype=np.int64)
     old_weight = w.end_weight.copy()
@@ -309,73 +287,26 @@ def _connect(w: _Work, params: MergeParams) -> np.ndarray:
     ia, ka = _near_pairs(w.walls, r)
     if len(ia) == 0:
         return connected
-    d, length = _dir(w.walls)
-    p0 = w.walls[:, 0:2]
-    # crossing of the lines of each pair: p0_i + s d_i = p0_k + u d_k
-    di, dk = d[ia], d[ka]
-    cross = di[:, 0] * dk[:, 1] - di[:, 1] * dk[:, 0]
-    diff = p0[ka] - p0[ia]
-    safe = np.where(np.abs(cross) > 1e-9, cross, 1.0)
-    s = (diff[:, 0] * dk[:, 1] - diff[:, 1] * dk[:, 0]) / safe
-    u = (diff[:, 0] * di[:, 1] - diff[:, 1] * di[:, 0]) / safe
-    li, lk = length[ia], length[ka]
-    # distance of the crossing from each wall's nearer end, and which end that is
-    ei = (s > li / 2).astype(np.int64)
-    ek = (u > lk / 2).astype(np.int64)
-    dist_i = np.where(ei == 1, np.abs(s - li), np.abs(s))
-    dist_k = np.where(ek == 1, np.abs(u - lk), np.abs(u))
-    sin_ok = np.abs(cross) > math.sin(params.connect_min_angle)
-    end_end = sin_ok & (dist_i < r) & (dist_k < r)
-    t_join = sin_ok & (dist_i < r) & (u > -r) & (u < lk + r) & ~end_end  # i's end on k's inside
-    # tentative walls connect last: a sliver seen once must not steal a corner from walls
-    # seen many times
-    weak = (w.hits < params.confirm_hits) * r
-    cost = dist_i + dist_k + weak[ia] + weak[ka]
+    walls = np.array(w.walls, dtype=float)  # moved in place by the walk
+    d, ei, ek, s, dist_i, cost, end_end, t_join = connect_candidates(
+        walls, ia, ka, np.ascontiguousarray(w.hits, dtype=float), float(r),
+        math.sin(params.connect_min_angle), float(params.confirm_hits))
+    # tentative walls connect last (their cost carries r): a sliver seen once must not steal
+    # a corner from walls seen many times
     pairs = np.flatnonzero(end_end & (ia < ka))
     tees = np.flatnonzero(t_join)
-    pairs = pairs[np.argsort(cost[pairs])].tolist()
-    tees = tees[np.argsort(dist_i[tees])].tolist()
-    if not pairs and not tees:
+    pairs = pairs[np.argsort(cost[pairs])]
+    tees = tees[np.argsort(dist_i[tees])]
+    if not len(pairs) and not len(tees):
         return connected
-    # a handful of corners per scan, one after the other (each may take an end another
-    # wanted): plain floats, as numpy's per-call cost on 2-vectors would dominate
-    wl = w.walls.tolist()  # p0[i] is read from here, so a moved end moves later crossings
-    conn = connected.tolist()
-    ow = old_weight.tolist()
-    ew = w.end_weight.tolist()
-    seen = w.seen_end.tolist()
-    il, kl, eil, ekl, sl, dl = ia.tolist(), ka.tolist(), ei.tolist(), ek.tolist(), s.tolist(), d.tolist()
-    cap = params.max_weight
-    for m in pairs:
-        i, k, a, b = il[m], kl[m], eil[m], ekl[m]
-        if conn[i][a] >= 0 or conn[k][b] >= 0:
-            continue
-        wi_, wk_ = wl[i], wl[k]
-        x = (wi_[0] + sl[m] * dl[i][0], wi_[1] + sl[m] * dl[i][1])
-        prev = ((wi_[2 * a] + wk_[2 * b]) / 2, (wi_[2 * a + 1] + wk_[2 * b + 1]) / 2)
-        wt = min(max(ow[i][a], ow[k][b]), cap)
-        corner = ((wt * prev[0] + x[0]) / (wt + 1.0), (wt * prev[1] + x[1]) / (wt + 1.0))
-        wi_[2 * a], wi_[2 * a + 1] = corner
-        wk_[2 * b], wk_[2 * b + 1] = corner
-        conn[i][a], conn[k][b] = k, i
-        ew[i][a] = ew[k][b] = wt + 1.0
-        seen[i][a] = seen[k][b] = False
-    for m in tees:
-        i, k, a = il[m], kl[m], eil[m]
-        if conn[i][a] >= 0:
-            continue
-        wi_ = wl[i]
-        x = (wi_[0] + sl[m] * dl[i][0], wi_[1] + sl[m] * dl[i][1])
-        wt = min(ow[i][a], cap)
-        wi_[2 * a] = (wt * wi_[2 * a] + x[0]) / (wt + 1.0)
-        wi_[2 * a + 1] = (wt * wi_[2 * a + 1] + x[1]) / (wt + 1.0)
-        conn[i][a] = k
-        ew[i][a] = wt + 1.0
-        seen[i][a] = False
-    w.walls = np.array(wl, dtype=float).reshape(-1, 4)
-    w.end_weight = np.array(ew, dtype=float).reshape(-1, 2)
-    w.seen_end = np.array(seen, dtype=bool).reshape(-1, 2)
-    return np.array(conn, dtype=np.int64).reshape(-1, 2)
+    # a handful of corners per scan, one after the other (each may take an end another wanted)
+    seen = np.array(w.seen_end, dtype=bool)
+    conn, ew = connect_walk(walls, d, np.ascontiguousarray(old_weight, dtype=float), seen, ia, ka, ei, ek, s,
+                            pairs.astype(np.int64), tees.astype(np.int64), float(params.max_weight))
+    w.walls = walls
+    w.end_weight = ew
+    w.seen_end = seen
+    return conn
 
 
 # ----- 6. dropping -----------------------------------------------------------------------------
@@ -389,31 +320,15 @@ def _see_through(w: _Work, pose: Pose, scan: ScanPoints, params: MergeParams) ->
     unseen = w.last_seen != w.step
     if not unseen.any():
         return
-    fr = np.array([0.2, 0.35, 0.5, 0.65, 0.8])
-    walls = w.walls[unseen]
-    pts = walls[:, None, 0:2] + fr[None, :, None] * (walls[:, None, 2:4] - walls[:, None, 0:2])
-    c, s_ = math.cos(pose[2]), math.sin(pose[2])
-    rel = pts - np.array(pose[:2])
-    x = c * rel[..., 0] + s_ * rel[..., 1]
-    y = -s_ * rel[..., 0] + c * rel[..., 1]
-    dist = np.hypot(x, y)
-    bearing = np.arctan2(y, x)
-    a0 = scan.angles[0]
-    inc = (scan.angles[-1] - a0) / (len(scan.angles) - 1)
-    if inc == 0 or not np.isfinite(inc):
+    a0 = float(scan.angles[0])
+    inc = (float(scan.angles[-1]) - a0) / (len(scan.angles) - 1)
+    if inc == 0 or not math.isfinite(inc):
         return
-    beam = np.rint((bearing - a0) / inc).astype(np.int64)
-    in_view = (beam >= 0) & (beam < len(scan.ranges))
-    bc = np.clip(beam, 0, len(scan.ranges) - 1)
-    measured = np.where(scan.valid[bc], scan.ranges[bc], np.inf)
-    through = in_view & (measured > dist + params.see_through)
-    blocked = in_view & ~through
-    passed = through.sum(axis=1) > blocked.sum(axis=1) + through.shape[1] // 2
-    # beams ending on the wall (not in front of it: an occluder says nothing) confirm it, so
-    # the count of see-through scans is one "in a row"
-    on_wall = (in_view & (np.abs(measured - dist) <= params.see_through)).sum(axis=1) > through.shape[1] // 2
-    idx = np.flatnonzero(unseen)
-    w.missed[idx] = np.where(passed, w.missed[idx] + 1, np.where(on_wall, 0, w.missed[idx]))
+    # the points, beams and counts with their maths: merge_kernels.see_through
+    w.missed = np.ascontiguousarray(w.missed, dtype=np.int64)
+    see_through(np.ascontiguousarray(w.walls, dtype=float), np.ascontiguousarray(unseen), w.missed,
+                float(pose[0]), float(pose[1]), float(pose[2]), np.ascontiguousarray(scan.ranges, dtype=float),
+                np.ascontiguousarray(scan.valid, dtype=bool), a0, inc, float(params.see_through))
 
 
 def drop_near(state: LocalMapState, places: np.ndarray, radius: float) -> LocalMapState:

@@ -1,0 +1,308 @@
+"""Identify's compiled loops: rays against walls, and gaps crossed by walls (identify.py's maths).
+
+Ray hits. A ray o + t r meets wall k (from a_k, e_k = b_k - a_k) where o + t r = a_k + u e_k:
+
+    den = r x e_k,   t = (a_k - o) x e_k / den,   u = (a_k - o) x r / den
+
+(x: the 2-D cross product). It hits when |den| > 1e-12 (not parallel), t > 1e-6 (ahead of
+the origin) and 0 <= u <= 1 (on the wall); the ray's answer is the smallest such t (the
+first such wall, as numpy's argmin) and its wall, or (inf, -1). Two walls per ray may be
+left out (`ex_a`, `ex_b`; -1: none).
+
+Gaps crossed. Wall k (c, d) crosses the middle 80% of a gap (p, q) — from a = p + 0.1 (q - p)
+to b = p + 0.9 (q - p) — when each segment's ends lie strictly on both sides of the other's
+line: orient(a, b, c) orient(a, b, d) < 0 and orient(c, d, a) orient(c, d, b) < 0, with
+orient(p, q, r) = (q - p) x (r - p). The gap's own two walls do not count.
+
+The same floating-point operations in the same order as the numpy they replace, so the
+answers are the same to the last bit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pico_studio.jit import kernel
+
+
+def _example_rays() -> tuple:
+    walls = np.array([[1.0, -1.0, 1.0, 1.0], [2.0, -1.0, 2.0, 1.0]])
+    origin = np.zeros((2, 2))
+    direction = np.array([[1.0, 0.0], [0.0, 1.0]])
+    return origin, direction, walls, np.array([-1, 0], dtype=np.int64), np.array([-1, -1], dtype=np.int64)
+
+
+@kernel(_example_rays)
+def ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray, ex_a: np.ndarray,
+             ex_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(nearest hit distance (R,), its wall (R,) int64; inf / -1 for none)."""
+    n_rays, n_walls = origin.shape[0], walls.shape[0]
+    best = np.full(n_rays, np.inf)
+    best_k = np.full(n_rays, -1, dtype=np.int64)
+    for i in range(n_rays):
+        ox, oy = origin[i, 0], origin[i, 1]
+        rx, ry = direction[i, 0], direction[i, 1]
+        for k in range(n_walls):
+            if k == ex_a[i] or k == ex_b[i]:
+                continue
+            ax, ay = walls[k, 0], walls[k, 1]
+            ex, ey = walls[k, 2] - ax, walls[k, 3] - ay
+            den = rx * ey - ry * ex
+            if not abs(den) > 1e-12:
+                continue
+            aox, aoy = ax - ox, ay - oy
+            t = (aox * ey - aoy * ex) / den
+            u = (aox * ry - aoy * rx) / den
+            if t > 1e-6 and u >= 0 and u <= 1 and t < best[i]:  # strict: the first smallest
+                best[i] = t
+                best_k[i] = k
+    return best, best_k
+
+
+def _example_blocked() -> tuple:
+    segs = np.array([[0.0, 0.0, 2.0, 0.0]])
+    walls = np.array([[1.0, -1.0, 1.0, 1.0], [0.0, 0.0, 0.0, 1.0]])
+    return segs, walls, np.array([1], dtype=np.int64), np.array([1], dtype=np.int64)
+
+
+@kernel(_example_blocked)
+def blocked_many(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray) -> np.ndarray:
+    """(G,) bool: does a wall other than the gap's own two cross the middle 80% of the gap?"""
+    g, n_walls = segs.shape[0], walls.shape[0]
+    out = np.zeros(g, dtype=np.bool_)
+    for m in range(g):
+        ax = segs[m, 0] + 0.1 * (segs[m, 2] - segs[m, 0])
+        ay = segs[m, 1] + 0.1 * (segs[m, 3] - segs[m, 1])
+        bx = segs[m, 0] + 0.9 * (segs[m, 2] - segs[m, 0])
+        by = segs[m, 1] + 0.9 * (segs[m, 3] - segs[m, 1])
+        for k in range(n_walls):
+            if k == own_a[m] or k == own_b[m]:
+                continue
+            cx, cy, dx, dy = walls[k, 0], walls[k, 1], walls[k, 2], walls[k, 3]
+            o1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+            o2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax)
+            o3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx)
+            o4 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx)
+            if o1 * o2 < 0 and o3 * o4 < 0:
+                out[m] = True
+                break
+    return out
+
+
+def _example_pairs() -> tuple:
+    pts = np.array([[0.0, 0.0], [0.9, 0.0], [0.9, 1.0]])
+    out_dir = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0]])
+    wi = np.array([0, 1, 2], dtype=np.int64)
+    we = np.array([1, 0, 0], dtype=np.int64)
+    is_convex = np.array([True, True, False])
+    long = np.array([True, True, True])
+    stub = np.array([False, False, False])
+    connected = np.full((3, 2), -1, dtype=np.int64)
+    return pts, out_dir, wi, we, is_convex, long, stub, connected, 0.6, 1.2, 0.3, 0.1, 0.05
+
+
+@kernel(_example_pairs)
+def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
+               long: np.ndarray, stub: np.ndarray, connected: np.ndarray, min_width: float, max_width: float,
+               angle: float, offset: float, offset_short: float,
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The pairs (i < j, in row order) of door-point candidates P_i, P_j (wall wi, end we,
+    outward direction o) that may be a door or a possible door: (i, j, off_ij, off_ji,
+    is_door, is_possible) of those pairs only.
+
+    With pq = P_j - P_i, d = |pq|, u = pq / d: a pair counts when min_width <= d <= max_width
+    and the points lie on different, unconnected walls. off_ij = |pq x o_i| (P_j from wall
+    i's line), off_ji = |pq x o_j|; u_i = u . o_i, u_j = u . o_j. Wall i's line continues
+    through the gap when u_i > cos(angle) and off_ij < offset (a long wall) or < offset_short
+    (a stub); wall j's when -u_j > cos(angle) likewise. A door: both convex, and one wall's
+    line continues with the other wall coming back along it (-u_j > cos, resp. u_i > cos) or
+    standing across it (|u_j| < sin(angle), resp. |u_i|). A possible door: not both convex,
+    the two walls collinear (|o_i . o_j| > cos, both offsets < offset) and facing (u_i > 0,
+    u_j < 0)."""
+    n = pts.shape[0]
+    cos_a, sin_a = math.cos(angle), math.sin(angle)
+    cap = n * (n - 1) // 2
+    oi_, oj_ = np.empty(cap, dtype=np.int64), np.empty(cap, dtype=np.int64)
+    off_a, off_b = np.empty(cap), np.empty(cap)
+    door, possible = np.empty(cap, dtype=np.bool_), np.empty(cap, dtype=np.bool_)
+    m = 0
+    for i in range(n):
+        for j in range(i + 1, n):
+            px, py = pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1]
+            dist = np.hypot(px, py)
+            if not (dist >= min_width and dist <= max_width):
+                continue
+            if wi[i] == wi[j] or connected[wi[i], we[i]] == wi[j]:
+                continue
+            ux, uy = px / dist, py / dist
+            off_ij = abs(px * out_dir[i, 1] - py * out_dir[i, 0])
+            off_ji = abs(px * out_dir[j, 1] - py * out_dir[j, 0])
+            ui = ux * out_dir[i, 0] + uy * out_dir[i, 1]
+            uj = ux * out_dir[j, 0] + uy * out_dir[j, 1]
+            line_i = ui > cos_a and ((off_ij < offset and long[i]) or (off_ij < offset_short and stub[i]))
+            line_j = -uj > cos_a and ((off_ji < offset and long[j]) or (off_ji < offset_short and stub[j]))
+            door_ij = line_i and (-uj > cos_a or abs(uj) < sin_a)
+            door_ji = line_j and (ui > cos_a or abs(ui) < sin_a)
+            both_convex = is_convex[i] and is_convex[j]
+            is_door = both_convex and (door_ij or door_ji)
+            collinear = (abs(out_dir[i, 0] * out_dir[j, 0] + out_dir[i, 1] * out_dir[j, 1]) > cos_a
+                         and off_ij < offset and off_ji < offset)
+            is_possible = collinear and ui > 0 and uj < 0 and not both_convex
+            if not (is_door or is_possible):
+                continue
+            oi_[m], oj_[m], off_a[m], off_b[m], door[m], possible[m] = i, j, off_ij, off_ji, is_door, is_possible
+            m += 1
+    return oi_[:m].copy(), oj_[:m].copy(), off_a[:m].copy(), off_b[:m].copy(), door[:m].copy(), possible[:m].copy()
+
+
+def _example_backed() -> tuple:
+    segs = np.array([[1.0, -0.5, 1.0, 0.5]])
+    walls = np.array([[1.0, -1.0, 1.0, -0.5], [1.0, 0.5, 1.0, 1.0], [2.0, -1.0, 2.0, 1.0]])
+    own = np.array([0], dtype=np.int64), np.array([1], dtype=np.int64)
+    ranges, valid = np.array([2.0, 2.0, 2.0]), np.array([True, True, False])
+    return (segs, walls, *own, 0.0, 0.0, True, ranges, valid, 0.0, 0.0, 0.0, -0.1, 0.1,
+            np.zeros(1, dtype=np.bool_), 0.1, 0.3, 0.12, 0.5)
+
+
+@kernel(_example_backed)
+def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, rx: float, ry: float,
+           has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
+           inc: float, face_end: np.ndarray, occlusion: float, depth: float, jamb_cap_max: float,
+           backed_share: float) -> np.ndarray:
+    """(G,) bool: is there no seeing through gap g? (identify._backed says what and why.)
+
+    Five samples q = p + f (p' - p), f in 0.2 .. 0.8, of each gap (p, p'); the ray from the
+    robot R through q has direction r = (q - R) / |q - R|. How far it reaches: the current
+    scan's beam at q's bearing (beam = rint((bearing - a0) / inc), wrapped once for a full
+    circle; an invalid beam reaches far when it returned nothing or beyond q, else says
+    nothing: nan) when that beam exists, else the first wall along the ray (ray_hits' maths,
+    the gap's two walls left out). A ray stopping short of |q - R| - occlusion says nothing.
+    Where the others end, in the gap's frame (s along from p, n across): a ray ending within
+    `occlusion` of a jamb's normal (|s| or |s - L|) says nothing unless deeper than
+    `jamb_cap_max` behind a jamb that is a wall's end; a ray is closed when it ends within
+    `depth` of the gap line between the jambs (or deep beside one). Backed when some rays
+    say something and at least `backed_share` of them are closed."""
+    g, n_walls, n_beams = segs.shape[0], walls.shape[0], ranges.shape[0]
+    out = np.zeros(g, dtype=np.bool_)
+    c, sn = math.cos(va), math.sin(va)
+    wrap = 2 * math.pi / abs(inc) if has_view else 0.0
+    for m in range(g):
+        length = np.hypot(segs[m, 2] - segs[m, 0], segs[m, 3] - segs[m, 1])
+        den = max(length, 1e-12)
+        alx, aly = (segs[m, 2] - segs[m, 0]) / den, (segs[m, 3] - segs[m, 1]) / den
+        inf_n = 0
+        closed_n = 0
+        for f in (0.2, 0.35, 0.5, 0.65, 0.8):
+            qx = segs[m, 0] + f * (segs[m, 2] - segs[m, 0])
+            qy = segs[m, 1] + f * (segs[m, 3] - segs[m, 1])
+            relx, rely = qx - rx, qy - ry
+            dist = np.hypot(relx, rely)
+            dd = max(dist, 1e-12)
+            dx, dy = relx / dd, rely / dd
+            # the local map: the first wall along the ray
+            reach = np.inf
+            for k in range(n_walls):
+                if k == own_a[m] or k == own_b[m]:
+                    continue
+                ax, ay = walls[k, 0], walls[k, 1]
+                ex, ey = walls[k, 2] - ax, walls[k, 3] - ay
+                dn = dx * ey - dy * ex
+                if not abs(dn) > 1e-12:
+                    continue
+                aox, aoy = ax - rx, ay - ry
+                t = (aox * ey - aoy * ex) / dn
+                u = (aox * dy - aoy * dx) / dn
+                if t > 1e-6 and u >= 0 and u <= 1 and t < reach:
+                    reach = t
+            known = True
+            if has_view:  # the scan, where it looks through the gap
+                sx, sy = qx - vx, qy - vy
+                bx = c * sx + sn * sy
+                by = -sn * sx + c * sy
+                bearing = np.arctan2(by, bx)
+                beam = np.rint((bearing - a0) / inc)
+                if beam >= n_beams and beam - wrap > -1:
+                    beam = np.rint(beam - wrap)
+                if beam >= 0 and beam < n_beams:
+                    b = int(beam)
+                    raw = ranges[b]
+                    if valid[b]:
+                        reach = raw
+                    elif not (np.isfinite(raw) and raw > 0 and raw < dist):
+                        reach = np.inf
+                    else:
+                        reach = np.nan
+                    known = not np.isnan(reach)
+            informative = known and reach >= dist - occlusion
+            finite = np.isfinite(reach)
+            r_ = reach if finite else 0.0
+            ex_, ey_ = rx + r_ * dx - segs[m, 0], ry + r_ * dy - segs[m, 1]
+            s_ = ex_ * alx + ey_ * aly
+            n_ = abs(ex_ * aly - ey_ * alx)
+            ended = informative and finite
+            near_first = abs(s_) < occlusion
+            near_last = abs(s_ - length) < occlusion
+            side = ended and (near_first or near_last)
+            deep_side = side and n_ > jamb_cap_max and (near_first or not face_end[m])
+            informative = informative and (not side or deep_side)
+            closed = ended and n_ < depth and ((not side and s_ > 0 and s_ < length) or deep_side)
+            if informative:
+                inf_n += 1
+            if closed:
+                closed_n += 1
+        out[m] = inf_n > 0 and closed_n >= backed_share * inf_n
+    return out
+
+
+def _example_groups() -> tuple:
+    walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 1.0, 1.0], [3.0, 3.0, 4.0, 3.0]])
+    connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    prop = np.array([[1, 2], [2, 1], [0, 0]], dtype=np.int64)
+    return walls, connected, prop, 2.0, 0
+
+
+@kernel(_example_groups)
+def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float,
+                  floating: int) -> tuple[np.ndarray, np.ndarray]:
+    """(group (W,) int64: a label shared by connected walls, candidate (W,) bool: the wall's
+    group spans at most `max_size` (its bounding box's diagonal) and none of its ends has the
+    property `floating`). Groups by union-find over the connections (path halving)."""
+    n = walls.shape[0]
+    root = np.arange(n)
+    for i in range(n):
+        for e in range(2):
+            k = connected[i, e]
+            if k < 0:
+                continue
+            a, b = i, k
+            while root[a] != a:
+                root[a] = root[root[a]]
+                a = root[a]
+            while root[b] != b:
+                root[b] = root[root[b]]
+                b = root[b]
+            if a != b:
+                root[a] = b
+    group = np.empty(n, dtype=np.int64)
+    lo_x, lo_y = np.full(n, np.inf), np.full(n, np.inf)
+    hi_x, hi_y = np.full(n, -np.inf), np.full(n, -np.inf)
+    loose = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        a = i
+        while root[a] != a:
+            root[a] = root[root[a]]
+            a = root[a]
+        group[i] = a
+        for e in range(2):
+            x, y = walls[i, 2 * e], walls[i, 2 * e + 1]
+            lo_x[a], hi_x[a] = min(lo_x[a], x), max(hi_x[a], x)
+            lo_y[a], hi_y[a] = min(lo_y[a], y), max(hi_y[a], y)
+            if prop[i, e] == floating:
+                loose[a] = True
+    candidate = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        g = group[i]
+        candidate[i] = not (np.hypot(hi_x[g] - lo_x[g], hi_y[g] - lo_y[g]) > max_size) and not loose[g]
+    return group, candidate
