@@ -2,7 +2,9 @@
 door openings. Pure functions of segments, so scoring and tests can call them on any map.
 
 Corners. End points closer than `snap` are one vertex. Each vertex keeps the directions of the
-segments leaving it. Seen from a point R, the segments at a vertex V cut the plane around V
+segments leaving it, and of every segment it abuts (lies within `abut` of: a T-junction, a wall
+rectangle's corner on another's face, a table a few cm off a wall) both ways, or the one way
+along it when near that segment's end. Seen from a point R, the segments at a vertex V cut the plane around V
 into sectors; R lies in one of them, of angular width w:
 - w < pi - tol: R looks into the corner: **concave** (a room's inner corner);
 - w > pi + tol: the corner points at R: **convex** (the outer corner of a wall end, a jamb;
@@ -60,7 +62,12 @@ class Vertices:
     cache: dict = field(default_factory=dict, compare=False, repr=False)
 
 
-def vertex_graph(segments: np.ndarray, snap: float = 1e-3) -> Vertices:
+def vertex_graph(segments: np.ndarray, snap: float = 1e-3, abut: float = 0.03) -> Vertices:
+    """End points closer than `snap` are one vertex. A vertex within `abut` of another segment
+    (one not leaving it) is where two walls or polygons abut: it also gets
+    that segment's directions, both ways on its inside (a T-junction, a rectangle's corner on
+    another's face), the one way along it near an end (two corners a few mm apart), so the
+    sector seen from a viewpoint is the real free one."""
     ends = segments.reshape(-1, 2)
     keys = np.round(ends / snap).astype(np.int64)
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
@@ -77,32 +84,39 @@ def vertex_graph(segments: np.ndarray, snap: float = 1e-3) -> Vertices:
         dirs[a].append(math.atan2(pb[1] - pa[1], pb[0] - pa[0]))
         leaving[b].append(k)
         dirs[b].append(math.atan2(pa[1] - pb[1], pa[0] - pb[0]))
-    # T-junctions: a loose end on the inside of another segment sees that segment both ways
-    loose = np.array([v for v in range(len(points)) if len(leaving[v]) == 1], dtype=np.int64)
-    for v, k in _vertices_inside_segments(points, segments, seg_ends, snap, loose):
+    neighbours = [{int(x) for k in ks for x in seg_ends[k]} for ks in leaving]
+    touching = _vertices_near_segments(points, segments, seg_ends, max(abut, snap), np.arange(len(points)))
+    for v, k, where in touching:
+        if where < 2 and seg_ends[k, where] in neighbours[v]:
+            continue  # near the end of a segment of its own polyline: a segment shorter than `abut` between
         d = math.atan2(segments[k, 3] - segments[k, 1], segments[k, 2] - segments[k, 0])
-        leaving[v] += [k, k]
-        dirs[v] += [d, d + math.pi]
+        extra = {0: [d], 1: [d + math.pi]}.get(where, [d, d + math.pi])
+        leaving[v] += [k] * len(extra)
+        dirs[v] += extra
     return Vertices(points, seg_ends, tuple(map(tuple, leaving)), tuple(np.array(d) for d in dirs))
 
 
-def _vertices_inside_segments(
-    points: np.ndarray, segments: np.ndarray, seg_ends: np.ndarray, snap: float, which: np.ndarray, chunk: int = 256
-) -> list[tuple[int, int]]:
-    """(vertex, segment) pairs, for the vertices `which`, where the vertex lies on the segment
-    but is not one of its ends."""
+def _vertices_near_segments(
+    points: np.ndarray, segments: np.ndarray, seg_ends: np.ndarray, tol: float, which: np.ndarray, chunk: int = 256
+) -> list[tuple[int, int, int]]:
+    """(vertex, segment, where) for the vertices `which` within `tol` of a segment that does not
+    leave them: where = 0 near its first end (within `tol` along it), 1 near its second, 2 inside."""
     a = segments[:, 0:2]
     ab = segments[:, 2:4] - a
-    length2 = np.maximum((ab * ab).sum(1), 1e-18)
-    out: list[tuple[int, int]] = []
+    length = np.sqrt((ab * ab).sum(1))
+    length2 = np.maximum(length * length, 1e-18)
+    out: list[tuple[int, int, int]] = []
     for i in range(0, len(which), chunk):
         v_idx = which[i : i + chunk]
         p = points[v_idx][:, None, :]
         t = ((p - a) * ab).sum(-1) / length2
         d = p - (a + np.clip(t, 0.0, 1.0)[..., None] * ab)
-        on = ((d * d).sum(-1) < snap * snap) & (t > 0.0) & (t < 1.0)
+        on = ((d * d).sum(-1) < tol * tol) & (length[None, :] > tol)
         on &= (seg_ends[None, :, 0] != v_idx[:, None]) & (seg_ends[None, :, 1] != v_idx[:, None])
-        out += [(int(v_idx[v]), int(k)) for v, k in zip(*np.nonzero(on), strict=True)]
+        for v, k in zip(*np.nonzero(on), strict=True):
+            along = t[v, k] * length[k]
+            where = 0 if along < tol else 1 if along > length[k] - tol else 2
+            out.append((int(v_idx[v]), int(k), where))
     return out
 
 
@@ -214,6 +228,7 @@ def door_openings(
     mouth_margin: float = 0.1,
     mouth_wall_length: float = 0.5,
     straight_tolerance: float = 0.15,
+    abut: float = 0.03,
 ) -> np.ndarray:
     """The map's door openings (D, 4), each from one jamb to the other (see the module doc).
 
@@ -225,7 +240,7 @@ def door_openings(
         out.append(_door_centre_line(np.asarray(poly, dtype=float)))
     if len(walls):
         solid = walls if obstacles is None or len(obstacles) == 0 else np.vstack([walls, obstacles])
-        graph = vertex_graph(walls)
+        graph = vertex_graph(walls, abut=abut)
         ends, outward = wall_ends(graph, walls, max_thickness)
         out += _paired_gaps(ends, outward, walls, solid, min_width, max_width, out)
         out += _passage_mouths(

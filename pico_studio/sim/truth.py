@@ -154,7 +154,7 @@ class GroundTruth:
 
     @cached_property
     def _graph(self) -> Vertices:
-        return vertex_graph(self._world.static)
+        return vertex_graph(self._world.static, abut=self._params.abut_tolerance)
 
     @cached_property
     def _openings(self) -> np.ndarray:
@@ -164,6 +164,7 @@ class GroundTruth:
             w.walls, w.map.door_polygons, obstacles=w.objects,
             min_width=t.door_min_width, max_width=t.door_max_width, max_thickness=t.max_wall_thickness,
             mouth_probe=t.mouth_probe, mouth_margin=t.mouth_margin, mouth_wall_length=t.mouth_wall_length, straight_tolerance=t.straight_tolerance,
+            abut=t.abut_tolerance,
         )
 
     def _in_fov(self, points: np.ndarray) -> np.ndarray:

@@ -35,6 +35,7 @@ from pico_studio.errors import UserError
 from pico_studio.evaluation.run_score import TruthScorer, summarise
 from pico_studio.json_map import GlobalMap
 from pico_studio.session import Session, SessionFrame
+from pico_studio.ui.reference_layer import ReferenceAgreement
 from pico_studio.ui.timeline import FrameRecord, Pose, Timeline
 
 log = logging.getLogger(__name__)
@@ -110,6 +111,9 @@ class Studio:
             self.lmap = self._localisation_map()
             self.state: tuple[Any, Any] = self.initial_state()
             self.scorer = self._make_scorer()
+            # a replay with true poses: its reference map (built once per recording) and
+            # the local map's agreement with it
+            self.reference = ReferenceAgreement(self.source) if ReferenceAgreement.applies(self.source) else None
             self.behaviour = self._make_behaviour(self.behaviour_spec)
             self.teleop_command: BaseReference | None = None
             self.teleop_until = 0.0
@@ -224,6 +228,8 @@ class Studio:
                 log.warning("scoring failed: %s", e)
             if self.scorer.run.count != n:
                 frame.score = self.scorer.run.last
+        if self.reference is not None:
+            self.reference.frame_agreement(frame)  # for the run's figure
         frame.map_xy = self.robot_pose_in_map(frame)[:2]
         self.timeline.append(frame)
         self._forget_old_world_models()
@@ -394,6 +400,7 @@ class Studio:
             out["entrance"] = tuple(map(float, entrance)) if entrance is not None else None
             out["hallway"] = bool(getattr(wm, "hallway", False))
             out["room"] = dict(getattr(wm, "room", None) or {})
+            out["agreement"] = self.reference.figures(frame) if self.reference is not None else {}
             return out
 
     def _scores(self, frame: FrameRecord | None) -> dict[str, dict[str, float]]:

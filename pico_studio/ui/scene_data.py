@@ -71,6 +71,9 @@ LAYERS: tuple[LayerSpec, ...] = (
         PrimSpec("map_fronts", S, style.MAP_OBJECT_FRONT, style.THICK_MAP),
         PrimSpec("map_doors", S, style.MAP_DOOR, 3.0),
     ), static=True),
+    LayerSpec("reference_map", "Reference map (true poses)", (
+        PrimSpec("reference_map", P, style.REFERENCE_MAP, point_size=3.0),
+    )),
     LayerSpec("sim_world", "Simulated doors / moving objects", (PrimSpec("sim_world", S, style.SIM_WORLD, 3.0),)),
     LayerSpec("trail", "Trail", (PrimSpec("trail", S, style.TRAIL, 2.0),)),
     LayerSpec("truth_path", "True trajectory (recording)", (PrimSpec("truth_path", S, style.TRUE_PATH, 2.0),)),
@@ -204,6 +207,8 @@ def frame_prims(studio: Studio, frame: FrameRecord | None) -> dict[str, Prim]:
         spec.name: Prim(spec.kind, np.zeros((0, 4 if spec.kind == S else 2)))
         for layer in LAYERS if not layer.static for spec in layer.prims
     }
+    if studio.reference is not None:  # a replay with true poses: empty until built
+        out["reference_map"] = Prim(P, studio.reference.points())
     if frame is None:
         return out
     wm = frame.wm

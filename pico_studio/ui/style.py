@@ -68,6 +68,7 @@ DIFF_LOST: RGB = (210, 15, 15)  # red: ... one B loses
 MEASURE: RGB = (249, 22, 139)
 INSPECT: RGB = (230, 213, 82)
 PLUGIN_OUTPUT: RGB = (0, 0, 130)  # navy: whatever a plugin handed the page (WorldModel.extras)
+REFERENCE_MAP: RGB = (180, 230, 120)  # pale green: a replay's scans cast from its true poses
 
 # line thickness in screen pixels (the same on screen at any zoom); drawn from the bottom up
 # in LAYERS order, so the map's thick black walls show either side of the thinner local and
@@ -108,6 +109,7 @@ LEGEND: list[tuple[str, list[tuple[RGB, str]]]] = [
     ("A/B diff", [(DIFF_ADDED, "B adds (vs A)"), (DIFF_LOST, "B loses")]),
     ("Tools", [(MEASURE, "measure"), (INSPECT, "inspected feature")]),
     ("Plugins", [(PLUGIN_OUTPUT, "a plugin's extra points / segments")]),
+    ("Reference map (replay with true poses)", [(REFERENCE_MAP, "every scan cast from its true pose: the building as seen")]),
 ]
 
 
@@ -124,7 +126,7 @@ def swatches(colours: list[RGB]) -> str:
 
 # colours drawn as points (point clouds are not tone-mapped: they show as declared)
 POINT_COLOURS = {LASER, *ENDPOINT.values(), SPIKE_CORNER, VECTOR_CORNER_INNER, VECTOR_CORNER_OUTER, BEHAVIOUR_TARGET,
-                 DIFF_ADDED, DIFF_LOST, PLUGIN_OUTPUT}
+                 DIFF_ADDED, DIFF_LOST, PLUGIN_OUTPUT, REFERENCE_MAP}
 
 # the layer key -> its colours as the Layers tab shows them beside the toggle
 LAYER_COLOURS: dict[str, list[RGB]] = {
@@ -145,6 +147,7 @@ LAYER_COLOURS: dict[str, list[RGB]] = {
     "room": [ROOM_SIDE, ROOM_JUMP],
     "plugins": [PLUGIN_OUTPUT],
     "ab_diff": [DIFF_LOST, DIFF_ADDED],
+    "reference_map": [REFERENCE_MAP],
 }
 
 

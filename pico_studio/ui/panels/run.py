@@ -14,6 +14,7 @@ import viser
 from pico_studio.ui.clock import is_replay, recording_position
 from pico_studio.ui.gui_values import on_user
 from pico_studio.ui.page import Page, Panel, Shown
+from pico_studio.ui.reference_layer import agreement_text
 from pico_studio.ui.status import metrics_text
 
 # Simulated seconds per wall-clock second; "max" ticks as fast as the perceptor computes.
@@ -130,4 +131,5 @@ class RunPanel(Panel):
         if self.scrubber.max != top:
             self.scrubber.max = top
         self.scrubber.value = min(shown.position, top)  # quiet: only users' edits call back
-        self.metrics_md.content = metrics_text(shown.metrics)
+        agreement = agreement_text(shown.metrics.get("agreement") or {})
+        self.metrics_md.content = metrics_text(shown.metrics) + (f"\n\n{agreement}" if agreement else "")
