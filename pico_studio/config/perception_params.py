@@ -92,8 +92,25 @@ class ScanParams:
     min_points: int = param(
         5, lo=2, hi=200, step=1, help="A wall needs at least this many (resampled) points",
     )
+    min_points_per_m: float = param(
+        0.0, lo=0.0, hi=20.0, step=0.1, unit="1/m",
+        help="...plus this many per metre of the wall's range (its midpoint's distance): far, sparse "
+        "pieces need more support (0: the same minimum everywhere)",
+    )
     min_length: float = param(
         0.1, lo=0.0, hi=5.0, step=0.01, unit="m", help="Shorter walls are dropped",
+    )
+    weighted_fit: bool = param(
+        False, help="Refit walls by range-weighted least squares (Pfister et al. 2003): far points, "
+        "noisier, count less; off: every point counts the same",
+    )
+    range_sigma0: float = param(
+        0.01, lo=0.0001, hi=0.5, step=0.001, unit="m",
+        help="Laser range noise at the robot (sigma = range_sigma0 + range_sigma_per_m x range): "
+        "the weights of the weighted fit and the walls' line covariance",
+    )
+    range_sigma_per_m: float = param(
+        0.005, lo=0.0, hi=0.2, step=0.001, unit="m/m", help="...growing by this per metre of range",
     )
     max_rms: float = param(
         0.03, lo=0.001, hi=0.5, step=0.001, unit="m",

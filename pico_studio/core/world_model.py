@@ -45,6 +45,9 @@ class WorldModel:
     proximity: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (n,)
     too_close: bool = False
     current_map: np.ndarray = field(default_factory=lambda: _empty(4))  # (S, 4) robot frame
+    # (S, 3) per current_map wall, its line (normal angle alpha, distance rho) in the robot frame:
+    # var(alpha) rad^2, var(rho) m^2, cov(alpha, rho) (segment_refit: Pfister et al. 2003)
+    current_map_covariance: np.ndarray = field(default_factory=lambda: _empty(3))
     spike_corners: np.ndarray = field(default_factory=lambda: _empty(2))  # (K, 2) robot frame
     vector_corners: np.ndarray = field(default_factory=lambda: _empty(2))  # (V, 2) robot frame
     vector_corner_inner: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (V,)

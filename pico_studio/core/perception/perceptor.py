@@ -125,7 +125,8 @@ def _perceive(
     lap("scan_match")
     kept = ~objs.held[segs.cluster] if len(segs.cluster) else np.zeros(0, dtype=bool)
     local_before = drop_near(state.local_map, objs.vanished_at, params.objects.max_size)
-    free = Segments(segs.segments[kept], segs.index[kept], segs.cluster[kept], segs.end_kind[kept], segs.rms[kept])
+    free = Segments(segs.segments[kept], segs.index[kept], segs.cluster[kept], segs.end_kind[kept], segs.rms[kept],
+                    segs.covariance[kept])
     local = merge(local_before, free, loc.pose, scan, params.merge)
     lap("merge")
     shown = local.shown(params.merge)
@@ -152,6 +153,7 @@ def _perceive(
     wm.proximity = prox
     wm.too_close = bool(prox.any())
     wm.current_map = segs.segments
+    wm.current_map_covariance = segs.covariance
     wm.spike_corners = spikes
     wm.vector_corners = vec
     wm.vector_corner_inner = inner

@@ -39,11 +39,12 @@ class Segments:
     cluster: np.ndarray  # (S,) cluster id
     end_kind: np.ndarray  # (S, 2) int, END_*
     rms: np.ndarray  # (S,)
+    covariance: np.ndarray  # (S, 3) of the line's (alpha, rho): var(alpha), var(rho), cov(alpha, rho)
 
     @staticmethod
     def empty() -> Segments:
         return Segments(np.zeros((0, 4)), np.zeros((0, 2), dtype=np.int64), np.zeros(0, dtype=np.int64),
-                        np.zeros((0, 2), dtype=np.int64), np.zeros(0))
+                        np.zeros((0, 2), dtype=np.int64), np.zeros(0), np.zeros((0, 3)))
 
 
 Segmenter = Callable[[np.ndarray, np.ndarray, PerceptionParams], np.ndarray]
@@ -98,5 +99,6 @@ def finish_pieces(scan: ScanPoints, pieces: np.ndarray, params: PerceptionParams
         np.ascontiguousarray(scan.points, dtype=np.float64), np.ascontiguousarray(pieces, dtype=np.int64),
         np.ascontiguousarray(scan.clusters, dtype=np.int64), np.ascontiguousarray(scan.end_seen, dtype=np.bool_),
         float(p.merge_angle), int(p.min_points), float(p.min_length), float(p.max_rms),
-        float(p.seen_margin), int(p.seen_points))
+        float(p.seen_margin), int(p.seen_points), float(p.range_sigma0), float(p.range_sigma_per_m),
+        bool(p.weighted_fit), float(p.min_points_per_m))
     return Segments(*out)

@@ -2,12 +2,27 @@
 
 One compiled loop (`finish_kernel`) over the pieces of a scan, shared by every segmenter.
 
-Refit: closed-form total least squares (orthogonal regression) per piece, from prefix sums
-of 1, x, y, x^2, xy, y^2 over the points (so a piece costs O(1), whatever its length):
+Refit: closed-form (weighted) total least squares (orthogonal regression) per piece, from
+prefix sums of w, wx, wy, wx^2, wxy, wy^2 over the points (so a piece costs O(1), whatever
+its length):
 
-    centroid c = mean(p),  covariance S = [[sxx, sxy], [sxy, syy]]
+    W = sum w,  centroid c = sum(w p) / W,  covariance S = [[sxx, sxy], [sxy, syy]] (weighted)
     direction theta = atan2(2 sxy, sxx - syy) / 2     (the eigenvector of the largest eigenvalue)
     rms residual = sqrt(lambda_min),  lambda_min = (sxx + syy)/2 - sqrt(((sxx - syy)/2)^2 + sxy^2)
+
+Range weighting (Pfister et al. 2003, "Weighted line fitting algorithms for mobile robot map
+building"; laser_line_extraction's LineFitter): a point at range r has noise sigma = sigma0 +
+k r, so it weighs w = (sigma0 / sigma)^2 (normalised to at most 1, which keeps the prefix sums
+well scaled); `weighted=False` gives every point w = 1, the plain fit. The line's covariance
+comes from the same sums (Fisher information of the fit, points of known noise sigma_i):
+with the normal angle alpha and distance rho of the line (Hessian form, rho >= 0) and t_c
+the centroid's coordinate along the line,
+
+    var(alpha) = sigma0^2 / (W lambda_max)      (W lambda_max = sum w t_i^2, spread along the line)
+    var(rho)   = sigma0^2 / W + t_c^2 var(alpha),   cov(alpha, rho) = t_c var(alpha)
+
+so a far, sparse, short wall gets a wide covariance. (With `weighted=False` it assumes
+sigma0 for every point.)
 
 A piece's end points shared with a neighbour (a corner of the scan) sit on the rounded tip
 of that corner, so pieces of 5 points or more leave one point out at each end of the fit;
@@ -17,7 +32,8 @@ Merge (the *merge* of split-and-merge): neighbouring pieces of one cluster (shar
 nearly sharing, a vertex) whose refitted directions differ less than `merge_angle` (as
 undirected lines, the difference wrapped to (-pi/2, pi/2]) become one piece, refitted.
 
-Filter: fewer than `min_points`, shorter than `min_length` or an rms above `max_rms`: dropped.
+Filter: fewer than `min_points + min_points_per_m * range` points (range: the distance of
+the piece's midpoint from the robot), shorter than `min_length` or an rms above `max_rms`: dropped.
 
 End kinds, decided before filtering so a dropped neighbour leaves a floating end:
 0 floating; 1 joint (the next piece of the same cluster starts within 2 points: a corner
@@ -43,7 +59,7 @@ def _example() -> tuple:
     pieces = np.array([[0, 8], [8, 16]], dtype=np.int64)
     clusters = np.array([[0, 17]], dtype=np.int64)
     seen = np.zeros((1, 2), dtype=np.bool_)
-    return pts, pieces, clusters, seen, 0.1, 4, 0.1, 0.03, 0.05, 3
+    return pts, pieces, clusters, seen, 0.1, 4, 0.1, 0.03, 0.05, 3, 0.01, 0.005, True, 0.0
 
 
 @kernel(_example)
@@ -51,8 +67,10 @@ def finish_kernel(
     pts: np.ndarray, pieces_in: np.ndarray, clusters: np.ndarray, end_seen: np.ndarray,
     merge_angle: float, min_points: int, min_length: float, max_rms: float,
     seen_margin: float, seen_points: int,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(segments (S, 4), pieces (S, 2), cluster (S,), end_kind (S, 2), rms (S,)) of the kept walls."""
+    sigma0: float = 0.01, sigma_per_m: float = 0.0, weighted: bool = False, min_points_per_m: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(segments (S, 4), pieces (S, 2), cluster (S,), end_kind (S, 2), rms (S,), covariance
+    (S, 3): var(alpha), var(rho), cov(alpha, rho)) of the kept walls."""
     m = pts.shape[0]
     # pieces of at least two points, each with its cluster (the last cluster starting at or
     # before the piece's first point)
@@ -73,17 +91,21 @@ def finish_kernel(
         s_n += 1
     pieces = pieces[:s_n]
     cid = cid[:s_n]
-    # running sums of 1, x, y, x^2, xy, y^2 (row 0 all zero)
+    # running sums of w, wx, wy, wx^2, wxy, wy^2 (row 0 all zero); w = 1 unweighted
     pre = np.zeros((m + 1, 6))
     for i in range(m):
         x, y = pts[i, 0], pts[i, 1]
-        pre[i + 1, 0] = pre[i, 0] + 1.0
-        pre[i + 1, 1] = pre[i, 1] + x
-        pre[i + 1, 2] = pre[i, 2] + y
-        pre[i + 1, 3] = pre[i, 3] + x * x
-        pre[i + 1, 4] = pre[i, 4] + x * y
-        pre[i + 1, 5] = pre[i, 5] + y * y
-    seg, theta, rms = _refit(pts, pieces, pre)
+        w = 1.0
+        if weighted:
+            q = sigma0 / (sigma0 + sigma_per_m * math.hypot(x, y))
+            w = q * q
+        pre[i + 1, 0] = pre[i, 0] + w
+        pre[i + 1, 1] = pre[i, 1] + w * x
+        pre[i + 1, 2] = pre[i, 2] + w * y
+        pre[i + 1, 3] = pre[i, 3] + w * x * x
+        pre[i + 1, 4] = pre[i, 4] + w * x * y
+        pre[i + 1, 5] = pre[i, 5] + w * y * y
+    seg, theta, rms, cov = _refit(pts, pieces, pre, sigma0)
     # merge almost parallel neighbours of one cluster
     n_p = pieces.shape[0]
     if n_p > 1:
@@ -106,11 +128,13 @@ def finish_kernel(
                 mcid[g] = cid[first[g]]
             pieces, cid = merged, mcid
             n_p = n_g
-            seg, theta, rms = _refit(pts, pieces, pre)
+            seg, theta, rms, cov = _refit(pts, pieces, pre, sigma0)
     keep = np.empty(n_p, dtype=np.bool_)
     for i in range(n_p):
         length = math.hypot(seg[i, 2] - seg[i, 0], seg[i, 3] - seg[i, 1])
-        keep[i] = pieces[i, 1] - pieces[i, 0] + 1 >= min_points and length >= min_length and rms[i] <= max_rms
+        rng = math.hypot(0.5 * (seg[i, 0] + seg[i, 2]), 0.5 * (seg[i, 1] + seg[i, 3]))
+        enough = pieces[i, 1] - pieces[i, 0] + 1 >= min_points + min_points_per_m * rng
+        keep[i] = enough and length >= min_length and rms[i] <= max_rms
     # end kinds: joints between kept neighbours, then seen ends
     kind = np.zeros((n_p, 2), dtype=np.int64)
     for i in range(n_p - 1):
@@ -150,6 +174,7 @@ def finish_kernel(
     out_cid = np.empty(n_k, dtype=np.int64)
     out_kind = np.empty((n_k, 2), dtype=np.int64)
     out_rms = np.empty(n_k)
+    out_cov = np.empty((n_k, 3))
     w = 0
     for i in range(n_p):
         if keep[i]:
@@ -158,13 +183,14 @@ def finish_kernel(
             out_cid[w] = cid[i]
             out_kind[w] = kind[i]
             out_rms[w] = rms[i]
+            out_cov[w] = cov[i]
             w += 1
-    return out_seg, out_pieces, out_cid, out_kind, out_rms
+    return out_seg, out_pieces, out_cid, out_kind, out_rms, out_cov
 
 
 def _refit_example() -> tuple:
     pts = np.array([[1.0, 0.1 * i] for i in range(6)])
-    return pts, np.array([[0, 5]], dtype=np.int64), prefix_sums(pts)
+    return pts, np.array([[0, 5]], dtype=np.int64), prefix_sums(pts), 0.01
 
 
 def prefix_sums(pts: np.ndarray) -> np.ndarray:
@@ -182,12 +208,16 @@ def prefix_sums(pts: np.ndarray) -> np.ndarray:
 
 
 @kernel(_refit_example)
-def _refit(pts: np.ndarray, pieces: np.ndarray, pre: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Total-least-squares line of every piece: (segments (S, 4), direction (S,), rms (S,))."""
+def _refit(
+    pts: np.ndarray, pieces: np.ndarray, pre: np.ndarray, sigma0: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(Weighted) total-least-squares line of every piece, from the prefix sums `pre`:
+    (segments (S, 4), direction (S,), rms (S,), covariance (S, 3) of (alpha, rho))."""
     n_p = pieces.shape[0]
     seg = np.empty((n_p, 4))
     theta = np.empty(n_p)
     rms = np.empty(n_p)
+    cov = np.empty((n_p, 3))
     for i in range(n_p):
         s, e = pieces[i, 0], pieces[i, 1]
         fs, fe = (s + 1, e - 1) if e - s >= 4 else (s, e)  # leave out corner tips
@@ -208,7 +238,16 @@ def _refit(pts: np.ndarray, pieces: np.ndarray, pre: np.ndarray) -> tuple[np.nda
         seg[i, 2], seg[i, 3] = cx + t1 * dx, cy + t1 * dy
         theta[i] = th
         rms[i] = math.sqrt(lam_min)
-    return seg, theta, rms
+        # covariance of the Hessian form (alpha, rho): normal (-dy, dx) flipped to rho >= 0
+        nx, ny = -dy, dx
+        if cx * nx + cy * ny < 0:
+            nx, ny = -nx, -ny
+        t_c = cx * (-ny) + cy * nx  # d rho / d alpha: the centroid along the line
+        var_a = sigma0 * sigma0 / max(n * ((sxx + syy) / 2 + half), 1e-300)
+        cov[i, 0] = var_a
+        cov[i, 1] = sigma0 * sigma0 / n + t_c * t_c * var_a
+        cov[i, 2] = t_c * var_a
+    return seg, theta, rms, cov
 
 
 def refit(pts: np.ndarray, pieces: np.ndarray, pre: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -216,4 +255,5 @@ def refit(pts: np.ndarray, pieces: np.ndarray, pre: np.ndarray | None = None) ->
     pts = np.ascontiguousarray(pts, dtype=np.float64)
     if pre is None:
         pre = prefix_sums(pts)
-    return _refit(pts, np.ascontiguousarray(pieces, dtype=np.int64), pre)
+    seg, theta, rms, _ = _refit(pts, np.ascontiguousarray(pieces, dtype=np.int64), pre, 0.01)
+    return seg, theta, rms
