@@ -15,11 +15,10 @@ from pico_studio import plugins
 from pico_studio.ui import style
 from tests.ui_browser_helpers import (
     CHROMIUM,
-    CHROMIUM_ARGS,
-    VIEWPORT,
     count_colour,
     free_port,
     open_folder,
+    opened_page,
     screenshot,
     set_number,
     wait_until,
@@ -84,14 +83,9 @@ def app(plugin_file: Path, tmp_path_factory: pytest.TempPathFactory):
 
 
 @pytest.fixture(scope="module")
-def page(app):
-    with sync_api.sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=CHROMIUM_ARGS)
-        page = browser.new_page(viewport=VIEWPORT)
-        page.goto(app.url + "/?fixedDpr=1")
-        page.get_by_text("hospital_2019.json").first.wait_for(timeout=30000)
+def page(app, tmp_path_factory: pytest.TempPathFactory):
+    with opened_page(app, tmp_path_factory, "hospital_2019.json") as page:
         yield page
-        browser.close()
 
 
 def _visible(page, text: str) -> bool:  # noqa: ANN001

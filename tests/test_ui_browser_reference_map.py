@@ -4,7 +4,6 @@ toggled off, and the Run tab shows the local map's agreement with it."""
 
 from __future__ import annotations
 
-import argparse
 import re
 from pathlib import Path
 
@@ -13,11 +12,10 @@ import pytest
 from pico_studio.ui import style
 from tests.ui_browser_helpers import (
     CHROMIUM,
-    CHROMIUM_ARGS,
-    VIEWPORT,
     count_colour,
-    free_port,
+    opened_page,
     screenshot,
+    served_app,
     wait_until,
 )
 
@@ -31,30 +29,14 @@ INTEL = Path(__file__).resolve().parent / "data" / "recordings" / "intel-correct
 
 @pytest.fixture(scope="module")
 def app(tmp_path_factory: pytest.TempPathFactory):
-    from pico_studio.cli.serve_cmd import build_app
-
-    args = argparse.Namespace(
-        map=None, sim_config=None, config=None, behaviour="stop", source=f"carmen:{INTEL}", host="127.0.0.1",
-        port=free_port(), seed=None, export_dir=str(tmp_path_factory.mktemp("exports")), paused=True,
-    )
-    app = build_app(args, verbose=False)
-    app.start()
-    yield app
-    app.stop()
+    with served_app(tmp_path_factory, behaviour="stop", source=f"carmen:{INTEL}") as app:
+        yield app
 
 
 @pytest.fixture(scope="module")
 def page(app, tmp_path_factory: pytest.TempPathFactory):
-    with sync_api.sync_playwright() as p:
-        ctx = p.chromium.launch_persistent_context(
-            str(tmp_path_factory.mktemp("chromium-profile")), executable_path=str(CHROMIUM), headless=True,
-            args=CHROMIUM_ARGS, viewport=VIEWPORT,
-        )
-        page = ctx.new_page()
-        page.goto(app.url + "/?fixedDpr=1")
-        page.get_by_text(re.compile("recording frame")).first.wait_for(timeout=30000)
+    with opened_page(app, tmp_path_factory, re.compile("recording frame")) as page:
         yield page
-        ctx.close()
 
 
 def test_the_reference_map_is_drawn_and_the_agreement_shown(app, page) -> None:

@@ -4,7 +4,6 @@ frame whose local map is the one playing there builds."""
 
 from __future__ import annotations
 
-import argparse
 import re
 from pathlib import Path
 
@@ -17,9 +16,8 @@ from pico_studio.ui.runtime import Studio
 from pico_studio.ui.sources import make_source_factory
 from tests.ui_browser_helpers import (
     CHROMIUM,
-    CHROMIUM_ARGS,
-    VIEWPORT,
-    free_port,
+    opened_page,
+    served_app,
     set_number,
     wait_until,
 )
@@ -34,30 +32,14 @@ BAG = Path(__file__).resolve().parent / "data" / "recordings" / "pico_real_2019-
 
 @pytest.fixture(scope="module")
 def app(tmp_path_factory: pytest.TempPathFactory):
-    from pico_studio.cli.serve_cmd import build_app
-
-    args = argparse.Namespace(
-        map=None, sim_config=None, config=None, behaviour="wander", source=f"bag:{BAG}", host="127.0.0.1",
-        port=free_port(), seed=None, export_dir=str(tmp_path_factory.mktemp("exports")), paused=True,
-    )
-    app = build_app(args, verbose=False)
-    app.start()
-    yield app
-    app.stop()
+    with served_app(tmp_path_factory, source=f"bag:{BAG}") as app:
+        yield app
 
 
 @pytest.fixture(scope="module")
 def page(app, tmp_path_factory: pytest.TempPathFactory):
-    with sync_api.sync_playwright() as p:
-        ctx = p.chromium.launch_persistent_context(
-            str(tmp_path_factory.mktemp("chromium-profile")), executable_path=str(CHROMIUM), headless=True,
-            args=CHROMIUM_ARGS, viewport=VIEWPORT,
-        )
-        page = ctx.new_page()
-        page.goto(app.url + "/?fixedDpr=1")
-        page.get_by_text(re.compile("recording frame")).first.wait_for(timeout=30000)
+    with opened_page(app, tmp_path_factory, re.compile("recording frame")) as page:
         yield page
-        ctx.close()
 
 
 def test_a_replay_shows_relative_time_and_no_driving_controls(app, page) -> None:

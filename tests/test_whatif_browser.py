@@ -6,7 +6,6 @@ tests run in file order: a run is driven, then re-judged, pinned as A, changed i
 
 from __future__ import annotations
 
-import argparse
 import re
 from pathlib import Path
 
@@ -15,12 +14,11 @@ import pytest
 from pico_studio.ui import style
 from tests.ui_browser_helpers import (
     CHROMIUM,
-    CHROMIUM_ARGS,
-    VIEWPORT,
     count_colour,
-    free_port,
     input_of,
+    opened_page,
     screenshot,
+    served_app,
     set_number,
     wait_until,
 )
@@ -33,27 +31,14 @@ if not CHROMIUM.exists():
 
 @pytest.fixture(scope="module")
 def app(tmp_path_factory: pytest.TempPathFactory):
-    from pico_studio.cli.serve_cmd import build_app
-
-    args = argparse.Namespace(
-        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1",
-        port=free_port(), seed=3, export_dir=str(tmp_path_factory.mktemp("exports")), paused=True,
-    )
-    app = build_app(args, verbose=False)
-    app.start()
-    yield app
-    app.stop()
+    with served_app(tmp_path_factory, seed=3) as app:
+        yield app
 
 
 @pytest.fixture(scope="module")
-def page(app):
-    with sync_api.sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=CHROMIUM_ARGS)
-        page = browser.new_page(viewport=VIEWPORT)
-        page.goto(app.url + "/?fixedDpr=1")
-        page.get_by_text("hospital_2019.json").first.wait_for(timeout=30000)
+def page(app, tmp_path_factory: pytest.TempPathFactory):
+    with opened_page(app, tmp_path_factory, "hospital_2019.json") as page:
         yield page
-        browser.close()
 
 
 def _chart_mean(page, title: str, label: str) -> float | None:  # noqa: ANN001

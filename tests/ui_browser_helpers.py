@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import argparse
 import math
+import re
 import socket
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import cv2
 import numpy as np
@@ -91,3 +95,42 @@ def open_folder(page, title: str, inside: str) -> None:  # noqa: ANN001
         return
     page.get_by_text(title, exact=True).locator("visible=true").first.click()
     page.get_by_text(inside).locator("visible=true").first.wait_for(timeout=20000)
+
+
+@contextmanager
+def served_app(tmp_path_factory: Any, **args: Any) -> Iterator[Any]:
+    """`pico-studio serve` in this process on a free port, paused, exporting into a temporary
+    folder (keyword arguments override serve's options), stopped afterwards."""
+    from pico_studio.cli.serve_cmd import build_app
+
+    options: dict[str, Any] = dict(
+        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1",
+        port=free_port(), seed=None, export_dir=str(tmp_path_factory.mktemp("exports")), paused=True,
+    )
+    options.update(args)
+    app = build_app(argparse.Namespace(**options), verbose=False)
+    app.start()
+    try:
+        yield app
+    finally:
+        app.stop()
+
+
+@contextmanager
+def opened_page(app: Any, tmp_path_factory: Any, ready: str | re.Pattern[str]) -> Iterator[Any]:
+    """Debian's chromium (its own profile, so local storage works) on the app's page, once
+    `ready` is on it; closed afterwards."""
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        ctx = p.chromium.launch_persistent_context(
+            str(tmp_path_factory.mktemp("chromium-profile")), executable_path=str(CHROMIUM), headless=True,
+            args=CHROMIUM_ARGS, viewport=VIEWPORT,
+        )
+        try:
+            page = ctx.new_page()
+            page.goto(app.url + "/?fixedDpr=1")
+            page.get_by_text(ready).first.wait_for(timeout=30000)
+            yield page
+        finally:
+            ctx.close()
