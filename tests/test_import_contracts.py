@@ -48,7 +48,7 @@ def test_the_tree_keeps_every_contract(tmp_path: Path) -> None:
     ("pico_studio.json_map.model", "import pico_studio.core.io  # noqa", "maps are read"),
     ("pico_studio.config.spec", "import pico_studio.json_map  # noqa", "the ground floor"),
     ("pico_studio.sim.laser", "import viser  # noqa", "only ui imports viser"),
-    ("pico_studio.ui.colour", "import pico_studio.cli  # noqa", "The layers"),
+    ("pico_studio.ui.colour", "import pico_studio.cli  # noqa", "layers from cli on top"),
 ])
 def test_a_forbidden_import_fails_its_contract(tmp_path: Path, module: str, line: str,
                                                contract: str) -> None:
