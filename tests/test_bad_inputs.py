@@ -582,6 +582,25 @@ def _argument_cases() -> list[Case]:
                         ("--poses", "100000"), ("--frames", "0"), ("--frames", "1.5"), ("--turn", "nan"),
                         ("--turn", "1e9"), ("--clearance", "-1"), ("--clearance", "inf")]:
         cases.append(refuse(f"arg-eval{flag}-{value}", ["eval", "--map", HOSPITAL, flag, value], f"argument {flag}"))
+    # the later commands take their numbers through the same validators (cli/limits.py)
+    for name, argv, flag in [
+        ("compare-seconds-nan", ["compare", "defaults", "defaults", "--map", HOSPITAL, "--seconds", "nan"], "--seconds"),
+        ("compare-steps", ["compare", "defaults", "defaults", "--map", HOSPITAL, "--dt", "1e-4", "--seconds", "5000"],
+         "step limit"),
+        ("compare-seed", ["compare", "defaults", "defaults", "--map", HOSPITAL, "--seed", "-1"], "--seed"),
+        ("compare-workers", ["compare", "defaults", "defaults", "--map", HOSPITAL, "--workers", "0"], "--workers"),
+        ("compare-tolerance", ["compare", "defaults", "defaults", "--map", HOSPITAL, "--tolerance", "inf"],
+         "--tolerance"),
+        ("eval-workers", ["eval", "--scenarios", "x.yaml", "--workers", "1e9"], "--workers"),
+        ("tune-trials", ["tune", "--map", HOSPITAL, "--trials", "0"], "--trials"),
+        ("tune-workers", ["tune", "--map", HOSPITAL, "--workers", "-2"], "--workers"),
+        ("tune-max-ms", ["tune", "--map", HOSPITAL, "--max-ms", "nan"], "--max-ms"),
+        ("render-width", ["render", "--map", HOSPITAL, "--out", "{d}/o.png", "--width", "100000"], "--width"),
+        ("render-fps", ["render", "--map", HOSPITAL, "--out", "{d}/o.png", "--fps", "0"], "--fps"),
+        ("render-from", ["render", "--map", HOSPITAL, "--out", "{d}/o.png", "--from", "-3"], "--from"),
+        ("serve-port", ["serve", "--port", "70000"], "--port"),
+    ]:
+        cases.append(refuse(f"arg-{name}", argv, f"argument {flag}" if flag.startswith("--") else flag))
     cases += [
         refuse("arg-behaviour-nan", ["run", "--map", HOSPITAL, "--behaviour", "drive:nan,0,0"], "--behaviour"),
         refuse("arg-behaviour-short", ["run", "--map", HOSPITAL, "--behaviour", "drive:1"], "three numbers"),

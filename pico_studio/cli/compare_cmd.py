@@ -17,6 +17,7 @@ import json
 import math
 from typing import Any
 
+from pico_studio.cli import limits
 from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.config import Config, load_config
 from pico_studio.errors import UserError
@@ -40,15 +41,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--sim-config", help="the official simulator's config JSON (start pose, moving objects, ...)")
     p.add_argument("--source", default="sim", help="sim (default, needs --map), bag:FILE or carmen:FILE")
     p.add_argument("--scenarios", metavar="FILE", help="a scenario-set YAML (as eval --scenarios)")
-    p.add_argument("--seconds", type=float, help="seconds to drive (default 30; a recording: to its end)")
-    p.add_argument("--dt", type=float, default=0.05, help="control period of the drive, s (default 0.05)")
-    p.add_argument("--seed", type=int, help="random seed of the simulator (default: sim.seed of A)")
+    p.add_argument("--seconds", type=limits.SECONDS, action=limits.StepCap, help="seconds to drive (default 30; a recording: to its end)")
+    p.add_argument("--dt", type=limits.DT, action=limits.StepCap, default=0.05, help="control period of the drive, s (default 0.05)")
+    p.add_argument("--seed", type=limits.SEED, help="random seed of the simulator (default: sim.seed of A)")
     p.add_argument("--behaviour", default="wander", help="what drives the simulated robot (default wander)")
     p.add_argument("--localise", action="store_true", help="localise on the map; compare the pose errors too")
     p.add_argument("--fail-on", metavar="METRIC[,...]", default="",
                    help="exit 1 when B is worse than A on any of these (e.g. doors.f1,perception_score)")
-    p.add_argument("--tolerance", type=float, default=0.0, help="how much worse still passes (default 0)")
-    p.add_argument("--workers", type=int, default=2, help="processes: 2 judges A and B at once (default 2)")
+    p.add_argument("--tolerance", type=limits.TOLERANCE, default=0.0, help="how much worse still passes (default 0)")
+    p.add_argument("--workers", type=limits.WORKERS, default=2, help="processes: 2 judges A and B at once (default 2)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_compare)
 
@@ -64,8 +65,6 @@ def _compare(args: argparse.Namespace) -> int:
         raise UserError(f"must be a number in (0, 1], got {args.dt}", field="--dt")
     if not (math.isfinite(args.tolerance) and args.tolerance >= 0):
         raise UserError(f"must be a non-negative number, got {args.tolerance}", field="--tolerance")
-    if not 1 <= args.workers <= 64:
-        raise UserError(f"must be between 1 and 64, got {args.workers}", field="--workers")
     fail_on = [m.strip() for m in args.fail_on.split(",") if m.strip()]
     cfg_a, cfg_b = _config(args.a), _config(args.b)
     comparison = _run(args, cfg_a, cfg_b)

@@ -33,7 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--map", help="a JSON map or heightmap image")
     p.add_argument("--scenarios", metavar="FILE.yaml", help="a scenario-set YAML file: score every scenario and the mean")
     p.add_argument("--only", metavar="NAME", action="append", help="with --scenarios: just this scenario (repeatable)")
-    p.add_argument("--workers", type=int, default=1, help="with --scenarios: scenarios run in this many processes (default 1)")
+    p.add_argument("--workers", type=limits.WORKERS, default=1, help="with --scenarios: scenarios run in this many processes (default 1)")
     p.add_argument("--sim-config", help="the official simulator's config JSON")
     p.add_argument("--config", help="a pico_studio config YAML (perception, localisation, map and sim sections)")
     p.add_argument("--seed", type=limits.SEED, default=0, help="seed of the poses and the simulator (default 0)")
@@ -76,8 +76,6 @@ def _eval(args: argparse.Namespace) -> int:
 def _eval_set(args: argparse.Namespace) -> int:
     if args.map is not None:
         raise UserError("a scenario set names its own maps; drop --map", field="--map")
-    if args.workers < 1:
-        raise UserError(f"must be at least 1, got {args.workers}", field="--workers")
     cfg = load_config(args.config)
     ss = load_scenarios(args.scenarios)
     if args.only:

@@ -71,6 +71,12 @@ SEED = whole(0, 2**32 - 1, "a seed")
 COUNT = whole(1, 10_000, "a count")
 TURN = number(-10.0, 10.0, unit="rad/s")
 CLEARANCE = number(0.0, 10.0, unit="m")
+WORKERS = whole(1, 64, "a number of processes")
+PORT = whole(0, 65535, "a port")
+PIXELS = whole(16, 8192, "a size in pixels")
+FPS = number(0.0, 240.0, lo_open=True, unit="frames/s")
+TOLERANCE = number(0.0, 1e6)
+MILLISECONDS = number(0.0, 1e6, lo_open=True, unit="ms")
 
 
 class StepCap(argparse.Action):

@@ -14,6 +14,7 @@ import argparse
 import math
 from pathlib import Path
 
+from pico_studio.cli import limits
 from pico_studio.cli.plugin_args import add_plugin_argument
 
 DEFAULT_SIM_SECONDS = 20.0
@@ -26,12 +27,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--sim-config", help="simulator config JSON (initial pose, moving objects, ...)")
     p.add_argument("--config", help="a (partial) config YAML")
     p.add_argument("--behaviour", default="wander", help="what drives a simulated robot (as for serve)")
-    p.add_argument("--seed", type=int, default=None, help="simulator random seed")
-    p.add_argument("--from", dest="t_from", type=float, default=0.0, help="start, seconds from the beginning (default 0)")
-    p.add_argument("--to", dest="t_to", type=float, default=None,
+    p.add_argument("--seed", type=limits.SEED, default=None, help="simulator random seed")
+    p.add_argument("--from", dest="t_from", type=limits.SECONDS, default=0.0, help="start, seconds from the beginning (default 0)")
+    p.add_argument("--to", dest="t_to", type=limits.SECONDS, default=None,
                    help=f"end, seconds from the beginning (default: the recording's end; {DEFAULT_SIM_SECONDS:g} s simulated)")
-    p.add_argument("--width", type=int, default=900, help="image width in pixels (default 900)")
-    p.add_argument("--fps", type=float, default=None, help="video frame rate (default: the control rate, ui.rate_hz)")
+    p.add_argument("--width", type=limits.PIXELS, default=900, help="image width in pixels (default 900)")
+    p.add_argument("--fps", type=limits.FPS, default=None, help="video frame rate (default: the control rate, ui.rate_hz)")
     p.add_argument("--out", required=True, help="FILE.mp4, FILE.gif or FILE.png")
     add_plugin_argument(p)
     p.set_defaults(func=_render)

@@ -8,6 +8,7 @@ import threading
 import time
 from pathlib import Path
 
+from pico_studio.cli import limits
 from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.core.behaviours.registry import behaviour_help
 
@@ -20,8 +21,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--behaviour", default="wander", help="what drives the robot: " + behaviour_help() + " | teleop (default wander)")
     p.add_argument("--source", default="sim", help="sim (default), bag:FILE, carmen:FILE or ros (a replay drives nothing: behaviours are ignored)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
-    p.add_argument("--port", type=int, default=8080, help="port (default 8080)")
-    p.add_argument("--seed", type=int, default=None, help="simulator random seed")
+    p.add_argument("--port", type=limits.PORT, default=8080, help="port (default 8080)")
+    p.add_argument("--seed", type=limits.SEED, default=None, help="simulator random seed")
     p.add_argument("--export-dir", default="pico_studio_exports", help="where 'Export config' saves YAML files")
     p.add_argument("--paused", action="store_true", help="start paused")
     add_plugin_argument(p)

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pico_studio.cli import limits
 from pico_studio.cli.plugin_args import add_plugin_argument
 from pico_studio.config import load_config
 from pico_studio.errors import ConfigError
@@ -40,21 +41,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     src.add_argument("--sim-config", help="the official simulator's config JSON for --map")
     src.add_argument("--source", help="one recording (bag:FILE | carmen:FILE) with its truth, "
                                       "localised on --map")
-    src.add_argument("--poses", type=int, default=10, help="random free poses on --map (default 10)")
+    src.add_argument("--poses", type=limits.COUNT, default=10, help="random free poses on --map (default 10)")
     p.add_argument("--config", help="the start config YAML (default: the defaults)")
     p.add_argument("--params", default=DEFAULT_PARAMS,
                    help=f"parameter globs to search, comma separated (default {DEFAULT_PARAMS})")
     p.add_argument("--objective", default=None,
                    help="metric(s) to optimise, comma separated; several give a Pareto front "
                         "(default perception_score: mean of wall, corner, door F1 and convexity)")
-    p.add_argument("--max-ms", type=float, default=None, help="at most this perceptor CPU per scan (ms)")
+    p.add_argument("--max-ms", type=limits.MILLISECONDS, default=None, help="at most this perceptor CPU per scan (ms)")
     p.add_argument("--holdout", help="a scenario set YAML, or a fraction of --scenarios, kept out of the search")
-    p.add_argument("--trials", type=int, default=50, help="trials in the study, all workers together (default 50)")
-    p.add_argument("--workers", type=int, default=1, help="local processes on the study (default 1)")
+    p.add_argument("--trials", type=limits.COUNT, default=50, help="trials in the study, all workers together (default 50)")
+    p.add_argument("--workers", type=limits.WORKERS, default=1, help="local processes on the study (default 1)")
     p.add_argument("--storage", help="a database URL (postgresql://…) shared by several machines "
                                      "(default: a journal file in --out)")
     p.add_argument("--study", help="the study's name (default: the scenario set's)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the sampler and of a fractional hold-out")
+    p.add_argument("--seed", type=limits.SEED, default=0, help="seed of the sampler and of a fractional hold-out")
     p.add_argument("--out", default="tune-out", help="folder for best.yaml, report.html, the journal")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     add_plugin_argument(p)
@@ -124,8 +125,6 @@ def _tune(args: argparse.Namespace) -> int:
 
     if args.trials < 1:
         raise ConfigError(f"must be at least 1, got {args.trials}", field="--trials")
-    if args.workers < 1:
-        raise ConfigError(f"must be at least 1, got {args.workers}", field="--workers")
     cfg = load_config(args.config)
     space = search_space(cfg, args.params)
     objective = parse_objective(args.objective, args.max_ms)
