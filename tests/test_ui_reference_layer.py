@@ -12,7 +12,7 @@ import numpy as np
 from pico_studio.config import Config
 from pico_studio.core.geometry import transform_points
 from pico_studio.json_map import load_json_map
-from pico_studio.ui.reference_layer import agreement_text, scan_points
+from pico_studio.ui.reference_layer import agreement_text
 from pico_studio.ui.replay import ReplayDriver
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.scene_data import frame_prims
@@ -33,7 +33,7 @@ def test_the_reference_map_is_drawn_where_the_scans_end_and_the_local_map_agrees
     ref = frame_prims(studio, frame)["reference_map"].data
     assert len(ref) > 5000  # the building, not one room
     # this scan's returns at its true pose lie on the drawn reference (5 cm cells)
-    ends = transform_points(scan_points(frame.laser), frame.truth_pose)
+    ends = transform_points(frame.laser.points, frame.truth_pose)
     nearest = np.min(np.hypot(*(ends[:, None, :] - ref[None, ::1, :]).transpose(2, 0, 1)), axis=1)
     assert np.median(nearest) < 0.05
 

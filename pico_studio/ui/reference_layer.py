@@ -29,14 +29,6 @@ from pico_studio.ui.clock import is_replay
 log = logging.getLogger(__name__)
 
 
-def scan_points(laser: Any) -> np.ndarray:
-    """(M, 2) a scan's valid returns in the robot frame."""
-    r = np.asarray(laser.ranges, dtype=float)
-    ok = np.isfinite(r) & (r >= laser.range_min) & (r <= laser.range_max)
-    a = np.asarray(laser.angles)[ok]
-    return np.column_stack([r[ok] * np.cos(a), r[ok] * np.sin(a)])
-
-
 def build_reference(recording: Any) -> ReferenceMap:
     """Every scan of the recording cast from the newest true pose at its time."""
     ref = ReferenceMap()
@@ -47,7 +39,7 @@ def build_reference(recording: Any) -> ReferenceMap:
             continue
         pose = tuple(float(v) for v in recording.truth[j].pose)
         if all(math.isfinite(v) for v in pose):
-            ref.add_scan(scan_points(scan), pose)  # type: ignore[arg-type]
+            ref.add_scan(scan.points, pose)  # type: ignore[arg-type]
     ref.wall_points()  # builds the grid and its distance field here, off the page's thread
     return ref
 

@@ -186,13 +186,7 @@ def laser_points_robot(frame: FrameRecord) -> np.ndarray:
     valid returns."""
     if frame.wm is not None:
         return _pts(frame.wm.points)
-    laser = frame.laser
-    if laser is None:
-        return np.zeros((0, 2))
-    r = np.asarray(laser.ranges, dtype=float)
-    ok = np.isfinite(r) & (r >= laser.range_min) & (r <= laser.range_max)
-    a = laser.angles[ok]
-    return np.column_stack([r[ok] * np.cos(a), r[ok] * np.sin(a)])
+    return frame.laser.points if frame.laser is not None else np.zeros((0, 2))
 
 
 def footprint_size(cfg: Config) -> tuple[float, float]:
