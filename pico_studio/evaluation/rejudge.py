@@ -37,9 +37,9 @@ import math
 import threading
 import time
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 
@@ -54,8 +54,6 @@ from pico_studio.session import Session, SessionFrame
 from pico_studio.sources.frames import FramesReplay
 
 Pose = tuple[float, float, float]
-
-
 
 
 @dataclass(frozen=True)
@@ -104,6 +102,7 @@ class KeptRun:
     name: str = ""
     _dfield: Any = field(default=None, repr=False)  # the map's distance field, built once per field params
     _dfield_key: Any = field(default=None, repr=False)
+    _blob: bytes | None = field(default=None, repr=False, compare=False)  # pickled for worker processes
 
     @property
     def scans(self) -> int:
@@ -137,11 +136,54 @@ class Judged:
     frame_index: np.ndarray  # (N,) the kept frame (tick) each row is
     series: dict[str, np.ndarray]  # name -> (N,)
     totals: dict[str, float]
-    features: list[dict[str, np.ndarray]]  # per row: walls, corners, doors (zero frame) and pose, for diffs
+    features: Sequence[dict[str, np.ndarray]]  # per row: walls, corners, doors (zero frame) and pose, for diffs
     notes: list[str]  # e.g. "no truth: scores absent"
     seconds: float  # wall time the re-judge took
     config: Config | None = None
     complete: bool = True  # False: the frames judged so far of a re-judge under way (no totals)
+    cpu: float = math.nan  # CPU seconds it took (every process judging it)
+
+
+class Features(Sequence[dict[str, np.ndarray]]):
+    """Every row's walls (K, 4), corners (K, 2), doors (K, 4) in its zero frame and its pose
+    (3,), packed: one array per kind and the rows' offsets into it. `features[i]` is row i's
+    dict (views), as `diff.features` gives it plus "pose"; a worker process sends these few
+    arrays back instead of thousands of small dicts."""
+
+    KINDS = (("walls", 4), ("corners", 2), ("doors", 4))
+
+    def __init__(self, arrays: dict[str, np.ndarray], offsets: dict[str, np.ndarray], pose: np.ndarray):
+        self.arrays, self.offsets, self.pose = arrays, offsets, pose
+
+    @classmethod
+    def pack(cls, rows: Sequence[dict[str, np.ndarray]]) -> Features:
+        arrays, offsets = {}, {}
+        for kind, width in cls.KINDS:
+            parts = [np.asarray(r[kind], dtype=float).reshape(-1, width) for r in rows]
+            arrays[kind] = np.concatenate(parts) if parts else np.zeros((0, width))
+            offsets[kind] = np.concatenate(([0], np.cumsum([len(a) for a in parts], dtype=np.int64)))
+        pose = np.array([r["pose"] for r in rows], dtype=float).reshape(-1, 3)
+        return cls(arrays, offsets, pose)
+
+    def __len__(self) -> int:
+        return len(self.pose)
+
+    @overload
+    def __getitem__(self, i: int) -> dict[str, np.ndarray]: ...
+
+    @overload
+    def __getitem__(self, i: slice) -> list[dict[str, np.ndarray]]: ...
+
+    def __getitem__(self, i: int | slice) -> dict[str, np.ndarray] | list[dict[str, np.ndarray]]:
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        if i < 0:
+            i += len(self)
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        row = {kind: self.arrays[kind][self.offsets[kind][i]:self.offsets[kind][i + 1]] for kind, _ in self.KINDS}
+        row["pose"] = self.pose[i]
+        return row
 
 
 def validated(cfg: Config) -> Config:
@@ -244,13 +286,16 @@ class Cancelled(Exception):
 
 
 class _Series:
-    """The session observer filling one row of every series per frame with a new scan."""
+    """The session observer filling one row of every series per frame with a new scan.
+
+    `cursor.index` is the kept frame being judged (the `FramesReplay` itself in one process,
+    the scoring worker's cursor when another process perceives)."""
 
     name = "series"
 
-    def __init__(self, run: KeptRun, replay: FramesReplay, scorer: TruthScorer | None,
+    def __init__(self, run: KeptRun, cursor: Any, scorer: TruthScorer | None,
                  localising: bool, agreement: Any) -> None:
-        self.run, self.replay, self.scorer = run, replay, scorer
+        self.run, self.cursor, self.scorer = run, cursor, scorer
         self.localising, self.agreement = localising, agreement
         self.rows: dict[str, list[float]] = {}
         self.times: list[float] = []
@@ -265,15 +310,15 @@ class _Series:
 
     def on_frame(self, sf: SessionFrame) -> None:
         wm = sf.world_model
-        if sf.frame.laser is None or wm is None or wm is self._last:
+        if not judged_here(sf, self._last):
             return
         self._last = wm
         self.times.append(sf.frame.time)
-        self.index.append(self.replay.index)
+        self.index.append(self.cursor.index)
         feats = features(wm)
         feats["pose"] = np.asarray(wm.pose, dtype=float)  # to place the zero frame on the map
         self.features.append(feats)
-        if self.scorer is not None and self.replay.index in (self.run.truth or {}):
+        if self.scorer is not None and self.cursor.index in (self.run.truth or {}):
             n = self.scorer.run.count
             self.scorer.on_frame(sf)
             if self.scorer.run.count != n and self.scorer.run.last is not None:
@@ -319,31 +364,91 @@ class _Series:
         return {"frames": len(self.times)}
 
 
+def judged_here(sf: SessionFrame, last: Any) -> bool:
+    """Whether tick `sf` makes a row: a new scan perceived into a new world model."""
+    return sf.frame.laser is not None and sf.world_model is not None and sf.world_model is not last
+
+
+def is_localising(run: KeptRun, cfg: Config) -> bool:
+    """Whether `cfg` localises on `run`'s map (a map with walls, localisation switched on)."""
+    return run.global_map is not None and cfg.localisation.enabled and len(run.global_map.walls) > 0
+
+
+def perceptor_for(run: KeptRun, cfg: Config) -> Any:
+    """The perceptor judging `run` with `cfg` (localising on the run's map when it can)."""
+    from pico_studio.evaluation.runner import make_perceptor
+
+    localising = is_localising(run, cfg)
+    return make_perceptor(cfg, run.global_map, run.initial_pose, localise=localising,
+                          field=run.distance_field(cfg) if localising else None)
+
+
+class Cursor:
+    """The kept frame being judged, when the frames are not replayed here (`Judging`)."""
+
+    index = -1
+
+
+class Judging:
+    """The scoring half of a re-judge: per world model of a new scan, its row of every series,
+    then the totals. Fed by the session over the kept frames (`rejudge`), or by another
+    process's perceptor (`rejudge_worker`): `cursor.index` says which kept frame it is."""
+
+    def __init__(self, run: KeptRun, cfg: Config, tol: Tolerances | None = None, cursor: Any = None):
+        self.run, self.cfg = run, cfg
+        self.cursor = cursor if cursor is not None else Cursor()
+        truth = run.truth or {}
+        self.scorer = TruthScorer(lambda: truth[self.cursor.index], tol=tol, vertices=run.vertices) if truth else None
+        # with the simulator's truth the walls are scored against the true geometry; agreement with
+        # a reference map cast from the true poses is the figure for recordings that know only those
+        self.agreement = AgreementObserver(every=1) if run.has_true_pose and not truth else None
+        self.localising = is_localising(run, cfg)
+        self.rows = _Series(run, self.cursor, self.scorer, self.localising, self.agreement)
+
+    def partial(self, generation: int, seconds: float) -> Judged:
+        """The series of the frames judged so far (`complete` False, no totals)."""
+        rows = self.rows
+        return Judged(generation, np.asarray(rows.times, dtype=float), np.asarray(rows.index, dtype=np.int64),
+                      {n: np.asarray(c, dtype=float) for n, c in rows.rows.items()}, {}, list(rows.features),
+                      [], seconds, self.cfg, complete=False)
+
+    def finish(self, generation: int, seconds: float, cpu: float = math.nan) -> Judged:
+        rows = self.rows
+        series = {name: np.asarray(col, dtype=float) for name, col in rows.rows.items()}
+        totals, notes = _totals(self.run, rows, self.scorer, self.agreement, series, self.localising)
+        if self.agreement is not None:
+            per = _agreement_per_frame(self.agreement, len(rows.times))
+            if per is not None:
+                series["local_map.agreement"] = per
+        return Judged(generation, np.asarray(rows.times, dtype=float), np.asarray(rows.index, dtype=np.int64),
+                      series, totals, Features.pack(rows.features), notes, seconds, self.cfg, cpu=cpu)
+
+
 def rejudge(run: KeptRun, cfg: Config, *, generation: int = 0, tol: Tolerances | None = None,
             cancelled: Callable[[], bool] | None = None,
             progress: Callable[[int, int], None] | None = None, progress_every: int = 100,
-            partial: Callable[[Judged], None] | None = None, partial_seconds: float = 1.0) -> Judged:
+            partial: Callable[[Judged], None] | None = None, partial_seconds: float = 1.0,
+            workers: int = 1) -> Judged:
     """Re-perceive, re-localise and re-score every frame of `run` with `cfg` (validated first).
 
     `cancelled()` is asked between frames; when true the judge stops with `Cancelled`.
     `progress(done, total)` is called every `progress_every` frames (ticks) and at the end;
     `partial(judged)` every `partial_seconds` with the series of the frames judged so far
-    (`complete` False, no totals), so a long run's plots fill in as it goes."""
-    from pico_studio.evaluation.runner import make_perceptor
+    (`complete` False, no totals), so a long run's plots fill in as it goes.
 
+    `workers` > 1: perceived in one worker process and scored in another at the same time
+    (`rejudge_worker`; the same answers, the processes started for this call and stopped
+    after it: to judge one run many times keep a `rejudge_worker.ProcessRejudger`)."""
     cfg = validated(cfg)
-    t0 = time.perf_counter()
+    if workers > 1:
+        from pico_studio.evaluation.rejudge_worker import rejudge_in_workers
+
+        return rejudge_in_workers(run, cfg, generation=generation, tol=tol, cancelled=cancelled, progress=progress,
+                                  partial=partial, partial_seconds=partial_seconds)
+    t0, c0 = time.perf_counter(), time.thread_time()
     replay = FramesReplay(run.frames)
-    localising = run.global_map is not None and cfg.localisation.enabled and len(run.global_map.walls) > 0
-    perceptor = make_perceptor(cfg, run.global_map, run.initial_pose, localise=localising,
-                               field=run.distance_field(cfg) if localising else None)
-    truth = run.truth or {}
-    scorer = TruthScorer(lambda: truth[replay.index], tol=tol, vertices=run.vertices) if truth else None
-    # with the simulator's truth the walls are scored against the true geometry; agreement with
-    # a reference map cast from the true poses is the figure for recordings that know only those
-    agreement = AgreementObserver(every=1) if run.has_true_pose and not truth else None
-    rows = _Series(run, replay, scorer, localising, agreement)
-    session = Session(replay, perceptor=perceptor, observers=[rows])
+    judging = Judging(run, cfg, tol, cursor=replay)
+    session = Session(replay, perceptor=perceptor_for(run, cfg), observers=[judging.rows])
     total = len(run.frames)
     next_partial = t0 + partial_seconds
     for k, _ in enumerate(session.frames()):
@@ -352,20 +457,11 @@ def rejudge(run: KeptRun, cfg: Config, *, generation: int = 0, tol: Tolerances |
         if progress is not None and (k + 1) % progress_every == 0:
             progress(k + 1, total)
         if partial is not None and time.perf_counter() >= next_partial:
-            partial(Judged(generation, np.asarray(rows.times, dtype=float), np.asarray(rows.index, dtype=np.int64),
-                           {n: np.asarray(c, dtype=float) for n, c in rows.rows.items()}, {}, list(rows.features),
-                           [], time.perf_counter() - t0, cfg, complete=False))
+            partial(judging.partial(generation, time.perf_counter() - t0))
             next_partial = time.perf_counter() + partial_seconds
     if progress is not None:
         progress(total, total)
-    series = {name: np.asarray(col, dtype=float) for name, col in rows.rows.items()}
-    totals, notes = _totals(run, rows, scorer, agreement, series, localising)
-    if agreement is not None:
-        per = _agreement_per_frame(agreement, len(rows.times))
-        if per is not None:
-            series["local_map.agreement"] = per
-    return Judged(generation, np.asarray(rows.times, dtype=float), np.asarray(rows.index, dtype=np.int64),
-                  series, totals, rows.features, notes, time.perf_counter() - t0, cfg)
+    return judging.finish(generation, time.perf_counter() - t0, time.thread_time() - c0)
 
 
 def _totals(run: KeptRun, rows: _Series, scorer: TruthScorer | None, agreement: Any,
