@@ -102,7 +102,7 @@ class KeptRun:
     name: str = ""
     _dfield: Any = field(default=None, repr=False)  # the map's distance field, built once per field params
     _dfield_key: Any = field(default=None, repr=False)
-    _blob: bytes | None = field(default=None, repr=False, compare=False)  # pickled for worker processes
+    _blob: tuple[bytes, bytes] | None = field(default=None, repr=False, compare=False)  # for worker processes
 
     @property
     def scans(self) -> int:
@@ -142,6 +142,7 @@ class Judged:
     config: Config | None = None
     complete: bool = True  # False: the frames judged so far of a re-judge under way (no totals)
     cpu: float = math.nan  # CPU seconds it took (every process judging it)
+    cpu_parts: tuple[float, ...] = ()  # in worker processes: CPU seconds of (perceiver, scorer)
 
 
 class Features(Sequence[dict[str, np.ndarray]]):

@@ -14,9 +14,9 @@ the page's threads and sockets):
 
 The perceptor is sequential over frames; scoring a frame needs only its world model and its
 truth, so it runs beside the perceptor in the second process: a re-judge takes about as long
-as perceiving alone. The kept frames (laser, odometry, kept truth) are pickled once per run
-and sent to both processes (through the perceiver, so they arrive before the first config
-judged on them); a change sends only the config. Each process warms the numba cache
+as perceiving alone. The kept frames (laser, odometry) and, for the scorer, the kept truth are
+pickled once per run and sent to both processes (the scorer's through the perceiver, so they
+arrive before the first config judged on them); a change sends only the config. Each process warms the numba cache
 (`jit.warm_up`) and loads the page's plugins once, when it starts.
 
 **Generations** as in `Rejudger`: `submit` takes the next one and writes it to a value shared
@@ -71,12 +71,15 @@ class RejudgeFailed(RuntimeError):
 # ----- what goes between the processes -----------------------------------------------------------
 
 
-def run_bytes(run: KeptRun) -> bytes:
+def run_bytes(run: KeptRun) -> tuple[bytes, bytes]:
     """`run` pickled for the workers, once per run (kept on the run: A's and B's workers share
-    it). The distance field stays behind: a worker builds its own, once per run."""
+    it): the perceiver's (the frames alone) and the scorer's (the frames, the kept truth, the map
+    to localise on). The distance field stays behind: the scorer builds its own, once per run."""
     if run._blob is None:
-        run._blob = pickle.dumps(replace(run, _dfield=None, _dfield_key=None, _blob=None),
-                                 protocol=pickle.HIGHEST_PROTOCOL)
+        perceiving = KeptRun(run.frames, name=run.name)
+        judging = replace(run, _dfield=None, _dfield_key=None, _blob=None)
+        run._blob = (pickle.dumps(perceiving, protocol=pickle.HIGHEST_PROTOCOL),
+                     pickle.dumps(judging, protocol=pickle.HIGHEST_PROTOCOL))
     return run._blob
 
 
@@ -130,11 +133,10 @@ def _perceiver_main(commands: Connection, out: Connection, generation: Any, plug
             if msg[0] == "stop":
                 out.send(("stop",))
                 return
-            if msg[0] == "run":
-                blob = commands.recv_bytes()
+            if msg[0] == "run":  # its own frames, then the scorer's run, passed on (in order before
+                run = pickle.loads(commands.recv_bytes())  # the first config judged on it)
                 out.send(("run", msg[1]))
-                out.send_bytes(blob)
-                run = pickle.loads(blob)
+                out.send_bytes(commands.recv_bytes())
                 continue
             _, gen, cfg, specs, progress_every = msg
             if gen != generation.value or run is None:
@@ -262,8 +264,9 @@ class _Job:
             self.next_partial = time.perf_counter() + self.partial_seconds
 
     def finish(self, perceiver_cpu: float) -> Judged:
-        return self.judging.finish(self.gen, time.perf_counter() - self.t0,
-                                   perceiver_cpu + time.process_time() - self.c0)
+        mine = time.process_time() - self.c0
+        judged = self.judging.finish(self.gen, time.perf_counter() - self.t0, perceiver_cpu + mine)
+        return replace(judged, cpu_parts=(perceiver_cpu, mine))
 
 
 # ----- the page's side ---------------------------------------------------------------------------
@@ -286,6 +289,7 @@ class ProcessRejudger:
         self.progress_every = 100  # frames between progress reports
         self.generation = 0
         self.latest: Judged | None = None
+        self.failed: tuple[int, Exception] | None = None  # the newest failure: (generation, why)
         self.running = False
         self._ctx = multiprocessing.get_context("spawn")
         self._shared = self._ctx.RawValue("q", 0)  # the newest generation, read by the processes
@@ -390,6 +394,27 @@ class ProcessRejudger:
         if procs is not None:
             self._stop_processes(procs)
 
+    def result(self, gen: int, timeout: float | None = None,
+               cancelled: Callable[[], bool] | None = None) -> Judged:
+        """The judged run of generation `gen` (headless use: `compare`, `rejudge(workers=2)`):
+        blocks until it is in; raises its failure (`RejudgeFailed`, `WorkerDied`), `Cancelled`
+        when `cancelled()` turns true or a newer generation overtook it, TimeoutError after
+        `timeout` s."""
+        end = math.inf if timeout is None else time.monotonic() + timeout
+        while True:
+            judged = self.wait(gen, timeout=0.05)
+            if judged is not None:
+                if judged.generation != gen:
+                    raise Cancelled
+                return judged
+            failed = self.failed
+            if failed is not None and failed[0] == gen:
+                raise failed[1]
+            if (cancelled is not None and cancelled()) or self.generation != gen:
+                raise Cancelled
+            if time.monotonic() > end:
+                raise TimeoutError(f"re-judging took over {timeout} s")
+
     # ----- threads --------------------------------------------------------------------------
     def _send_loop(self) -> None:
         """Sends the newest config (and the run first, when it is new to the processes)."""
@@ -411,9 +436,10 @@ class ProcessRejudger:
             assert commands is not None
             try:
                 if fresh:
-                    blob = run_bytes(run)
+                    perceiving, judging = run_bytes(run)
                     commands.send(("run", id(run)))
-                    commands.send_bytes(blob)
+                    commands.send_bytes(perceiving)
+                    commands.send_bytes(judging)
                 commands.send(("judge", gen, cfg, plugins.specs(), self.progress_every))
             except OSError:
                 pass  # the processes died: the reader reports it; the next submit starts them again
@@ -453,6 +479,7 @@ class ProcessRejudger:
         dead = [f"{p.name} (pid {p.pid}, exit code {p.exitcode})" for p in (perceiver, scorer) if p.exitcode]
         err = WorkerDied(f"the re-judging worker {' and '.join(dead) or 'process'} stopped"
                          + (" mid-re-judge" if was_running else "") + "; the next change starts a new one")
+        self.failed = (gen, err)
         if self.on_error is not None:
             self.on_error(gen, err)
 
@@ -485,8 +512,9 @@ class ProcessRejudger:
                 self.running = False
                 self._jobs.pop(gen, None)
                 self._cond.notify_all()
+            self.failed = (gen, RejudgeFailed(msg[2]))
             if self.on_error is not None:
-                self.on_error(gen, RejudgeFailed(msg[2]))
+                self.on_error(gen, self.failed[1])
 
 
 def make_rejudger(run: KeptRun, *, workers: int = 2, **kw: Any) -> Any:
@@ -505,20 +533,9 @@ def rejudge_in_workers(run: KeptRun, cfg: Config, *, generation: int = 0, tol: T
                        progress: Callable[[int, int], None] | None = None,
                        partial: Callable[[Judged], None] | None = None, partial_seconds: float = 1.0) -> Judged:
     """`rejudge(run, cfg, workers=2)`: one re-judge in two processes started for it."""
-    errors: list[Exception] = []
-    worker = ProcessRejudger(run, tol=tol, on_error=lambda g, e: errors.append(e),
-                             on_progress=(lambda g, d, t: progress(d, t)) if progress is not None else None,
+    worker = ProcessRejudger(run, tol=tol, on_progress=(lambda g, d, t: progress(d, t)) if progress is not None else None,
                              on_partial=partial, partial_seconds=partial_seconds)
     try:
-        gen = worker.submit(cfg)
-        while True:
-            judged = worker.wait(gen, timeout=0.05)
-            if judged is not None:
-                return replace(judged, generation=generation)
-            if errors:
-                raise errors[0]
-            if cancelled is not None and cancelled():
-                raise Cancelled
+        return replace(worker.result(worker.submit(cfg), cancelled=cancelled), generation=generation)
     finally:
         worker.close()
-

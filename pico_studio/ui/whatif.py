@@ -260,9 +260,21 @@ class WhatIf:
             return all(s.judged is not None and not s.waiting and s.run_id == self._run_id for s in sides)
 
     def close(self) -> None:
-        for w in self._workers.values():
+        with self._lock:
+            workers = list(self._workers.values())
+            self._workers.clear()
+            self._pending.clear()
+        for w in workers:
             w.close()
-        self._workers.clear()
+
+    def set_workers(self, workers: int) -> None:
+        """Judge in `workers` processes (1: threads of this process) from the next change on."""
+        self.close()
+        with self._lock:
+            self.workers = workers
+            for side in (self.a, self.b):
+                if side is not None:
+                    side.waiting, side.partial = False, None
 
     # ----- what the page shows ------------------------------------------------------------------
     @property
