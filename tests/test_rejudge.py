@@ -208,3 +208,19 @@ def test_partial_results_grow_frame_by_frame_and_end_in_the_whole_run(run) -> No
     assert lengths == sorted(lengths) and not any(j.complete or j.totals for j in seen)
     last = seen[-1]
     np.testing.assert_array_equal(last.series["count.walls"], whole.series["count.walls"][: len(last.times)])
+
+
+def test_a_plugin_stage_selected_by_the_config_is_judged_in_the_workers_too(run) -> None:
+    from plugin_helpers import EXAMPLE, unload_all
+
+    from pico_studio import plugins
+    from pico_studio.config import merge_yaml
+
+    unload_all()
+    try:
+        plugins.load_plugin(str(EXAMPLE))  # loaded here after the test's imports: the workers load it too
+        cfg = merge_yaml(Config(), (EXAMPLE.parent / "use_my_stages.yaml").read_text(encoding="utf-8")).config
+        assert cfg.perception.scan.segmenter == "chord_split"
+        assert_same_judgement(rejudge(run, cfg, workers=2), rejudge(run, cfg))
+    finally:
+        unload_all()

@@ -42,7 +42,7 @@ from dataclasses import replace
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
-from pico_studio.config import Config
+from pico_studio.config import Config, from_dict, to_dict
 from pico_studio.core.world_model import LocalMap, WorldModel
 from pico_studio.evaluation.frame_score import Tolerances
 from pico_studio.evaluation.rejudge import (
@@ -122,6 +122,16 @@ def _start_process(plugin_specs: list[str]) -> None:
     warm_up()
 
 
+def _config(tree: dict[str, Any], plugin_specs: list[str]) -> Config:
+    """The config sent as its plain tree (a plugin's section class is rebuilt when the plugin
+    loads, so it does not pickle): the page's plugins loaded first, then the tree read as the
+    page validated it (`rejudge.validated`: the same round trip, the same config)."""
+    from pico_studio import plugins
+
+    plugins.load_plugins(plugin_specs)  # any loaded on the page since this process started
+    return from_dict(Config, tree)
+
+
 def _perceiver_main(commands: Connection, out: Connection, generation: Any, plugin_specs: list[str]) -> None:
     """Perceive (and localise) every kept frame with each config asked for; the world models
     of new scans go to the scorer in batches."""
@@ -138,15 +148,12 @@ def _perceiver_main(commands: Connection, out: Connection, generation: Any, plug
                 out.send(("run", msg[1]))
                 out.send_bytes(commands.recv_bytes())
                 continue
-            _, gen, cfg, specs, progress_every = msg
+            _, gen, tree, specs, progress_every = msg
             if gen != generation.value or run is None:
                 continue  # overtaken before it started
-            from pico_studio import plugins
-
-            plugins.load_plugins(specs)  # loaded on the page since this process started
-            out.send(("start", gen, cfg, progress_every))
+            out.send(("start", gen, tree, specs, progress_every))
             try:
-                _perceive(run, cfg, gen, out, generation)
+                _perceive(run, _config(tree, specs), gen, out, generation)
             except Exception as e:  # a bug in one config's run must not stop the worker
                 out.send(("error", gen, f"{type(e).__name__}: {e}"))
     except (EOFError, BrokenPipeError, OSError):
@@ -201,7 +208,10 @@ def _scorer_main(inp: Connection, results: Connection, generation: Any, tol: Tol
                 continue
             if kind == "start":
                 assert run is not None
-                job = _Job(run, msg[1], msg[2], tol, msg[3], partial_seconds)
+                try:
+                    job = _Job(run, msg[1], _config(msg[2], msg[3]), tol, msg[4], partial_seconds)
+                except Exception as e:
+                    results.send(("error", msg[1], f"{type(e).__name__}: {e}"))
                 continue
             if job is None or msg[1] != job.gen:
                 continue
@@ -440,7 +450,7 @@ class ProcessRejudger:
                     commands.send(("run", id(run)))
                     commands.send_bytes(perceiving)
                     commands.send_bytes(judging)
-                commands.send(("judge", gen, cfg, plugins.specs(), self.progress_every))
+                commands.send(("judge", gen, to_dict(cfg), plugins.specs(), self.progress_every))
             except OSError:
                 pass  # the processes died: the reader reports it; the next submit starts them again
 
