@@ -45,7 +45,7 @@ from typing import Any
 from pico_studio.config import Config, from_dict, to_dict
 from pico_studio.core.world_model import LocalMap, WorldModel
 from pico_studio.evaluation.frame_score import Tolerances
-from pico_studio.evaluation.rejudge import (
+from pico_studio.evaluation.judging import (
     Cancelled,
     Features,
     Judged,
@@ -525,17 +525,6 @@ class ProcessRejudger:
             self.failed = (gen, RejudgeFailed(msg[2]))
             if self.on_error is not None:
                 self.on_error(gen, self.failed[1])
-
-
-def make_rejudger(run: KeptRun, *, workers: int = 2, **kw: Any) -> Any:
-    """A background re-judger of `run`: in worker processes (`ProcessRejudger`) when `workers`
-    > 1, else a thread in this process (`rejudge.Rejudger`, as before)."""
-    from pico_studio.evaluation.rejudge import Rejudger
-
-    if workers > 1:
-        return ProcessRejudger(run, **kw)
-    kw.pop("partial_seconds", None)
-    return Rejudger(run, **kw)
 
 
 def rejudge_in_workers(run: KeptRun, cfg: Config, *, generation: int = 0, tol: Tolerances | None = None,

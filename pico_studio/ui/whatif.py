@@ -35,8 +35,7 @@ import numpy as np
 from pico_studio.config import Config, dump_yaml
 from pico_studio.core.geometry import compose, invert, transform_points, transform_segments
 from pico_studio.evaluation.diff import WorldDiff, diff_arrays
-from pico_studio.evaluation.rejudge import Judged, KeptRun, RunKeeper, record_replay
-from pico_studio.evaluation.rejudge_worker import make_rejudger
+from pico_studio.evaluation.rejudge import Judged, KeptRun, RunKeeper, make_rejudger, record_replay
 
 log = logging.getLogger(__name__)
 Pose = tuple[float, float, float]
