@@ -224,3 +224,27 @@ def test_a_plugin_stage_selected_by_the_config_is_judged_in_the_workers_too(run)
         assert_same_judgement(rejudge(run, cfg, workers=2), rejudge(run, cfg))
     finally:
         unload_all()
+
+
+def test_a_timeline_that_grows_and_slides_on_sends_only_its_new_frames(maps_dir) -> None:
+    from pico_studio.evaluation.rejudge import RunKeeper
+
+    gmap = load_json_map(maps_dir / "hospital_2019.json")
+    sim = Simulator(gmap, CFG.sim, seed=2, initial_pose=START)
+    keeper = RunKeeper(sim, max_frames=50)  # the page's timeline, shorter
+    session = Session(sim, behaviour=Wander(CFG.ui.wander), observers=[keeper])
+    worker = ProcessRejudger(KeptRun([]))
+    try:
+        first = []
+        for seconds, frames in ((1.5, 30), (1.0, 50), (1.5, 50)):  # grown, then slid on: 30 gone
+            session.run(seconds)
+            run = keeper.kept(gmap)
+            first.append(run.frames[0].time)
+            assert len(run.frames) == frames
+            worker.set_run(run)
+            judged = worker.wait(worker.submit(COARSE), timeout=120)
+            assert judged is not None and len(judged.times) == run.scans
+            assert_same_judgement(judged, rejudge(run, COARSE))
+        assert first[0] == first[1] < first[2] and worker.sent == {"whole": 1, "extend": 2}
+    finally:
+        worker.close()

@@ -79,6 +79,7 @@ class KeptRun:
     global_map: Any = None
     initial_pose: Pose | None = None
     name: str = ""
+    origin: tuple[int, int] | None = None  # (keeper, index of frames[0] in its stream): `RunKeeper.kept`
     _dfield: Any = field(default=None, repr=False)  # the map's distance field, built once per field params
     _dfield_key: Any = field(default=None, repr=False)
     _blob: tuple[bytes, bytes] | None = field(default=None, repr=False, compare=False)  # for worker processes

@@ -32,6 +32,7 @@ and new results never mix.
 
 from __future__ import annotations
 
+import logging
 import threading
 import time
 from collections import deque
@@ -60,6 +61,8 @@ from pico_studio.evaluation.metrics import METRICS
 from pico_studio.session import Session, SessionFrame
 from pico_studio.sources.frames import FramesReplay
 
+log = logging.getLogger(__name__)
+
 # ----- keeping a run ---------------------------------------------------------------------------
 
 
@@ -81,22 +84,26 @@ class RunKeeper:
         self.vertices = static_vertices(sim) if sim is not None else None
         self._form = sim.params.odometry.form if sim is not None else ""
         self._kept: deque[tuple[Frame, Any]] = deque(maxlen=max_frames)
+        self.seen = 0  # frames kept since the start (the index of the next one in the keeper's stream)
 
     def on_frame(self, sf: SessionFrame) -> None:
         from pico_studio.evaluation.kept_truth import TruthSnapshot
 
         truth = TruthSnapshot(self.sim.truth, self._form) if self.sim is not None and sf.frame.laser is not None else None
         self._kept.append((sf.frame, truth))
+        self.seen += 1
 
     def __len__(self) -> int:
         return len(self._kept)
 
     def clear(self) -> None:
+        self.seen += len(self._kept) + 1  # a later run shares no frames with an earlier one
         self._kept.clear()
 
     def kept(self, global_map: Any = None, initial_pose: Pose | None = None, name: str = "") -> KeptRun:
         """The frames kept now as a `KeptRun` (localised on `global_map` from `initial_pose`,
-        default the first kept true pose, when a map is given)."""
+        default the first kept true pose, when a map is given). Its `origin` places its frames
+        in this keeper's stream, so a worker holding an earlier snapshot needs only the new ones."""
         kept = list(self._kept)
         frames = [f for f, _ in kept]
         truth = {i: t for i, (_, t) in enumerate(kept) if t is not None} if self.sim is not None else None
@@ -104,7 +111,7 @@ class RunKeeper:
             initial_pose = next((_pose(f.truth["pose"]) for f in frames if (f.truth or {}).get("pose") is not None),
                                 None)
         return KeptRun(frames, truth, self.vertices, global_map, initial_pose if global_map is not None else None,
-                       name=name)
+                       name=name, origin=(id(self), self.seen - len(kept)))
 
     def summary(self) -> dict[str, Any]:
         return {"frames": len(self._kept)}
@@ -284,8 +291,7 @@ class Rejudger:
             except Exception as e:  # a bug in one config's run must not stop the worker
                 with self._cond:
                     self.running = False
-                if self.on_error is not None:
-                    self.on_error(gen, e)
+                _call(self.on_error, gen, e)
                 continue
             finally:
                 with self._cond:
@@ -295,8 +301,7 @@ class Rejudger:
                     continue
                 self.latest = judged
                 self._cond.notify_all()
-            if self.on_result is not None:
-                self.on_result(judged)
+            _call(self.on_result, judged)
 
     def _partial(self, judged: Judged) -> None:
         if self.on_partial is not None and judged.generation == self.generation:
@@ -305,6 +310,17 @@ class Rejudger:
     def _progress(self, gen: int, done: int, total: int) -> None:
         if self.on_progress is not None and gen == self.generation:
             self.on_progress(gen, done, total)
+
+
+def _call(callback: Callable[..., None] | None, *args: Any) -> None:
+    """A re-judger's callback, whose failure is logged and never ends the re-judger's thread
+    (a thread that died would leave every later change unjudged)."""
+    if callback is None:
+        return
+    try:
+        callback(*args)
+    except Exception:
+        log.exception("a re-judge callback failed")
 
 
 def make_rejudger(run: KeptRun, *, workers: int = 2, **kw: Any) -> Any:

@@ -16,7 +16,9 @@ The perceptor is sequential over frames; scoring a frame needs only its world mo
 truth, so it runs beside the perceptor in the second process: a re-judge takes about as long
 as perceiving alone. The kept frames (laser, odometry) and, for the scorer, the kept truth are
 pickled once per run and sent to both processes (the scorer's through the perceiver, so they
-arrive before the first config judged on them); a change sends only the config. Each process warms the numba cache
+arrive before the first config judged on them); a change sends only the config. A later
+snapshot of the same timeline (the page's simulation, grown or slid on) sends only its new
+frames (`extension`). Each process warms the numba cache
 (`jit.warm_up`) and loads the page's plugins once, when it starts.
 
 **Generations** as in `Rejudger`: `submit` takes the next one and writes it to a value shared
@@ -32,6 +34,7 @@ starts both afresh (sending the run again). A config that fails validation is re
 
 from __future__ import annotations
 
+import logging
 import math
 import multiprocessing
 import pickle
@@ -57,6 +60,7 @@ from pico_studio.evaluation.judging import (
 from pico_studio.session import Session, SessionFrame
 from pico_studio.sources.frames import FramesReplay
 
+log = logging.getLogger(__name__)
 BATCH = 16  # world models per message from the perceiver to the scorer (fewer, larger sends)
 
 
@@ -81,6 +85,47 @@ def run_bytes(run: KeptRun) -> tuple[bytes, bytes]:
         run._blob = (pickle.dumps(perceiving, protocol=pickle.HIGHEST_PROTOCOL),
                      pickle.dumps(judging, protocol=pickle.HIGHEST_PROTOCOL))
     return run._blob
+
+
+def extension(sent: KeptRun | None, run: KeptRun) -> tuple[int, int] | None:
+    """(frames of `sent` gone from the front, frames of `run` the workers have already) when
+    `run` is a later snapshot of the same `RunKeeper` as `sent` (a timeline that grew or slid
+    on: `KeptRun.origin`, the same frame objects), else None: send it whole."""
+    if sent is None or run.origin is None or sent.origin is None or run.origin[0] != sent.origin[0]:
+        return None
+    drop = run.origin[1] - sent.origin[1]
+    have = len(sent.frames) - drop
+    if drop < 0 or not 0 < have <= len(run.frames) or run.frames[have - 1] is not sent.frames[-1]:
+        return None
+    return drop, have
+
+
+def extension_bytes(sent: KeptRun, run: KeptRun, have: int) -> tuple[bytes, bytes]:
+    """What the workers need to turn `sent` into `run`: the perceiver's new frames, and the
+    scorer's new frames with their truth, and the rest of the run (the map only when it changed)."""
+    new = run.frames[have:]
+    truth = None if run.truth is None else {i - have: t for i, t in run.truth.items() if i >= have}
+    same_map = run.global_map is sent.global_map
+    scorer = {"frames": new, "truth": truth, "vertices": run.vertices, "initial_pose": run.initial_pose,
+              "name": run.name, "origin": run.origin, "same_map": same_map,
+              "global_map": None if same_map else run.global_map}
+    return (pickle.dumps(new, protocol=pickle.HIGHEST_PROTOCOL),
+            pickle.dumps(scorer, protocol=pickle.HIGHEST_PROTOCOL))
+
+
+def _extended(old: KeptRun, drop: int, ext: dict[str, Any]) -> KeptRun:
+    """The scorer's run slid on: `old` without its first `drop` frames, plus the new ones."""
+    have = len(old.frames) - drop
+    truth = None
+    if ext["truth"] is not None:
+        truth = {i - drop: t for i, t in (old.truth or {}).items() if i >= drop}
+        truth.update({have + j: t for j, t in ext["truth"].items()})
+    run = KeptRun(old.frames[drop:] + ext["frames"], truth, ext["vertices"],
+                  old.global_map if ext["same_map"] else ext["global_map"], ext["initial_pose"], name=ext["name"],
+                  origin=ext["origin"])
+    if ext["same_map"]:  # the distance field stays valid
+        run._dfield, run._dfield_key = old._dfield, old._dfield_key
+    return run
 
 
 def _slim(wm: WorldModel, points: bool) -> tuple[Any, ...]:
@@ -148,6 +193,12 @@ def _perceiver_main(commands: Connection, out: Connection, generation: Any, plug
                 out.send(("run", msg[1]))
                 out.send_bytes(commands.recv_bytes())
                 continue
+            if msg[0] == "extend":  # the same timeline slid on: only its new frames
+                assert run is not None
+                run = KeptRun(run.frames[msg[2]:] + pickle.loads(commands.recv_bytes()), name=run.name)
+                out.send(msg)
+                out.send_bytes(commands.recv_bytes())
+                continue
             _, gen, tree, specs, progress_every = msg
             if gen != generation.value or run is None:
                 continue  # overtaken before it started
@@ -204,6 +255,11 @@ def _scorer_main(inp: Connection, results: Connection, generation: Any, tol: Tol
                 return
             if kind == "run":
                 run = pickle.loads(inp.recv_bytes())
+                job = None
+                continue
+            if kind == "extend":
+                assert run is not None
+                run = _extended(run, msg[2], pickle.loads(inp.recv_bytes()))
                 job = None
                 continue
             if kind == "start":
@@ -309,6 +365,7 @@ class ProcessRejudger:
         self._procs: tuple[Any, Any] | None = None
         self._commands: Connection | None = None
         self._run_sent: KeptRun | None = None
+        self.sent = {"whole": 0, "extend": 0}  # how runs went to the processes: whole, or the new frames
         self._closed = False
         self._start()
         self._sender = threading.Thread(target=self._send_loop, name="rejudge-send", daemon=True)
@@ -441,13 +498,21 @@ class ProcessRejudger:
                 self._pending = None
                 if self._procs is None:
                     self._start()
-                commands, fresh = self._commands, self._run_sent is not run
+                commands, sent, fresh = self._commands, self._run_sent, self._run_sent is not run
                 self._run_sent = run
             assert commands is not None
             try:
-                if fresh:
+                slid = extension(sent, run) if fresh else None
+                if slid is not None:
+                    assert sent is not None
+                    perceiving, judging = extension_bytes(sent, run, slid[1])
+                    commands.send(("extend", id(run), slid[0]))
+                    self.sent["extend"] += 1
+                elif fresh:
                     perceiving, judging = run_bytes(run)
                     commands.send(("run", id(run)))
+                    self.sent["whole"] += 1
+                if fresh:
                     commands.send_bytes(perceiving)
                     commands.send_bytes(judging)
                 commands.send(("judge", gen, to_dict(cfg), plugins.specs(), self.progress_every))
@@ -465,9 +530,8 @@ class ProcessRejudger:
                 if msg is not None:
                     try:
                         self._dispatch(msg)
-                    except Exception as e:  # a callback failing must not end the reader
-                        if self.on_error is not None:
-                            self.on_error(msg[1], e)
+                    except Exception:  # a callback failing must not end the reader (nor the judging)
+                        log.exception("a re-judge callback failed")
                     continue
             results.close()
             self._died(perceiver, scorer)
@@ -491,7 +555,10 @@ class ProcessRejudger:
                          + (" mid-re-judge" if was_running else "") + "; the next change starts a new one")
         self.failed = (gen, err)
         if self.on_error is not None:
-            self.on_error(gen, err)
+            try:
+                self.on_error(gen, err)
+            except Exception:
+                log.exception("a re-judge callback failed")
 
     def _dispatch(self, msg: tuple[Any, ...]) -> None:
         kind, gen = msg[0], msg[1]

@@ -106,7 +106,7 @@ class WhatIf:
                 if self._run_key != key:
                     self._new_run(record_replay(s.source, global_map=self._localising_map(), name=s.map_name), key)
             else:
-                n = len(self.keeper) if self.keeper is not None else 0
+                n = self.keeper.seen if self.keeper is not None else 0  # grown, or slid on once full
                 key = ("live", id(self.keeper), n, id(s.global_map), self._localising_map() is not None)
                 if self._run_key != key:
                     run = self.keeper.kept(self._localising_map()) if self.keeper is not None else KeptRun([])
