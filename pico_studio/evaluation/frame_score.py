@@ -11,7 +11,9 @@ reported on its own.
   (`truth.visible_walls()`: the pieces the scan's beams hit) within the same tolerances of a
   local-map wall.
 - **End points**: mean distance from each non-floating local-map wall end (a corner or a seen
-  end) to the nearest true corner of the static geometry.
+  end) to the nearest true vertex: the static geometry's corners and, when the truth has
+  them, `truth.dynamic_vertices()` (door leaves and moving objects where they are now: a
+  standing box's corner or a closed door's end seen rightly is no error).
 - **Corners**: detected corners vs the true corners in view (`truth.visible_corners()`),
   matched one to one, nearest first, within `corner_distance`: precision, recall, and the
   share of matched corners whose convex/concave property is right.
@@ -235,7 +237,7 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
 
     `true_zero`: the true pose at the frame the perceptor took as zero (for the pose error);
     `true_vertices`: every corner of the static geometry (for the end-point error; default
-    the corners in view)."""
+    the corners in view), joined by the truth's `dynamic_vertices()` when it has them."""
     true_pose = as_pose(truth.pose)
     z = zero_to_map(wm, true_pose)
     walls = transform_segments(np.asarray(wm.local_map.walls, dtype=float), z)
@@ -243,6 +245,10 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     doors = transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4), z)
     vc = truth.visible_corners()
     visible_doors = truth.visible_doors()
+    vertices = vc.points if true_vertices is None else true_vertices
+    dynamic = getattr(truth, "dynamic_vertices", None)
+    if dynamic is not None:
+        vertices = np.concatenate([np.asarray(vertices, dtype=float).reshape(-1, 2), dynamic()])
     s = score_arrays(
         walls=walls,
         endpoint_property=np.asarray(wm.local_map.endpoint_property),
@@ -251,7 +257,7 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
         doors=doors,
         solid=truth.segments(),
         visible_walls=truth.visible_walls(),
-        true_vertices=vc.points if true_vertices is None else true_vertices,
+        true_vertices=vertices,
         visible_corners=vc.points,
         visible_convex=vc.convex,
         openings=truth.door_openings(),
