@@ -153,9 +153,12 @@ def _doors(
         return empty, [], empty, []
     # door-point candidates: (wall, end) with a convex or floating property, not on an object
     lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
-    # a jamb is a wall's end: what joins it there is no longer than an end cap
+    # a jamb is a wall's end: what joins it there is no longer than an end cap, and that cap is
+    # whole (its far end seen or joined): a side seen in part may run deep (a table's, between
+    # two tables standing in a row by a wall)
     cap = np.where(connected >= 0, lengths[np.maximum(connected, 0)], 0.0)
-    jamb_ok = ~objects[:, None] & (cap <= params.jamb_cap_max)
+    capped = (connected >= 0) & (cap <= params.jamb_cap_max) & _cap_whole(connected, prop)
+    jamb_ok = ~objects[:, None] & ((connected < 0) | capped)
     wi, we = np.nonzero(((prop == CONVEX) | (prop == FLOATING)) & jamb_ok)
     if len(wi) < 1:
         return empty, [], empty, []
@@ -179,6 +182,7 @@ def _doors(
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
         np.ascontiguousarray(pts), np.ascontiguousarray(out_dir), wi.astype(np.int64), we.astype(np.int64),
         np.ascontiguousarray(is_convex), np.ascontiguousarray(long), np.ascontiguousarray(stub),
+        np.ascontiguousarray(lengths[wi] <= params.jamb_cap_max),
         np.ascontiguousarray(connected, dtype=np.int64), float(params.door_min_width),
         float(params.door_max_width), float(params.door_angle), float(params.door_offset),
         float(params.door_offset_short))
@@ -206,12 +210,19 @@ def _doors(
     # a convex end (the laser saw the end) within a door's width that is a door, a T-opening;
     # from a loose end a possible door
     if params.end_face_doors:
-        face = np.flatnonzero(is_convex & (lengths[wi] >= params.end_face_min_length))
+        # the end is a building wall's: a long wall, or a door frame's length ending in a whole
+        # end cap of a wall's thickness (a thick wall's end seen with its cap; a table's end is
+        # as wide as the table, a person's side too short)
+        building = (lengths[wi] >= params.end_face_min_length) | (long & capped[wi, we])
+        face = np.flatnonzero(is_convex & building)
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
             gaps, own, other_k = [], [], []
+            # the face it meets is a building's too: not a small object, nor a block's face (both
+            # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
+            block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
-                if k < 0 or k == wi[m] or objects[k] or connected[wi[m], we[m]] == k:
+                if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
                     continue
                 if not params.door_min_width <= t <= params.door_max_width:
                     continue
@@ -252,6 +263,19 @@ def _doors(
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
     return d, door_kinds, p, kinds
+
+
+def _cap_whole(connected: np.ndarray, prop: np.ndarray) -> np.ndarray:
+    """(W, 2) bool: the wall joined at each end (its cap there) has no floating end other than
+    the one it joins by; False where nothing is joined."""
+    n = len(connected)
+    out = np.zeros((n, 2), dtype=bool)
+    for i, e in zip(*np.nonzero(connected >= 0), strict=True):
+        k = int(connected[i, e])
+        back = connected[k]
+        far = [b for b in (0, 1) if back[b] != i] if back[0] == i or back[1] == i else [0, 1]
+        out[i, e] = all(prop[k, b] != FLOATING for b in far)
+    return out
 
 
 def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:

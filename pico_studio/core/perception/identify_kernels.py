@@ -99,13 +99,15 @@ def _example_pairs() -> tuple:
     is_convex = np.array([True, True, False])
     long = np.array([True, True, True])
     stub = np.array([False, False, False])
+    cap_sized = np.array([False, False, True])
     connected = np.full((3, 2), -1, dtype=np.int64)
-    return pts, out_dir, wi, we, is_convex, long, stub, connected, 0.6, 1.2, 0.3, 0.1, 0.05
+    return pts, out_dir, wi, we, is_convex, long, stub, cap_sized, connected, 0.6, 1.2, 0.3, 0.1, 0.05
 
 
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
-               long: np.ndarray, stub: np.ndarray, connected: np.ndarray, min_width: float, max_width: float,
+               long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, connected: np.ndarray, min_width: float,
+               max_width: float,
                angle: float, offset: float, offset_short: float,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The pairs (i < j, in row order) of door-point candidates P_i, P_j (wall wi, end we,
@@ -118,7 +120,9 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     through the gap when u_i > cos(angle) and off_ij < offset (a long wall) or < offset_short
     (a stub); wall j's when -u_j > cos(angle) likewise. A door: both convex, and one wall's
     line continues with the other wall coming back along it (-u_j > cos, resp. u_i > cos) or
-    standing across it (|u_j| < sin(angle), resp. |u_i|). A possible door: not both convex,
+    standing across it (|u_j| < sin(angle), resp. |u_i|) as an end cap (`cap_sized`: no longer
+    than a wall's thickness) or a door frame's wall (`long` or `stub`): a lone short wall
+    across the line, a box's or a person's side, is no jamb. A possible door: not both convex,
     the two walls collinear (|o_i . o_j| > cos, both offsets < offset) and facing (u_i > 0,
     u_j < 0)."""
     n = pts.shape[0]
@@ -143,8 +147,10 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             uj = ux * out_dir[j, 0] + uy * out_dir[j, 1]
             line_i = ui > cos_a and ((off_ij < offset and long[i]) or (off_ij < offset_short and stub[i]))
             line_j = -uj > cos_a and ((off_ji < offset and long[j]) or (off_ji < offset_short and stub[j]))
-            door_ij = line_i and (-uj > cos_a or abs(uj) < sin_a)
-            door_ji = line_j and (ui > cos_a or abs(ui) < sin_a)
+            frame_i = cap_sized[i] or long[i] or stub[i]
+            frame_j = cap_sized[j] or long[j] or stub[j]
+            door_ij = line_i and (-uj > cos_a or (abs(uj) < sin_a and frame_j))
+            door_ji = line_j and (ui > cos_a or (abs(ui) < sin_a and frame_i))
             both_convex = is_convex[i] and is_convex[j]
             is_door = both_convex and (door_ij or door_ji)
             collinear = (abs(out_dir[i, 0] * out_dir[j, 0] + out_dir[i, 1] * out_dir[j, 1]) > cos_a
