@@ -21,7 +21,7 @@ from pico_studio.sim import Simulator
 from tests.conftest import MAPS
 from tests.jit_scenes import hospital_frames
 
-KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "object_groups"),
+KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "object_groups", "jamb_candidates"),
            merge: ("near_pairs", "connect_candidates", "connect_walk", "fuse", "see_through")}
 
 

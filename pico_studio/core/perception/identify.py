@@ -28,6 +28,7 @@ from pico_studio.core.perception.identify_kernels import (
     backed,
     blocked_many,
     door_pairs,
+    jamb_candidates,
     object_groups,
     ray_hits,
 )
@@ -151,15 +152,18 @@ def _doors(
     empty = np.zeros((0, 4))
     if len(walls) < 2:
         return empty, [], empty, []
-    # door-point candidates: (wall, end) with a convex or floating property, not on an object
-    lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
-    # a jamb is a wall's end: what joins it there is no longer than an end cap, and that cap is
-    # whole (its far end seen or joined): a side seen in part may run deep (a table's, between
-    # two tables standing in a row by a wall)
-    cap = np.where(connected >= 0, lengths[np.maximum(connected, 0)], 0.0)
-    capped = (connected >= 0) & (cap <= params.jamb_cap_max) & _cap_whole(connected, prop)
-    jamb_ok = ~objects[:, None] & ((connected < 0) | capped)
-    wi, we = np.nonzero(((prop == CONVEX) | (prop == FLOATING)) & jamb_ok)
+    # door-point candidates: (wall, end) with a convex or floating property, not on an object.
+    # A jamb is a wall's end: joined to nothing there, or to an end cap no longer than a wall's
+    # thickness (`jamb_cap_max`; a longer wall there makes a block's corner, a table against a
+    # wall) that is whole (its far end seen or joined: a side seen in part may run deep, a
+    # table's between two tables standing in a row by a wall). The wall a door continues is
+    # long (`door_wall_min_length`), or a short stub whose far end joins a long wall (a
+    # cabinet's side is short and joins another short side; then the gap must continue it
+    # closely: `door_offset_short`). The loop: identify_kernels.jamb_candidates
+    wi, we, capped, long, stub, lengths = jamb_candidates(
+        np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
+        np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
+        float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX)
     if len(wi) < 1:
         return empty, [], empty, []
     ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i
@@ -168,12 +172,6 @@ def _doors(
     out_dir = pts - other
     out_dir /= np.maximum(np.hypot(out_dir[:, 0], out_dir[:, 1]), 1e-12)[:, None]
     is_convex = prop[wi, we] == CONVEX
-    # the wall a door continues is long, or a short stub whose far end joins a long wall
-    # (a cabinet's side is short and joins another short side)
-    # (then the gap must continue it closely: `door_offset_short`)
-    far = connected[wi, 1 - we]
-    long = lengths[wi] >= params.door_wall_min_length
-    stub = ~long & (far >= 0) & (lengths[np.maximum(far, 0)] >= params.door_wall_min_length)
     # the pairs (ia, ja), ia < ja, a door's width apart that may be a door or a possible door:
     # the gap continues one wall's line (the other point ahead of its end, within door_angle
     # and door_offset), and the other point's wall either comes back along that line or
@@ -213,7 +211,7 @@ def _doors(
         # the end is a building wall's: a long wall, or a door frame's length ending in a whole
         # end cap of a wall's thickness (a thick wall's end seen with its cap; a table's end is
         # as wide as the table, a person's side too short)
-        building = (lengths[wi] >= params.end_face_min_length) | (long & capped[wi, we])
+        building = (lengths[wi] >= params.end_face_min_length) | (long & capped)
         face = np.flatnonzero(is_convex & building)
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
@@ -263,19 +261,6 @@ def _doors(
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
     return d, door_kinds, p, kinds
-
-
-def _cap_whole(connected: np.ndarray, prop: np.ndarray) -> np.ndarray:
-    """(W, 2) bool: the wall joined at each end (its cap there) has no floating end other than
-    the one it joins by; False where nothing is joined."""
-    n = len(connected)
-    out = np.zeros((n, 2), dtype=bool)
-    for i, e in zip(*np.nonzero(connected >= 0), strict=True):
-        k = int(connected[i, e])
-        back = connected[k]
-        far = [b for b in (0, 1) if back[b] != i] if back[0] == i or back[1] == i else [0, 1]
-        out[i, e] = all(prop[k, b] != FLOATING for b in far)
-    return out
 
 
 def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:

@@ -312,3 +312,50 @@ def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, ma
         g = group[i]
         candidate[i] = not (np.hypot(hi_x[g] - lo_x[g], hi_y[g] - lo_y[g]) > max_size) and not loose[g]
     return group, candidate
+
+
+def _example_candidates() -> tuple:
+    walls = np.array([[0.0, 0.0, 2.0, 0.0], [2.0, 0.0, 2.0, 0.2], [3.0, 0.0, 5.0, 0.0]])
+    connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    prop = np.array([[0, 2], [2, 2], [2, 0]], dtype=np.int64)
+    return walls, connected, prop, np.zeros(3, dtype=np.bool_), 0.35, 0.5, 0, 2
+
+
+@kernel(_example_candidates)
+def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray,
+                    cap_max: float, frame_min: float, floating: int, convex: int,
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The door-point candidates (identify._doors says what and why): every wall end (i, e)
+    that is convex or floating, not on an object, and either joined to nothing or *capped*
+    there. Wall k joined at end e is a cap when |k| <= cap_max and it is *whole*: none of k's
+    ends is floating but the one joining i (a T-joined k: neither). Per candidate, in row order
+    (i, then e): (wall i, end e, capped, long: |i| >= frame_min, stub: not long and the wall
+    joined at i's far end is long, lengths (W,) of every wall)."""
+    n = walls.shape[0]
+    lengths = np.empty(n)
+    for i in range(n):
+        lengths[i] = np.hypot(walls[i, 2] - walls[i, 0], walls[i, 3] - walls[i, 1])
+    wi, we = np.empty(2 * n, dtype=np.int64), np.empty(2 * n, dtype=np.int64)
+    capped, long, stub = np.empty(2 * n, dtype=np.bool_), np.empty(2 * n, dtype=np.bool_), np.empty(2 * n, dtype=np.bool_)
+    m = 0
+    for i in range(n):
+        for e in range(2):
+            if objects[i] or not (prop[i, e] == convex or prop[i, e] == floating):
+                continue
+            k = connected[i, e]
+            whole = False
+            if k >= 0 and lengths[k] <= cap_max:
+                whole = True
+                for b in range(2):
+                    if prop[k, b] == floating and connected[k, b] != i:
+                        whole = False
+                if not whole:
+                    continue
+            elif k >= 0:
+                continue
+            far = connected[i, 1 - e]
+            wi[m], we[m], capped[m] = i, e, whole
+            long[m] = lengths[i] >= frame_min
+            stub[m] = not long[m] and far >= 0 and lengths[far] >= frame_min
+            m += 1
+    return wi[:m].copy(), we[:m].copy(), capped[:m].copy(), long[:m].copy(), stub[:m].copy(), lengths
