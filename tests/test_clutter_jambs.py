@@ -81,3 +81,17 @@ def test_two_tables_in_a_row_are_no_door_until_the_cap_is_whole():
     assert len(doors) == 0
     doors, kind = _doors(walls, connected, [[False, False], [False, True], [True, True]], robot)
     assert kind == ["jambs"] and np.allclose(doors[0], [5.4, 4.1, 4.79, 4.1])
+
+
+def test_a_person_seen_in_part_is_no_cap_across_a_door():
+    """A thick wall's end cap (0.2 m, joined to the wall) points at a person 0.9 m below, of
+    whom the laser saw 0.24 m of one side (one end floating): no door. A whole cap there (the
+    end of another thick wall, both its ends seen) is a jamb."""
+    robot = (5.39, 5.43)
+    wall = [[5.72, 2.89, 5.74, 3.09], [5.74, 3.09, 9.41, 3.07]]
+    person = [5.61, 1.98, 5.86, 1.98]
+    connected = [[-1, 1], [0, -1], [-1, -1]]
+    doors, _ = _doors(wall + [person], connected, [[True, False], [False, False], [True, False]], robot)
+    assert len(doors) == 0
+    doors, kind = _doors(wall + [person], connected, [[True, False], [False, False], [True, True]], robot)
+    assert kind == ["jambs"] and np.allclose(doors[0], [5.72, 2.89, 5.61, 1.98])

@@ -14,6 +14,17 @@ that line towards P (the two walls in one line, seed 001) or stands across it (t
 of a thick wall seen from the side while the face beyond the gap is out of view). Possible doors (seed 001), with the same width range: a convex point and a loose
 (floating) end, two loose ends, or a loose end whose wall, continued, hits another wall
 within `facing_distance`.
+
+Jambs among furniture (restaurant_2024's false doors, `tests/test_clutter_jambs.py`): a
+jamb is a wall's end joined to nothing or to a *whole* end cap (no longer than
+`jamb_cap_max`, its far end seen or joined: a side seen in part may run a table deep); a
+wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a
+long wall's line) or a door frame's wall (at least `door_wall_min_length`, or a stub on
+one): a box's or a person's lone face is not. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
+wall — one at least `end_face_min_length` long, or a door frame's length ending in a whole
+cap (a thick wall's end; a table's end is as wide as the table) — and never ends on a
+block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
+cabinet's front).
 """
 
 from __future__ import annotations
@@ -160,7 +171,7 @@ def _doors(
     # long (`door_wall_min_length`), or a short stub whose far end joins a long wall (a
     # cabinet's side is short and joins another short side; then the gap must continue it
     # closely: `door_offset_short`). The loop: identify_kernels.jamb_candidates
-    wi, we, capped, long, stub, lengths = jamb_candidates(
+    wi, we, capped, long, stub, cap_sized, cap_seen, lengths = jamb_candidates(
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
         float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX)
@@ -180,7 +191,7 @@ def _doors(
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
         np.ascontiguousarray(pts), np.ascontiguousarray(out_dir), wi.astype(np.int64), we.astype(np.int64),
         np.ascontiguousarray(is_convex), np.ascontiguousarray(long), np.ascontiguousarray(stub),
-        np.ascontiguousarray(lengths[wi] <= params.jamb_cap_max),
+        np.ascontiguousarray(cap_sized), np.ascontiguousarray(cap_seen),
         np.ascontiguousarray(connected, dtype=np.int64), float(params.door_min_width),
         float(params.door_max_width), float(params.door_angle), float(params.door_offset),
         float(params.door_offset_short))
