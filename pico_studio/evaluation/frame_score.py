@@ -24,6 +24,10 @@ reported on its own.
   middle in view, and the scan's beams hit the wall at each jamb over a minimum length: see
   `sim/truth.py`). A door whose jamb is not seen cannot be told from a wall's loose end; the
   perceptor reports it as a possible door at best.
+- **Map-confirmed doors**: when the world model was localised (`wm.combined`, the combined
+  map), its doors the global map confirmed (`combined.door_confirmed`) are scored the same
+  way in the global frame (the simulator's map frame): precision and recall of the doors a
+  localised robot would act on. The perceptor's own doors above are scored without the map.
 - **Pose**: the perceptor's pose relative to its zero vs the true motion since that frame.
 
 Counts and lengths are summed over frames (`run_score.RunScore`), so a run's figures weigh
@@ -83,6 +87,10 @@ class FrameScore:
     doors_ok: int = 0
     truth_doors: int = 0
     truth_doors_ok: int = 0
+    map_frames: int = 0  # frames with a combined (localised) map
+    map_doors: int = 0  # its map-confirmed doors
+    map_doors_ok: int = 0
+    map_truth_doors_ok: int = 0
     pose_err_m: float = 0.0
     pose_err_rad: float = 0.0
 
@@ -264,6 +272,12 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
         visible_doors=visible_doors,
         tol=tol,
     )
+    combined = getattr(wm, "combined", None)
+    if combined is not None:
+        confirmed = np.asarray(combined.doors, dtype=float).reshape(-1, 4)[np.asarray(combined.door_confirmed, dtype=bool)]
+        s.map_frames, s.map_doors = 1, len(confirmed)
+        s.map_doors_ok = int(doors_match(confirmed, truth.door_openings(), tol).any(axis=1).sum())
+        s.map_truth_doors_ok = int(doors_match(confirmed, visible_doors, tol).any(axis=0).sum())
     if true_zero is not None:
         true_rel = relative(true_zero, true_pose)
         err = relative(true_rel, as_pose(wm.pose))
