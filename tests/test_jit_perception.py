@@ -1,5 +1,5 @@
-"""Identify's and merge's compiled loops give the answers of their own Python (`.py_func`) on
-the very arguments the perceptor passes them on real hospital_2019 scans."""
+"""Identify's compiled loops give the answers of their own Python (`.py_func`) on the very
+arguments the perceptor passes them on real hospital_2019 scans (merge's: test_jit_merge.py)."""
 
 from __future__ import annotations
 
@@ -14,15 +14,14 @@ import pytest
 from pico_studio import jit
 from pico_studio.config import Config
 from pico_studio.core.behaviours.registry import Drive
-from pico_studio.core.perception import Perceptor, identify, merge
+from pico_studio.core.perception import Perceptor, identify
 from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from tests.conftest import MAPS
 from tests.jit_scenes import hospital_frames
 
-KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "object_groups"),
-           merge: ("near_pairs", "connect_candidates", "connect_walk", "fuse", "see_through")}
+KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "object_groups")}
 
 
 @pytest.fixture(scope="module")
@@ -56,9 +55,7 @@ def calls() -> dict[str, list[tuple]]:
     return recorded
 
 
-# fuse's sin, cos and atan2 are the C library's when compiled and numpy's own routines in its
-# Python: they may differ in the last bit (a few 1e-16 m); every other kernel is bit-exact
-ATOL = {"fuse": 1e-12}
+ATOL: dict[str, float] = {}  # every kernel here is bit-exact
 
 
 def _same(a: Any, b: Any, atol: float = 0.0) -> None:

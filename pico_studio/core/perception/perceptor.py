@@ -129,11 +129,7 @@ def _perceive(
                     segs.covariance[kept])
     local = merge(local_before, free, loc.pose, scan, params.merge)
     lap("merge")
-    shown = local.shown(params.merge)
-    idx = np.flatnonzero(shown)
-    remap = np.full(len(shown) + 1, -1, dtype=np.int64)
-    remap[idx] = np.arange(len(idx))
-    conn = remap[np.where(local.connected >= 0, local.connected, len(shown))][idx]
+    idx, conn = local.shown_walls(params.merge)
     view = View(scan.ranges, scan.angles, scan.valid, loc.pose)
     ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view)
     lap("identify")
