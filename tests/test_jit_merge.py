@@ -1,6 +1,6 @@
 """Merge's compiled passes give the answers of their own Python on the very arguments the
 perceptor passes them on real hospital_2019 scans, and the local map they build is the one
-the all-Python merge builds."""
+the all-Python merge builds; likewise the objects', entrance's and rooms' compiled loops."""
 
 from __future__ import annotations
 
@@ -15,7 +15,9 @@ import pytest
 from pico_studio import jit
 from pico_studio.config import Config
 from pico_studio.core.behaviours.registry import Drive
-from pico_studio.core.perception import Perceptor, merge, merge_kernels
+from pico_studio.core.perception import Perceptor, entrance, merge, merge_kernels, objects, rooms
+from pico_studio.core.perception.scan import process_scan
+from pico_studio.core.perception.segment import segment_scan
 from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
@@ -144,3 +146,31 @@ def test_local_map_equals_the_all_python_merge():
         np.testing.assert_allclose(sa.walls, sb.walls, rtol=0, atol=1e-9)
         for field in ("hits", "last_seen", "missed", "seen_end", "connected"):
             np.testing.assert_array_equal(getattr(sa, field), getattr(sb, field))
+
+
+def test_small_stages_equal_their_python_on_real_scans():
+    """Objects' candidate boxes, the entrance and the side room's beams: compiled as in
+    their Python, scan by scan of the circling robot (and some found)."""
+    cfg = Config().perception
+    seen = {"objects": 0, "entrance": 0, "side": 0, "edges": 0}
+    for _, laser, _ in hospital_frames(6):
+        scan, _ = process_scan(laser, cfg.scan, cfg.proximity)
+        segs = segment_scan(scan, cfg)
+        args = (scan.points, scan.clusters, scan.end_seen, cfg.objects.min_points, cfg.objects.max_size, 0.3, -0.2, 0.7)
+        _same(objects.candidate_boxes(*args), jit.py_func(objects.candidate_boxes)(*args))
+        seen["objects"] += len(objects.candidate_boxes(*args)[0])
+        e = cfg.entrance
+        eargs = (np.ascontiguousarray(segs.segments), e.parallel_tolerance, e.min_gap, e.max_gap,
+                 e.hallway_min_width, e.hallway_max_width)
+        got, want = entrance.scan_entrance(*eargs), jit.py_func(entrance.scan_entrance)(*eargs)
+        assert got[0] == want[0] and got[1:] == pytest.approx(want[1:], abs=1e-12)  # atan2: libm vs numpy
+        seen["entrance"] += got[0] != 0
+        r = cfg.rooms
+        for side in (r.side_angle, -r.side_angle, 0.0):
+            rargs = (scan.ranges, scan.angles, scan.valid, side)
+            _same(rooms._side_beam(*rargs), jit.py_func(rooms._side_beam)(*rargs))
+            seen["side"] += not np.isnan(rooms._side_beam(*rargs))
+            eargs2 = (*rargs, r.content_half_angle, r.edge_jump, r.edge_skip)
+            _same(rooms._edges(*eargs2), jit.py_func(rooms._edges)(*eargs2))
+            seen["edges"] += rooms._edges(*eargs2)
+    assert all(seen.values()), seen
