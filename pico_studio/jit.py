@@ -55,6 +55,7 @@ KERNEL_MODULES = (
     "pico_studio.core.perception.laser_motion",
     "pico_studio.core.perception.scan_match_kernels",
     "pico_studio.core.localisation.match_kernels",
+    "pico_studio.core.localisation.combined_kernels",
     "pico_studio.core.behaviours.planner",
     "pico_studio.sim.truth_kernels",
     "pico_studio.evaluation.score_kernels",

@@ -37,6 +37,7 @@ from pico_studio.core.localisation.match_kernels import (
     quality_kernel,
     refine_kernel,
     through_kernel,
+    usable_kernel,
 )
 
 Pose = tuple[float, float, float]
@@ -54,10 +55,7 @@ class Match:
 
 def usable_points(points: np.ndarray, max_range: float) -> np.ndarray:
     """Finite points within range (robot frame)."""
-    points = np.asarray(points, dtype=float).reshape(-1, 2)
-    ok = np.isfinite(points).all(axis=1)
-    ok[ok] &= np.hypot(points[ok, 0], points[ok, 1]) <= max_range
-    return points[ok]
+    return usable_kernel(_c(np.asarray(points, dtype=float).reshape(-1, 2)), float(max_range))
 
 
 def quality(field: DistanceField, points: np.ndarray, pose: Pose, inlier_distance: float) -> float:
