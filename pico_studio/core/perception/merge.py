@@ -141,8 +141,9 @@ def drop_near(state: LocalMapState, places: np.ndarray, radius: float) -> LocalM
     if not gone.any():
         return state
     s = state
-    return LocalMapState(*compact(~gone, s.walls, s.hits, s.last_seen, s.missed, s.seen_end, s.end_weight, s.connected),
-                         step=s.step)
+    walls, hits, last_seen, missed, seen_end, end_weight, connected = compact(
+        ~gone, s.walls, s.hits, s.last_seen, s.missed, s.seen_end, s.end_weight, s.connected)
+    return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, s.step)
 
 
 __all__ = ["END_SEEN", "LocalMapState", "drop_near", "merge"]
