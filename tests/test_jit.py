@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 import re
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
@@ -300,8 +299,6 @@ def test_combined_map_and_tracker_loops_compiled_equal_their_python():
     """Every call of the combined map's and the tracker's loops (walls on the map, doors the
     map confirms, usable points, seen-wall counts) during a localising run on hospital_2019:
     compiled as in their Python, and not vacuous (walls matched, doors confirmed, hits)."""
-    import copy
-
     from pico_studio.core.behaviours.registry import Drive
     from pico_studio.core.localisation import (
         combined,
@@ -314,31 +311,17 @@ def test_combined_map_and_tracker_loops_compiled_equal_their_python():
     from pico_studio.evaluation.runner import make_perceptor
     from pico_studio.session import Session
     from pico_studio.sim import Simulator
-    from tests.jit_scenes import hospital_frames
+    from tests.jit_scenes import hospital_frames, recorded_calls
 
     names = {combined: ("on_map_kernel", "doors_confirmed"), matcher: ("usable_kernel",), tracker: ("seen_hits_kernel",)}
-    calls: dict[str, list[tuple]] = {n: [] for ns in names.values() for n in ns}
-    mp = pytest.MonkeyPatch()
-
-    def recorder(name: str, fn: Any) -> Any:
-        def call(*args: Any) -> Any:
-            calls[name].append(copy.deepcopy(args))
-            return fn(*args)
-        return call
-
-    for module, ns in names.items():
-        for n in ns:
-            mp.setattr(module, n, recorder(n, getattr(module, n)))
     cfg = Config()
-    try:
+    with recorded_calls(names) as calls:
         first = hospital_frames(1)[0][0]
         sim = Simulator(first.world.map, cfg.sim, seed=0, initial_pose=first.truth.pose)
         perceptor = make_perceptor(cfg, sim.world.map, first.truth.pose, localise=True)
         assert isinstance(perceptor, LocalisingPerceptor)
         for _ in Session(sim, perceptor=perceptor, behaviour=Drive(0.3, 0.0, 0.2)).frames(until=1.5):
             pass
-    finally:
-        mp.undo()
     kernels = {"on_map_kernel": combined_kernels.walls_on_map, "doors_confirmed": combined_kernels.doors_confirmed,
                "usable_kernel": match_kernels.usable_kernel, "seen_hits_kernel": match_kernels.seen_hits_kernel}
     found = {}

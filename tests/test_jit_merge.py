@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import copy
 import itertools
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -22,7 +21,7 @@ from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from tests.conftest import MAPS
-from tests.jit_scenes import hospital_frames
+from tests.jit_scenes import hospital_frames, recorded_calls
 
 PASSES = ("fold_in", "merge_similar", "see_through", "connect", "drop_mask", "compact", "shown_walls")
 # fuse's sin, cos and atan2 (inside fold_in) are the C library's when compiled and numpy's
@@ -50,21 +49,8 @@ def _turning_robot(frames: int = 20) -> list[Perceptor]:
 @pytest.fixture(scope="module")
 def calls() -> dict[str, list[tuple]]:
     """Every call of each pass while the robot turns."""
-    recorded: dict[str, list[tuple]] = {name: [] for name in PASSES}
-    mp = pytest.MonkeyPatch()
-
-    def recorder(name: str, fn: Callable[..., Any]) -> Callable[..., Any]:
-        def call(*args: Any) -> Any:
-            recorded[name].append(copy.deepcopy(args))
-            return fn(*args)
-        return call
-
-    for name in PASSES:
-        mp.setattr(merge, name, recorder(name, getattr(merge, name)))
-    try:
+    with recorded_calls({merge: PASSES}) as recorded:
         _turning_robot()
-    finally:
-        mp.undo()
     return recorded
 
 

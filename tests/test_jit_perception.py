@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import copy
 import itertools
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -19,7 +18,7 @@ from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
 from tests.conftest import MAPS
-from tests.jit_scenes import hospital_frames
+from tests.jit_scenes import hospital_frames, recorded_calls
 
 KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "object_groups")}
 
@@ -29,19 +28,7 @@ def calls() -> dict[str, list[tuple]]:
     """Every call of each kernel while a perceptor follows the robot turning on the spot
     for 12 frames at each of 6 free poses (so the local map fuses, merges and connects walls
     it has seen before, and walls drop out of view)."""
-    recorded: dict[str, list[tuple]] = {name: [] for names in KERNELS.values() for name in names}
-    mp = pytest.MonkeyPatch()
-
-    def recorder(name: str, fn: Callable[..., Any]) -> Callable[..., Any]:
-        def call(*args: Any) -> Any:
-            recorded[name].append(copy.deepcopy(args))
-            return fn(*args)
-        return call
-
-    for module, names in KERNELS.items():
-        for name in names:
-            mp.setattr(module, name, recorder(name, getattr(module, name)))
-    try:
+    with recorded_calls(KERNELS) as recorded:
         cfg = Config()
         gmap = load_map(MAPS / "hospital_2019.json")
         for first, _, _ in hospital_frames(6):
@@ -50,8 +37,6 @@ def calls() -> dict[str, list[tuple]]:
             p = Perceptor(cfg.perception)
             for _ in itertools.islice(session.frames(dt=0.05), 12):
                 p.step(session.last_laser, session.last_odometry)
-    finally:
-        mp.undo()
     return recorded
 
 
