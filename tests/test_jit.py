@@ -332,3 +332,16 @@ def test_combined_map_and_tracker_loops_compiled_equal_their_python():
             _same(got, jit.py_func(k)(*args))
         found[n] = sum(int(np.sum(o)) for o in outs)
     assert all(found.values()), found  # walls on the map, doors confirmed, points kept, walls hit
+
+
+def test_search_takes_the_best_grid_poses_in_a_stable_order():
+    """The pose search's best-first order (a partial sort) is a stable argsort's first k,
+    ties and NaN included."""
+    from pico_studio.core.localisation.matcher import best_first
+
+    rng = np.random.default_rng(3)
+    for shape, k in (((4, 30, 40), 300), ((2, 5, 5), 50), ((3, 7, 9), 500), ((1, 1, 1), 5)):
+        scores = np.round(rng.random(shape), 2).astype(np.float32)  # many ties
+        scores.flat[rng.integers(0, scores.size, 3)] = np.nan
+        want = np.argsort(scores, axis=None, kind="stable")[:k]
+        np.testing.assert_array_equal(best_first(scores, k), want)
