@@ -35,12 +35,15 @@ def _spikes(p: np.ndarray, gap_min: float, max_range: float) -> np.ndarray:
     m = p.shape[0]
     out = np.empty(max(m, 1), dtype=np.int64)
     n = 0
+    r1 = math.hypot(p[0, 0], p[0, 1]) if m else 0.0
     for i in range(m - 1):
-        gap = math.hypot(p[i + 1, 0] - p[i, 0], p[i + 1, 1] - p[i, 1])
-        r0 = math.hypot(p[i, 0], p[i, 1])
+        r0 = r1  # each point's range once
         r1 = math.hypot(p[i + 1, 0], p[i + 1, 1])
         near, r = (i, r0) if r0 <= r1 else (i + 1, r1)
-        if gap > gap_min and r < max_range and (n == 0 or out[n - 1] != near):
+        if not r < max_range:
+            continue  # (the gap only matters near the robot)
+        gap = math.hypot(p[i + 1, 0] - p[i, 0], p[i + 1, 1] - p[i, 1])
+        if gap > gap_min and (n == 0 or out[n - 1] != near):
             out[n] = near  # non-decreasing: a point between two gaps counts once
             n += 1
     return out[:n].copy()
@@ -72,12 +75,18 @@ def _vectors(p: np.ndarray, clusters: np.ndarray, k: int, tol: float) -> tuple[n
     n = 0
     last_hit = -2
     best_dev = 0.0
+    near_square = math.sin(tol) ** 2 * (1 + 1e-9) if tol < math.pi / 2 else np.inf
     for i in range(k, m - k):
         if cid[i - k] != cid[i] or cid[i + k] != cid[i]:
             continue
         v1x, v1y = p[i - k, 0] - p[i, 0], p[i - k, 1] - p[i, 1]
         v2x, v2y = p[i + k, 0] - p[i, 0], p[i + k, 1] - p[i, 1]
-        ang = math.atan2(v1x * v2y - v1y * v2x, v1x * v2x + v1y * v2y)
+        cross, dot = v1x * v2y - v1y * v2x, v1x * v2x + v1y * v2y
+        # the angle is within tol of +-90 deg only if |cos| = |dot| / |v1||v2| < sin(tol):
+        # far from it (with a margin far above rounding), skip the atan2
+        if dot * dot > near_square * (dot * dot + cross * cross):
+            continue
+        ang = math.atan2(cross, dot)
         dev_in = abs(ang + math.pi / 2)
         dev_out = abs(ang - math.pi / 2)
         dev = min(dev_in, dev_out)

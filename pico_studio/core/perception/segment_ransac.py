@@ -22,6 +22,7 @@ from pico_studio.config.perception_params import RansacParams
 from pico_studio.jit import kernel
 
 MIN_RUN = 3  # fewer points cannot carry a line hypothesis and its check
+BLOCK = 32  # points counted between checks whether a hypothesis can still win
 
 
 def _example() -> tuple:
@@ -65,8 +66,14 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator,
                 continue
             thr = inlier_distance * norm
             count = 0
-            for q in range(s, e + 1):  # x and y apart: a loop the compiler vectorises
-                count += abs(abx * (ys[q] - ay) - aby * (xs[q] - ax)) <= thr
+            q = s
+            while q <= e:  # in blocks (x and y apart: loops the compiler vectorises)...
+                stop = min(q + BLOCK, e + 1)
+                for t in range(q, stop):
+                    count += abs(abx * (ys[t] - ay) - aby * (xs[t] - ax)) <= thr
+                q = stop
+                if count + (e + 1 - q) <= best_count:
+                    break  # ...until even all the points left could not beat the best
             if count > best_count:
                 best_count = count
                 best_h = h
