@@ -1,5 +1,7 @@
-"""Identify's and merge's compiled loops give the answers of their own Python (`.py_func`) on
-the very arguments the perceptor passes them on real hospital_2019 scans."""
+"""The perceptor's compiled loops give the answers of their own Python (`.py_func`) on the very
+arguments the perceptor passes them on real hospital_2019 scans: identify's and merge's while
+it follows the robot, the scan stage's, the segmenters', the refit's and the corners' on scans
+processed with the default parameters and with variants that take their other branches."""
 
 from __future__ import annotations
 
@@ -12,9 +14,20 @@ import numpy as np
 import pytest
 
 from pico_studio import jit
-from pico_studio.config import Config
+from pico_studio.config import Config, with_value
 from pico_studio.core.behaviours.registry import Drive
-from pico_studio.core.perception import Perceptor, identify, merge
+from pico_studio.core.perception import (
+    Perceptor,
+    corners,
+    identify,
+    merge,
+    scan,
+    segment_angle,
+    segment_ransac,
+    segment_refit,
+    segment_split_merge,
+)
+from pico_studio.core.perception.segment import segment_scan
 from pico_studio.json_map import load_map
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
@@ -64,7 +77,11 @@ ATOL = {"fuse": 1e-12}
 def _same(a: Any, b: Any, atol: float = 0.0) -> None:
     a, b = (a if isinstance(a, tuple) else (a,)), (b if isinstance(b, tuple) else (b,))
     assert len(a) == len(b)
-    for x, y in zip(map(np.asarray, a), map(np.asarray, b), strict=True):
+    for x, y in zip(a, b, strict=True):
+        if isinstance(x, np.random.Generator):  # RANSAC's: drawn from alike
+            assert x.bit_generator.state == y.bit_generator.state
+            continue
+        x, y = np.asarray(x), np.asarray(y)
         assert x.dtype == y.dtype and x.shape == y.shape
         if atol and x.dtype.kind == "f":
             np.testing.assert_allclose(x, y, rtol=0, atol=atol)
@@ -90,3 +107,80 @@ def test_kernel_equals_its_python_on_real_scans(calls: dict[str, list[tuple]], m
 def test_doors_found_on_real_scans(calls: dict[str, list[tuple]]):
     """The door-pair test is not vacuous: on hospital scans some pairs are doors."""
     assert any(out[4].any() for out in (identify.door_pairs(*a) for a in calls["door_pairs"]))
+
+
+SCAN_KERNELS = {scan: ("scan_points",), segment_split_merge: ("_douglas_peucker",), segment_angle: ("_walk",),
+                segment_ransac: ("_extract",), segment_refit: ("finish_kernel",), corners: ("_spikes", "_vectors")}
+# the defaults, and variants taking the other branches: grazing-angle breaks, no resampling, a
+# footprint that drops points, the weighted refit with a range-dependent minimum of points
+VARIANTS = {"default": {}, "grazing": {"perception.scan.grazing_factor": 10.0, "perception.scan.grazing_max_break": 1.0},
+            "no_resampling": {"perception.scan.min_spacing": 0.0},
+            "big_footprint": {"perception.proximity.footprint_length": 2.0, "perception.proximity.footprint_width": 2.0},
+            "weighted": {"perception.scan.weighted_fit": True, "perception.scan.min_points_per_m": 2.0}}
+
+
+@pytest.fixture(scope="module")
+def scan_calls() -> tuple[dict[str, list[tuple]], dict[str, list]]:
+    """Every call of the scan, segmenter, refit and corner kernels while 8 hospital scans are
+    processed, segmented by each segmenter and searched for corners, per variant (and the
+    scans made, per variant)."""
+    recorded: dict[str, list[tuple]] = {name: [] for names in SCAN_KERNELS.values() for name in names}
+    made: dict[str, list] = {v: [] for v in VARIANTS}
+    mp = pytest.MonkeyPatch()
+
+    def recorder(name: str, fn: Callable[..., Any]) -> Callable[..., Any]:
+        def call(*args: Any) -> Any:
+            recorded[name].append(copy.deepcopy(args))
+            return fn(*args)
+        return call
+
+    for module, names in SCAN_KERNELS.items():
+        for name in names:
+            mp.setattr(module, name, recorder(name, getattr(module, name)))
+    try:
+        for variant, changes in VARIANTS.items():
+            cfg = Config()
+            for path, value in changes.items():
+                cfg = with_value(cfg, path, value)
+            for _, laser, _ in hospital_frames(8):
+                for segmenter in ("split_merge", "angle", "ransac"):
+                    p = with_value(cfg, "perception.scan.segmenter", segmenter).perception
+                    s, _ = scan.process_scan(laser, p.scan, p.proximity)
+                    segment_scan(s, p)
+                made[variant].append(s)
+                corners.spike_corners(s, p.corners)
+                corners.vector_corners(s, p.corners, p.scan.min_spacing)
+    finally:
+        mp.undo()
+    return recorded, made
+
+
+@pytest.mark.parametrize("module,name", [(m, n) for m, names in SCAN_KERNELS.items() for n in names])
+def test_scan_and_segment_kernels_equal_their_python_on_real_scans(scan_calls: tuple, module: Any, name: str):
+    recorded, _ = scan_calls
+    assert len(recorded[name]) >= 8 * len(VARIANTS)
+    answered = 0
+    for args in recorded[name]:
+        mine, theirs = copy.deepcopy(args), copy.deepcopy(args)
+        got = getattr(module, name)(*mine)
+        _same(got, jit.py_func(getattr(module, name))(*theirs))  # to the last bit
+        _same(mine, theirs)
+        answered += sum(len(x) for x in (got if isinstance(got, tuple) else (got,)))
+    assert answered > 0
+
+
+def test_the_scan_variants_take_their_branches(scan_calls: tuple):
+    """The variants are not the defaults again: each changes what the scan stage returns."""
+    _, made = scan_calls
+    base = made["default"]
+    assert all(len(s.points) > 200 and len(s.clusters) >= 2 for s in base)
+    grazing = made["grazing"]  # grazing-angle spacing joins some clusters
+    assert sum(len(g.clusters) for g in grazing) < sum(len(b.clusters) for b in base)
+    assert all(len(k.points) == len(k.valid_xy) for k in made["no_resampling"])
+    assert sum(f.valid.sum() for f in made["big_footprint"]) < sum(b.valid.sum() for b in base)
+    # each cluster's ends: some seen, some not, and a point kept at both ends of every cluster
+    seen = np.concatenate([s.end_seen.ravel() for s in base])
+    assert seen.any() and not seen.all()
+    for s in base:
+        np.testing.assert_array_equal(s.beam[s.clusters[:, 0]] >= 0, True)
+        assert (s.clusters[1:, 0] == s.clusters[:-1, 1]).all() and s.clusters[-1, 1] == len(s.points)
