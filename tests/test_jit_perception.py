@@ -21,6 +21,7 @@ from pico_studio.core.perception import (
     corners,
     identify,
     merge,
+    pcg64,
     scan,
     segment_angle,
     segment_ransac,
@@ -77,11 +78,7 @@ ATOL = {"fuse": 1e-12}
 def _same(a: Any, b: Any, atol: float = 0.0) -> None:
     a, b = (a if isinstance(a, tuple) else (a,)), (b if isinstance(b, tuple) else (b,))
     assert len(a) == len(b)
-    for x, y in zip(a, b, strict=True):
-        if isinstance(x, np.random.Generator):  # RANSAC's: drawn from alike
-            assert x.bit_generator.state == y.bit_generator.state
-            continue
-        x, y = np.asarray(x), np.asarray(y)
+    for x, y in zip(map(np.asarray, a), map(np.asarray, b), strict=True):
         assert x.dtype == y.dtype and x.shape == y.shape
         if atol and x.dtype.kind == "f":
             np.testing.assert_allclose(x, y, rtol=0, atol=atol)
@@ -184,3 +181,16 @@ def test_the_scan_variants_take_their_branches(scan_calls: tuple):
     for s in base:
         np.testing.assert_array_equal(s.beam[s.clusters[:, 0]] >= 0, True)
         assert (s.clusters[1:, 0] == s.clusters[:-1, 1]).all() and s.clusters[-1, 1] == len(s.points)
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_pcg64_draws_numpys_integers(compiled: bool):
+    """RANSAC's draws made inside the compiled loop are numpy's `default_rng(seed).integers`,
+    call after call, for bounds from 1 (no draw) to 2^32 (and so are those of its Python)."""
+    integers = pcg64.integers if compiled else jit.py_func(pcg64.integers)
+    bounds = np.random.default_rng(7).choice([1, 2, 3, 7, 100, 479, 1000, 2**31 + 11, 2**32 - 1, 2**32], size=200)
+    for seed in (0, 1, 2**31 - 1):
+        state, reference = pcg64.seeded_state(seed), np.random.default_rng(seed)
+        for n in bounds.tolist():
+            np.testing.assert_array_equal(integers(state, n, 5), reference.integers(0, n, size=5))
+        assert pcg64.seeded_state(seed)[1] != state[1]  # the state advanced, the cached seed did not

@@ -9,8 +9,9 @@ draws); a point p is an inlier of it when its distance to the line is within `in
 Keep the hypothesis with the most inliers (the first such). Its wall is the longest
 contiguous run of inliers (at most `max_gap_points` outliers inside it), since a wall is a
 contiguous piece of the scan; the points before and after that run are searched again the
-same way (an explicit stack, the later run first). The random generator is numpy's PCG64
-seeded from `seed` (numba draws the very same integers from it), so a scan always gives
+same way (an explicit stack, the later run first). The random draws are numpy's
+`default_rng(seed).integers`, made inside the loop (pcg64.py: the same integers, without the
+cost of handing numpy's Generator over), from a fresh state per scan, so a scan always gives
 the same walls and the perceptor stays a pure function. One compiled loop (`_extract`).
 """
 
@@ -19,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from pico_studio.config.perception_params import RansacParams
+from pico_studio.core.perception.pcg64 import integers, seeded_state
 from pico_studio.jit import kernel
 
 MIN_RUN = 3  # fewer points cannot carry a line hypothesis and its check
@@ -27,13 +29,14 @@ BLOCK = 32  # points counted between checks whether a hypothesis can still win
 
 def _example() -> tuple:
     pts = np.array([[1.0, 0.1 * i] for i in range(8)] + [[1.0 - 0.1 * i, 0.7] for i in range(1, 8)])
-    return pts, np.array([[0, 15]], dtype=np.int64), np.random.default_rng(0), 20, 0.02, 2
+    return pts, np.array([[0, 15]], dtype=np.int64), seeded_state(0), 20, 0.02, 2
 
 
 @kernel(_example)
-def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator, iterations: int,
+def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.ndarray, iterations: int,
              inlier_distance: float, max_gap: int) -> np.ndarray:
-    """(S, 2) int64 inclusive [first, last] point index of every wall, in scan order."""
+    """(S, 2) int64 inclusive [first, last] point index of every wall, in scan order; `rng`:
+    the random state (pcg64.seeded_state), advanced by the draws."""
     m_all = points.shape[0]
     out = np.empty((max(m_all, 1), 2), dtype=np.int64)
     n_out = 0
@@ -52,8 +55,8 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator,
         if m < MIN_RUN:
             continue
         # hypotheses: the chord, then `iterations` random pairs
-        i_draw = rng.integers(0, m, size=iterations)
-        j_draw = rng.integers(0, m, size=iterations)
+        i_draw = integers(rng, m, iterations)  # numpy's rng.integers(0, m, size=iterations)
+        j_draw = integers(rng, m, iterations)
         best_count = -1
         best_h = -1
         for h in range(iterations + 1):
@@ -112,5 +115,5 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator,
 def extract(points: np.ndarray, clusters: np.ndarray, params: RansacParams) -> np.ndarray:
     """(S, 2) int inclusive [first, last] point index of every wall, in scan order."""
     return _extract(np.ascontiguousarray(points, dtype=np.float64), np.ascontiguousarray(clusters, dtype=np.int64),
-                    np.random.default_rng(params.seed), int(params.iterations), float(params.inlier_distance),
+                    seeded_state(int(params.seed)), int(params.iterations), float(params.inlier_distance),
                     int(params.max_gap_points))
