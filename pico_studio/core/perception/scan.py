@@ -116,11 +116,14 @@ def process_scan(
     else:  # filter, resample and cluster: one compiled pass (scan_kernels.scan_points)
         lo = max(_finite_or(laser.range_min, 0.0), float(params.min_range))
         hi = min(_finite_or(laser.range_max, math.inf), float(params.max_range))
-        valid, xy, points, beam, clusters, end_seen = scan_points(
-            ranges, angles, cos, sin, lo, hi,
-            float(footprint.footprint_length) / 2, float(footprint.footprint_width) / 2,
-            float(params.break_distance), float(params.break_slope), float(params.min_spacing),
-            float(params.grazing_factor), float(params.grazing_max_break), float(params.grazing_line_distance))
+        args = (ranges, angles, cos, sin, lo, hi,
+                float(footprint.footprint_length) / 2, float(footprint.footprint_width) / 2,
+                float(params.break_distance), float(params.break_slope), float(params.min_spacing),
+                float(params.grazing_factor), float(params.grazing_max_break), float(params.grazing_line_distance))
+        out = scan_points(*args, False)
+        if not out[6]:  # a step within rounding of a threshold (about once in 10^5 scans): by hypot
+            out = scan_points(*args, True)
+        valid, xy, points, beam, clusters, end_seen, _ = out
         scan = ScanPoints(ranges, angles, valid, points, beam, clusters, end_seen, xy)
     if n and not len(scan.points):
         warnings.append(f"no valid range among {n} beams")

@@ -37,7 +37,10 @@ every point (the cross-check); the scan needs them at the cluster ends only.
 
 Every float is computed by the same operations, in the same order, as the numpy version this
 replaced (so the results are the same to the last bit): e.g. the arc length is the running
-sum, the grazing spacing (r |da|) / max(sin b, 1e-3).
+sum, the grazing spacing (r |da|) / max(sin b, 1e-3). One exception, for speed: the steps
+s_j are sqrt(dx^2 + dy^2) (`_length`), within 3 ulp of the `hypot` they were; a step that
+close to its break threshold, or an arc that close to a bin's edge, makes the pass
+"uncertain" and the caller runs it again with hypot (`exact`), so the answers stay hypot's.
 """
 
 from __future__ import annotations
@@ -93,6 +96,28 @@ def on_line(xy: np.ndarray, line_distance: float) -> tuple[np.ndarray, np.ndarra
     return fwd, bwd
 
 
+# |sqrt(dx^2 + dy^2) - hypot(dx, dy)| <= 3 ulp; a running sum of j steps then differs by at
+# most (2 j + 5) ulp of the sum (both sums round; the division by min_spacing once more)
+STEP_ERROR = 1e-15
+ARC_ERROR = 4e-15
+
+
+@njit
+def _length(dx: float, dy: float) -> float:
+    """|(dx, dy)| as sqrt(dx^2 + dy^2): within 3 ulp of `math.hypot`, a third of its cost (hypot
+    itself where the squares would underflow). Every use of a step is a comparison (a break,
+    a resampling bin), so a step within that of its threshold is decided again by hypot: the
+    results are hypot's to the last bit."""
+    sq = dx * dx + dy * dy
+    return math.sqrt(sq) if sq > 1e-250 else math.hypot(dx, dy)
+
+
+@njit
+def _step(xy: np.ndarray, j: int) -> float:
+    """|p_j+1 - p_j|, by hypot."""
+    return math.hypot(xy[j + 1, 0] - xy[j, 0], xy[j + 1, 1] - xy[j, 1])
+
+
 def _scan_example() -> tuple:
     n = 12
     angles = np.linspace(-1.0, 1.0, n)
@@ -100,17 +125,20 @@ def _scan_example() -> tuple:
     for a in (angles, cos, sin):
         a.flags.writeable = False  # as scan.py's cached beam layouts
     ranges = np.array([2.0, 2.0, np.nan, 2.0, 2.1, 0.01, 3.0, 3.0, 3.0, np.inf, 1.0, 1.0])
-    return (ranges, angles, cos, sin, 0.05, 10.0, 0.1, 0.2, 0.12, 0.02, 0.025, 1.0, 0.5, 0.03)
+    return (ranges, angles, cos, sin, 0.05, 10.0, 0.1, 0.2, 0.12, 0.02, 0.025, 1.0, 0.5, 0.03, False)
 
 
 @kernel(_scan_example)
 def scan_points(
     ranges: np.ndarray, angles: np.ndarray, cos: np.ndarray, sin: np.ndarray, lo: float, hi: float,
     half_length: float, half_width: float, break_distance: float, break_slope: float, min_spacing: float,
-    grazing_factor: float, grazing_max_break: float, grazing_line_distance: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    grazing_factor: float, grazing_max_break: float, grazing_line_distance: float, exact: bool,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]:
     """(valid (n,) bool, valid points (V, 2), kept points (M, 2), their beams (M,), clusters
-    (K, 2) [start, end) into the kept points, end seen (K, 2) bool)."""
+    (K, 2) [start, end) into the kept points, end seen (K, 2) bool, certain).
+
+    `exact`: the steps by `math.hypot`, else by the 3x cheaper `_length`; then `certain` says
+    whether every decision was as hypot's would be (see `_length`; if not, call again exact)."""
     n = ranges.shape[0]
     # 1. filter: in range, outside the footprint
     valid = np.zeros(n, dtype=np.bool_)
@@ -132,8 +160,10 @@ def scan_points(
     step = np.empty(max(m - 1, 0))
     brk = np.empty(max(m - 1, 0), dtype=np.bool_)
     grazing = m >= 5 and grazing_factor > 0
+    certain = True
     for j in range(m - 1):
-        step[j] = math.hypot(xy[j + 1, 0] - xy[j, 0], xy[j + 1, 1] - xy[j, 1])
+        dx, dy = xy[j + 1, 0] - xy[j, 0], xy[j + 1, 1] - xy[j, 1]
+        step[j] = math.hypot(dx, dy) if exact else _length(dx, dy)
         allowed = break_distance + break_slope * min(ranges[idx[j]], ranges[idx[j + 1]])
         if grazing:
             b = max(j - 3, 0)
@@ -146,6 +176,8 @@ def scan_points(
             g = min(grazing_factor * expected, grazing_max_break) if clen > 0 else 0.0
             allowed = max(allowed, g)
         brk[j] = step[j] > allowed
+        if not exact and abs(step[j] - allowed) <= STEP_ERROR * max(step[j], allowed):
+            certain = False  # too close to call without hypot
     # 3. resample: a cluster's first and last point, and each point where the binned arc grows
     keep = np.empty(m, dtype=np.bool_)
     arc = 0.0
@@ -159,7 +191,10 @@ def scan_points(
         if j > 0:
             arc = arc + (0.0 if brk[j - 1] else step[j - 1])
         if min_spacing > 0:
-            bin_j = np.floor(arc / min_spacing)
+            q = arc / min_spacing
+            bin_j = np.floor(q)
+            if not exact and arc > 0 and min(q - bin_j, bin_j + 1 - q) <= ARC_ERROR * (j + 1) * q:
+                certain = False  # the arc's bin too close to call without hypot
             if j > 0 and bin_j > bin_prev:
                 keep[j] = True
             bin_prev = bin_j
@@ -200,9 +235,9 @@ def scan_points(
                 seen = not (math.isfinite(raw) and raw > 0 and raw < own)
             # a short break to a point on the end's extended line: the wall going on
             if side == 1 and j + 1 < m:
-                seen = seen and not (step[j] <= grazing_max_break and _forward_on_line(xy, j, grazing_line_distance))
+                seen = seen and not (_step(xy, j) <= grazing_max_break and _forward_on_line(xy, j, grazing_line_distance))
             if side == 0 and j > 0:
-                seen = seen and not (step[j - 1] <= grazing_max_break
+                seen = seen and not (_step(xy, j - 1) <= grazing_max_break
                                      and _backward_on_line(xy, j - 1, grazing_line_distance))
             end_seen[c, side] = seen
-    return valid, xy[:m].copy(), points, beam, clusters, end_seen
+    return valid, xy[:m].copy(), points, beam, clusters, end_seen, certain
