@@ -5,9 +5,10 @@ processed with the default parameters and with variants that take their other br
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import itertools
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -39,12 +40,10 @@ KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "objec
            merge: ("near_pairs", "connect_candidates", "connect_walk", "fuse", "see_through")}
 
 
-@pytest.fixture(scope="module")
-def calls() -> dict[str, list[tuple]]:
-    """Every call of each kernel while a perceptor follows the robot turning on the spot
-    for 12 frames at each of 6 free poses (so the local map fuses, merges and connects walls
-    it has seen before, and walls drop out of view)."""
-    recorded: dict[str, list[tuple]] = {name: [] for names in KERNELS.values() for name in names}
+@contextlib.contextmanager
+def recording(kernels: dict[Any, tuple[str, ...]]) -> Iterator[dict[str, list[tuple]]]:
+    """Within: a copy of the arguments of every call of the named kernels, per name."""
+    recorded: dict[str, list[tuple]] = {name: [] for names in kernels.values() for name in names}
     mp = pytest.MonkeyPatch()
 
     def recorder(name: str, fn: Callable[..., Any]) -> Callable[..., Any]:
@@ -53,10 +52,21 @@ def calls() -> dict[str, list[tuple]]:
             return fn(*args)
         return call
 
-    for module, names in KERNELS.items():
+    for module, names in kernels.items():
         for name in names:
             mp.setattr(module, name, recorder(name, getattr(module, name)))
     try:
+        yield recorded
+    finally:
+        mp.undo()
+
+
+@pytest.fixture(scope="module")
+def calls() -> dict[str, list[tuple]]:
+    """Every call of each kernel while a perceptor follows the robot turning on the spot
+    for 12 frames at each of 6 free poses (so the local map fuses, merges and connects walls
+    it has seen before, and walls drop out of view)."""
+    with recording(KERNELS) as recorded:
         cfg = Config()
         gmap = load_map(MAPS / "hospital_2019.json")
         for first, _, _ in hospital_frames(6):
@@ -65,8 +75,6 @@ def calls() -> dict[str, list[tuple]]:
             p = Perceptor(cfg.perception)
             for _ in itertools.islice(session.frames(dt=0.05), 12):
                 p.step(session.last_laser, session.last_odometry)
-    finally:
-        mp.undo()
     return recorded
 
 
@@ -121,20 +129,8 @@ def scan_calls() -> tuple[dict[str, list[tuple]], dict[str, list]]:
     """Every call of the scan, segmenter, refit and corner kernels while 8 hospital scans are
     processed, segmented by each segmenter and searched for corners, per variant (and the
     scans made, per variant)."""
-    recorded: dict[str, list[tuple]] = {name: [] for names in SCAN_KERNELS.values() for name in names}
     made: dict[str, list] = {v: [] for v in VARIANTS}
-    mp = pytest.MonkeyPatch()
-
-    def recorder(name: str, fn: Callable[..., Any]) -> Callable[..., Any]:
-        def call(*args: Any) -> Any:
-            recorded[name].append(copy.deepcopy(args))
-            return fn(*args)
-        return call
-
-    for module, names in SCAN_KERNELS.items():
-        for name in names:
-            mp.setattr(module, name, recorder(name, getattr(module, name)))
-    try:
+    with recording(SCAN_KERNELS) as recorded:
         for variant, changes in VARIANTS.items():
             cfg = Config()
             for path, value in changes.items():
@@ -147,8 +143,6 @@ def scan_calls() -> tuple[dict[str, list[tuple]], dict[str, list]]:
                 made[variant].append(s)
                 corners.spike_corners(s, p.corners)
                 corners.vector_corners(s, p.corners, p.scan.min_spacing)
-    finally:
-        mp.undo()
     return recorded, made
 
 
