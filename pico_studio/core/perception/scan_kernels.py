@@ -156,69 +156,63 @@ def scan_points(
         xy[m, 0], xy[m, 1] = x, y
         idx[m] = i
         m += 1
-    # 2. break between valid points j and j + 1 (brk[j]), the step between them (step[j])
-    step = np.empty(max(m - 1, 0))
-    brk = np.empty(max(m - 1, 0), dtype=np.bool_)
+    # 2-3. one walk over the valid points: the break after point j (its step to point j + 1
+    # against the allowed gap), then whether j is kept: a cluster's first or last point, or
+    # where the binned arc length grows
+    points = np.empty((m, 2))
+    beam = np.empty(m, dtype=np.int64)
+    clusters = np.empty((m, 2), dtype=np.int64)
+    ends = np.empty((m, 2), dtype=np.int64)  # each cluster's first and last valid point
     grazing = m >= 5 and grazing_factor > 0
     certain = True
-    for j in range(m - 1):
-        dx, dy = xy[j + 1, 0] - xy[j, 0], xy[j + 1, 1] - xy[j, 1]
-        step[j] = math.hypot(dx, dy) if exact else _length(dx, dy)
-        allowed = break_distance + break_slope * min(ranges[idx[j]], ranges[idx[j + 1]])
-        if grazing:
-            b = max(j - 3, 0)
-            cx, cy = xy[j, 0] - xy[b, 0], xy[j, 1] - xy[b, 1]
-            clen = math.hypot(cx, cy)
-            rj = math.hypot(xy[j, 0], xy[j, 1])
-            ux, uy = xy[j, 0] / max(rj, 1e-12), xy[j, 1] / max(rj, 1e-12)
-            sin_b = abs(ux * cy - uy * cx) / max(clen, 1e-12)
-            expected = rj * abs(angles[idx[j + 1]] - angles[idx[j]]) / max(sin_b, 1e-3)
-            g = min(grazing_factor * expected, grazing_max_break) if clen > 0 else 0.0
-            allowed = max(allowed, g)
-        brk[j] = step[j] > allowed
-        if not exact and abs(step[j] - allowed) <= STEP_ERROR * max(step[j], allowed):
-            certain = False  # too close to call without hypot
-    # 3. resample: a cluster's first and last point, and each point where the binned arc grows
-    keep = np.empty(m, dtype=np.bool_)
+    n_kept = 0
+    c = 0
     arc = 0.0
     bin_prev = 0.0
-    n_kept = 0
-    n_clusters = 0
+    brk_before, step_before = True, 0.0  # point 0 starts a cluster
     for j in range(m):
-        first = j == 0 or brk[j - 1]
-        last = j == m - 1 or brk[j]
-        keep[j] = first or last or min_spacing <= 0
+        brk_after, step = True, 0.0  # the last point ends its cluster
+        if j + 1 < m:
+            dx, dy = xy[j + 1, 0] - xy[j, 0], xy[j + 1, 1] - xy[j, 1]
+            step = math.hypot(dx, dy) if exact else _length(dx, dy)
+            allowed = break_distance + break_slope * min(ranges[idx[j]], ranges[idx[j + 1]])
+            if grazing:
+                b = max(j - 3, 0)
+                cx, cy = xy[j, 0] - xy[b, 0], xy[j, 1] - xy[b, 1]
+                clen = math.hypot(cx, cy)
+                rj = math.hypot(xy[j, 0], xy[j, 1])
+                ux, uy = xy[j, 0] / max(rj, 1e-12), xy[j, 1] / max(rj, 1e-12)
+                sin_b = abs(ux * cy - uy * cx) / max(clen, 1e-12)
+                expected = rj * abs(angles[idx[j + 1]] - angles[idx[j]]) / max(sin_b, 1e-3)
+                g = min(grazing_factor * expected, grazing_max_break) if clen > 0 else 0.0
+                allowed = max(allowed, g)
+            brk_after = step > allowed
+            if not exact and abs(step - allowed) <= STEP_ERROR * max(step, allowed):
+                certain = False  # too close to call without hypot
+        keep = brk_before or brk_after or min_spacing <= 0
         if j > 0:
-            arc = arc + (0.0 if brk[j - 1] else step[j - 1])
+            arc = arc + (0.0 if brk_before else step_before)
         if min_spacing > 0:
             q = arc / min_spacing
             bin_j = np.floor(q)
             if not exact and arc > 0 and min(q - bin_j, bin_j + 1 - q) <= ARC_ERROR * (j + 1) * q:
                 certain = False  # the arc's bin too close to call without hypot
             if j > 0 and bin_j > bin_prev:
-                keep[j] = True
+                keep = True
             bin_prev = bin_j
-        n_kept += keep[j]
-        n_clusters += first
-    points = np.empty((n_kept, 2))
-    beam = np.empty(n_kept, dtype=np.int64)
-    clusters = np.empty((n_clusters, 2), dtype=np.int64)
-    ends = np.empty((n_clusters, 2), dtype=np.int64)  # each cluster's first and last valid point
-    w = 0
-    c = 0
-    for j in range(m):
-        if not keep[j]:
-            continue
-        if j == 0 or brk[j - 1]:
-            clusters[c, 0] = w
-            ends[c, 0] = j
-            c += 1
-        if j == m - 1 or brk[j]:
-            clusters[c - 1, 1] = w + 1
-            ends[c - 1, 1] = j
-        points[w, 0], points[w, 1] = xy[j, 0], xy[j, 1]
-        beam[w] = idx[j]
-        w += 1
+        if keep:
+            if brk_before:
+                clusters[c, 0] = n_kept
+                ends[c, 0] = j
+                c += 1
+            if brk_after:
+                clusters[c - 1, 1] = n_kept + 1
+                ends[c - 1, 1] = j
+            points[n_kept, 0], points[n_kept, 1] = xy[j, 0], xy[j, 1]
+            beam[n_kept] = idx[j]
+            n_kept += 1
+        brk_before, step_before = brk_after, step
+    n_clusters = c
     # 4. did the laser look past each end?
     end_seen = np.zeros((n_clusters, 2), dtype=np.bool_)
     for c in range(n_clusters):
@@ -240,4 +234,4 @@ def scan_points(
                 seen = seen and not (_step(xy, j - 1) <= grazing_max_break
                                      and _backward_on_line(xy, j - 1, grazing_line_distance))
             end_seen[c, side] = seen
-    return valid, xy[:m].copy(), points, beam, clusters, end_seen, certain
+    return valid, xy[:m], points[:n_kept], beam[:n_kept], clusters[:n_clusters], end_seen, certain
