@@ -188,3 +188,23 @@ def test_pcg64_draws_numpys_integers(compiled: bool):
         for n in bounds.tolist():
             np.testing.assert_array_equal(integers(state, n, 5), reference.integers(0, n, size=5))
         assert pcg64.seeded_state(seed)[1] != state[1]  # the state advanced, the cached seed did not
+
+
+def test_spikes_are_the_hypot_form_on_real_scans(scan_calls: tuple):
+    """The spike kernel measures with cheap lengths, deciding by hypot when a comparison is
+    too close to call: its corners are those of the formula with hypot, vectorised."""
+    _, made = scan_calls
+    c = Config().perception.corners
+    found = 0
+    for s in (s for scans in made.values() for s in scans):
+        p = s.points
+        r = np.hypot(p[:, 0], p[:, 1])
+        gap = np.hypot(*(p[1:] - p[:-1]).T)
+        near = np.where(r[:-1] <= r[1:], np.arange(len(p) - 1), np.arange(1, len(p)))
+        hit = (gap > c.spike_gap) & (r[near] < c.spike_max_range)
+        want = near[hit]
+        want = want[np.append(True, want[1:] != want[:-1])]  # a point between two gaps once
+        got = corners._spikes(np.ascontiguousarray(p), c.spike_gap, c.spike_max_range)
+        np.testing.assert_array_equal(got, want)
+        found += len(got)
+    assert found > 20

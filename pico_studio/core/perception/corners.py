@@ -22,6 +22,7 @@ import numpy as np
 
 from pico_studio.config.perception_params import CornerParams
 from pico_studio.core.perception.scan import ScanPoints
+from pico_studio.core.perception.scan_kernels import cheap_length, too_close
 from pico_studio.jit import kernel
 
 
@@ -35,14 +36,24 @@ def _spikes(p: np.ndarray, gap_min: float, max_range: float) -> np.ndarray:
     m = p.shape[0]
     out = np.empty(max(m, 1), dtype=np.int64)
     n = 0
-    r1 = math.hypot(p[0, 0], p[0, 1]) if m else 0.0
+    # lengths by the cheap sqrt(x^2 + y^2), each comparison too close to call by it made by
+    # hypot (scan_kernels.cheap_length): the decisions are hypot's
+    r1 = cheap_length(p[0, 0], p[0, 1]) if m else 0.0
     for i in range(m - 1):
         r0 = r1  # each point's range once
-        r1 = math.hypot(p[i + 1, 0], p[i + 1, 1])
-        near, r = (i, r0) if r0 <= r1 else (i + 1, r1)
+        r1 = cheap_length(p[i + 1, 0], p[i + 1, 1])
+        a0, a1 = r0, r1
+        if too_close(a0, a1):
+            a0, a1 = math.hypot(p[i, 0], p[i, 1]), math.hypot(p[i + 1, 0], p[i + 1, 1])
+        near, r = (i, a0) if a0 <= a1 else (i + 1, a1)
+        if too_close(r, max_range):
+            r = math.hypot(p[near, 0], p[near, 1])
         if not r < max_range:
             continue  # (the gap only matters near the robot)
-        gap = math.hypot(p[i + 1, 0] - p[i, 0], p[i + 1, 1] - p[i, 1])
+        dx, dy = p[i + 1, 0] - p[i, 0], p[i + 1, 1] - p[i, 1]
+        gap = cheap_length(dx, dy)
+        if too_close(gap, gap_min):
+            gap = math.hypot(dx, dy)
         if gap > gap_min and (n == 0 or out[n - 1] != near):
             out[n] = near  # non-decreasing: a point between two gaps counts once
             n += 1

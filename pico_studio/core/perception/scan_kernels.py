@@ -38,9 +38,10 @@ every point (the cross-check); the scan needs them at the cluster ends only.
 Every float is computed by the same operations, in the same order, as the numpy version this
 replaced (so the results are the same to the last bit): e.g. the arc length is the running
 sum, the grazing spacing (r |da|) / max(sin b, 1e-3). One exception, for speed: the steps
-s_j are sqrt(dx^2 + dy^2) (`_length`), within 3 ulp of the `hypot` they were; a step that
-close to its break threshold, or an arc that close to a bin's edge, makes the pass
-"uncertain" and the caller runs it again with hypot (`exact`), so the answers stay hypot's.
+s_j are sqrt(dx^2 + dy^2) (`cheap_length`), within 4.4e-16 relative of the `hypot` they
+were; a step that close to its break threshold, or an arc that close to a bin's edge, makes
+the pass "uncertain" and the caller runs it again with hypot (`exact`), so the answers stay
+hypot's.
 """
 
 from __future__ import annotations
@@ -96,20 +97,29 @@ def on_line(xy: np.ndarray, line_distance: float) -> tuple[np.ndarray, np.ndarra
     return fwd, bwd
 
 
-# |sqrt(dx^2 + dy^2) - hypot(dx, dy)| <= 3 ulp; a running sum of j steps then differs by at
-# most (2 j + 5) ulp of the sum (both sums round; the division by min_spacing once more)
-STEP_ERROR = 1e-15
+# With u = 2^-53 (1.1e-16) the unit roundoff: sqrt(dx^2 + dy^2) is within 2u of the length
+# (three roundings, halved by the root, and the root's own), hypot within 2u: they differ by
+# at most 4u relative, two such lengths by 8u (STEP_ERROR is twice that). A running sum of j
+# steps then differs by at most (4 + 2 j) u of the sum (both sums round each addition), and
+# the division by min_spacing rounds once more (ARC_ERROR per step: about 9x that).
+STEP_ERROR = 2e-15
 ARC_ERROR = 4e-15
 
 
 @njit
-def _length(dx: float, dy: float) -> float:
-    """|(dx, dy)| as sqrt(dx^2 + dy^2): within 3 ulp of `math.hypot`, a third of its cost (hypot
+def cheap_length(dx: float, dy: float) -> float:
+    """|(dx, dy)| as sqrt(dx^2 + dy^2): within 4u of `math.hypot`, a third of its cost (hypot
     itself where the squares would underflow). Every use of a step is a comparison (a break,
     a resampling bin), so a step within that of its threshold is decided again by hypot: the
     results are hypot's to the last bit."""
     sq = dx * dx + dy * dy
     return math.sqrt(sq) if sq > 1e-250 else math.hypot(dx, dy)
+
+
+@njit
+def too_close(a: float, b: float) -> bool:
+    """Too close to compare two lengths by `cheap_length` (within its error of hypot's)."""
+    return abs(a - b) <= STEP_ERROR * max(abs(a), abs(b))
 
 
 @njit
@@ -137,8 +147,8 @@ def scan_points(
     """(valid (n,) bool, valid points (V, 2), kept points (M, 2), their beams (M,), clusters
     (K, 2) [start, end) into the kept points, end seen (K, 2) bool, certain).
 
-    `exact`: the steps by `math.hypot`, else by the 3x cheaper `_length`; then `certain` says
-    whether every decision was as hypot's would be (see `_length`; if not, call again exact)."""
+    `exact`: the steps by `math.hypot`, else by the 3x cheaper `cheap_length`; then `certain` says
+    whether every decision was as hypot's would be (see `cheap_length`; if not, call again exact)."""
     n = ranges.shape[0]
     # 1. filter: in range, outside the footprint
     valid = np.zeros(n, dtype=np.bool_)
@@ -174,7 +184,7 @@ def scan_points(
         brk_after, step = True, 0.0  # the last point ends its cluster
         if j + 1 < m:
             dx, dy = xy[j + 1, 0] - xy[j, 0], xy[j + 1, 1] - xy[j, 1]
-            step = math.hypot(dx, dy) if exact else _length(dx, dy)
+            step = math.hypot(dx, dy) if exact else cheap_length(dx, dy)
             allowed = break_distance + break_slope * min(ranges[idx[j]], ranges[idx[j + 1]])
             if grazing:
                 b = max(j - 3, 0)
@@ -187,7 +197,7 @@ def scan_points(
                 g = min(grazing_factor * expected, grazing_max_break) if clen > 0 else 0.0
                 allowed = max(allowed, g)
             brk_after = step > allowed
-            if not exact and abs(step - allowed) <= STEP_ERROR * max(step, allowed):
+            if not exact and too_close(step, allowed):
                 certain = False  # too close to call without hypot
         keep = brk_before or brk_after or min_spacing <= 0
         if j > 0:
