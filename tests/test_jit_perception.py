@@ -208,3 +208,26 @@ def test_spikes_are_the_hypot_form_on_real_scans(scan_calls: tuple):
         np.testing.assert_array_equal(got, want)
         found += len(got)
     assert found > 20
+
+
+@pytest.mark.parametrize("tol", [0.05, 0.35, 1.0])
+def test_walk_and_vector_corners_decide_as_their_atan2_form(scan_calls: tuple, tol: float):
+    """The angle walk and the vector corners test angles by dot products and take the atan2
+    only near the threshold (a margin above rounding). With the margin made huge their Python
+    takes the atan2 every time: the same walls and corners as the compiled loops."""
+    _, made = scan_calls
+    mp = pytest.MonkeyPatch()
+    mp.setattr(segment_angle, "MARGIN", 10.0)
+    mp.setattr(corners, "MARGIN", 1e300)
+    try:
+        walls = found = 0
+        for s in made["default"]:
+            pts, cl = np.ascontiguousarray(s.points), s.clusters
+            got = segment_angle._walk(pts, cl, 6, tol)
+            np.testing.assert_array_equal(got, jit.py_func(segment_angle._walk)(pts, cl, 6, tol))
+            vec = corners._vectors(pts, cl, 6, tol)
+            _same(vec, jit.py_func(corners._vectors)(pts, cl, 6, tol))
+            walls, found = walls + len(got), found + len(vec[0])
+        assert walls > 20 and found > 5
+    finally:
+        mp.undo()

@@ -68,6 +68,11 @@ def spike_corners(scan: ScanPoints, params: CornerParams) -> np.ndarray:
     return p[_spikes(np.ascontiguousarray(p, dtype=np.float64), float(params.spike_gap), float(params.spike_max_range))]
 
 
+# |cos| of a vector-corner angle is compared with sin(tol) with this relative margin, far above
+# the roundings (a few 1e-16) of the dot and cross products and of atan2
+MARGIN = 1e-9
+
+
 def _vector_example() -> tuple:
     pts = np.array([[1.0, 0.1 * i] for i in range(6)] + [[1.0 - 0.1 * i, 0.5] for i in range(1, 6)])
     return pts, np.array([[0, 11]], dtype=np.int64), 2, 0.3
@@ -86,7 +91,7 @@ def _vectors(p: np.ndarray, clusters: np.ndarray, k: int, tol: float) -> tuple[n
     n = 0
     last_hit = -2
     best_dev = 0.0
-    near_square = math.sin(tol) ** 2 * (1 + 1e-9) if tol < math.pi / 2 else np.inf
+    near_square = math.sin(tol) ** 2 * (1 + MARGIN) if tol < math.pi / 2 else np.inf
     for i in range(k, m - k):
         if cid[i - k] != cid[i] or cid[i + k] != cid[i]:
             continue
