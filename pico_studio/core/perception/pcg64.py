@@ -81,18 +81,19 @@ def next32(state: np.ndarray) -> np.uint64:
 
 
 @njit
-def integers(state: np.ndarray, n: int, size: int) -> np.ndarray:
-    """(size,) int64 draws from [0, n), as `Generator.integers(0, n, size)` (1 <= n <= 2^32)."""
-    out = np.zeros(size, dtype=np.int64)
+def integers_into(state: np.ndarray, n: int, out: np.ndarray) -> None:
+    """Fill the int64 array `out` with draws from [0, n), as `Generator.integers(0, n,
+    size=len(out))` would return them (1 <= n <= 2^32)."""
     if n == 1:
-        return out  # numpy draws nothing
+        out[:] = 0  # numpy draws nothing
+        return
     if n == 1 << 32:
-        for i in range(size):
+        for i in range(out.shape[0]):
             out[i] = next32(state)
-        return out
+        return
     n_u = np.uint64(n)
     threshold = (LOW - (n_u - ONE)) % n_u
-    for i in range(size):
+    for i in range(out.shape[0]):
         p = next32(state) * n_u
         leftover = p & LOW
         if leftover < n_u:
@@ -100,6 +101,13 @@ def integers(state: np.ndarray, n: int, size: int) -> np.ndarray:
                 p = next32(state) * n_u
                 leftover = p & LOW
         out[i] = p >> HALF
+
+
+@njit
+def integers(state: np.ndarray, n: int, size: int) -> np.ndarray:
+    """(size,) int64 draws from [0, n), as `Generator.integers(0, n, size)` (1 <= n <= 2^32)."""
+    out = np.empty(size, dtype=np.int64)
+    integers_into(state, n, out)
     return out
 
 

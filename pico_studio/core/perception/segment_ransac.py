@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from pico_studio.config.perception_params import RansacParams
-from pico_studio.core.perception.pcg64 import integers, seeded_state
+from pico_studio.core.perception.pcg64 import integers_into, seeded_state
 from pico_studio.jit import kernel
 
 MIN_RUN = 3  # fewer points cannot carry a line hypothesis and its check
@@ -46,6 +46,8 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.ndarray, iteratio
         stack[top, 0], stack[top, 1] = clusters[c, 0], clusters[c, 1] - 1
         top += 1
     hits = np.empty(m_all, dtype=np.int64)  # inlier indices of the best hypothesis
+    i_draw = np.empty(iterations, dtype=np.int64)  # a run's random pairs (i, j)
+    j_draw = np.empty(iterations, dtype=np.int64)
     xs = np.ascontiguousarray(points[:, 0])
     ys = np.ascontiguousarray(points[:, 1])
     while top > 0:
@@ -55,8 +57,8 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.ndarray, iteratio
         if m < MIN_RUN:
             continue
         # hypotheses: the chord, then `iterations` random pairs
-        i_draw = integers(rng, m, iterations)  # numpy's rng.integers(0, m, size=iterations)
-        j_draw = integers(rng, m, iterations)
+        integers_into(rng, m, i_draw)  # numpy's rng.integers(0, m, size=iterations), twice
+        integers_into(rng, m, j_draw)
         best_count = -1
         best_h = -1
         for h in range(iterations + 1):
