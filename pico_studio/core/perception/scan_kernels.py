@@ -101,7 +101,7 @@ def on_line(xy: np.ndarray, line_distance: float) -> tuple[np.ndarray, np.ndarra
 # (three roundings, halved by the root, and the root's own), hypot within 2u: they differ by
 # at most 4u relative, two such lengths by 8u (STEP_ERROR is twice that). A running sum of j
 # steps then differs by at most (4 + 2 j) u of the sum (both sums round each addition), and
-# the division by min_spacing rounds once more (ARC_ERROR per step: about 9x that).
+# the division by min_spacing rounds once more (ARC_ERROR per step: 9-18x that).
 STEP_ERROR = 2e-15
 ARC_ERROR = 4e-15
 
