@@ -91,7 +91,8 @@ def _vectors(p: np.ndarray, clusters: np.ndarray, k: int, tol: float) -> tuple[n
     n = 0
     last_hit = -2
     best_dev = 0.0
-    near_square = math.sin(tol) ** 2 * (1 + MARGIN) if tol < math.pi / 2 else np.inf
+    # (the margin widens tol by at least MARGIN / 2 x tol: above rounding unless tol is tiny)
+    near_square = math.sin(tol) ** 2 * (1 + MARGIN) if 1e-6 < tol < math.pi / 2 else np.inf
     for i in range(k, m - k):
         if cid[i - k] != cid[i] or cid[i + k] != cid[i]:
             continue
