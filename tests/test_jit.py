@@ -72,8 +72,8 @@ def test_segmenters_compiled_equal_their_python(scans: list):
               jit.py_func(segment_angle._walk)(pts, cl, a.lookahead, a.angle_tolerance))
         r = P.ransac
         args = (r.iterations, r.inlier_distance, r.max_gap_points)
-        _same(segment_ransac._extract(pts, cl, np.random.default_rng(r.seed), *args),
-              jit.py_func(segment_ransac._extract)(pts, cl, np.random.default_rng(r.seed), *args))
+        _same(segment_ransac._extract(pts, cl, segment_ransac.seeded_state(r.seed), *args),
+              jit.py_func(segment_ransac._extract)(pts, cl, segment_ransac.seeded_state(r.seed), *args))
 
 
 def test_split_is_opencvs_douglas_peucker(scans: list):
