@@ -22,9 +22,9 @@ wall standing across a door's line is a jamb only as a cap (seen whole, or in pa
 long wall's line) or a door frame's wall (at least `door_wall_min_length`, or a stub on
 one): a box's or a person's lone face is not. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
 wall — one at least `end_face_min_length` long, or a door frame's length ending in a whole
-cap (a thick wall's end; a table's end is as wide as the table) — and ends on a face seen
-at least `door_wall_min_length` long, never on a block's face (both its ends convex and
-shorter than `end_face_min_length`: a table's or a cabinet's front).
+cap (a thick wall's end; a table's end is as wide as the table) — and never ends on a
+block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
+cabinet's front).
 """
 
 from __future__ import annotations
@@ -227,11 +227,9 @@ def _doors(
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
             gaps, own, other_k = [], [], []
-            # the face it meets is a building's too: seen as long as a door frame's wall (a piece
-            # of anything may be furniture), not a small object, nor a block's face (both its
-            # ends convex, shorter than a building's wall: a table's or a cabinet's front)
-            block_face = ((prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)) | (
-                lengths < params.door_wall_min_length)
+            # the face it meets is a building's too: not a small object, nor a block's face (both
+            # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
+            block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
                 if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
                     continue
