@@ -188,7 +188,7 @@ def edits(app, page, count: int, workers: int, redraw: list[float]) -> tuple[flo
     for k in range(count):
         page.get_by_role("tab", name="Config").click()
         before = page.evaluate(CHECKSUM)
-        value = 0.3 if k % 2 == 0 else 0.1
+        value = 0.1 if studio.cfg.perception.scan.min_length == 0.3 else 0.3  # a change, whatever came before
         n_ms = len(app.update_ms)
         t_edit, c_edit = time.perf_counter(), time.process_time()
         set_number(page, "min_length", value)

@@ -9,16 +9,19 @@ One re-judge is a pipeline over two spawned processes (the 'spawn' context: no f
 the page's threads and sockets):
 
     page ──run (once), config per change──▶ perceiver ──per scan: a slim world model──▶ scorer
-      ▲                                     (perceive + localise, sequential over frames)  │
+      ▲                               (perceive, sequential over frames)   (localise, score) │
       └──────── progress, partial series, the judged run (compact numpy arrays) ───────────┘
 
-The perceptor is sequential over frames; scoring a frame needs only its world model and its
-truth, so it runs beside the perceptor in the second process: a re-judge takes about as long
-as perceiving alone. The kept frames (laser, odometry) and, for the scorer, the kept truth are
-pickled once per run and sent to both processes (the scorer's through the perceiver, so they
-arrive before the first config judged on them); a change sends only the config. A later
-snapshot of the same timeline (the page's simulation, grown or slid on) sends only its new
-frames (`extension`). Each process warms the numba cache
+The perceptor is sequential over frames, but nothing it does depends on what comes after it:
+localisation reads the world model and never feeds back into the perceptor, and scoring a
+frame needs only its world model and its truth. So the scorer process localises and scores
+frame k while the perceiver perceives frame k + 1, and a re-judge takes about as long as
+perceiving alone (the same answers: `tests/test_rejudge.py` compares every series, total and
+feature with `rejudge` in one process). The kept frames (laser, odometry) and, for the
+scorer, the kept truth are pickled once per run and sent to both processes (the scorer's
+through the perceiver, so they arrive before the first config judged on them); a change
+sends only the config. A later snapshot of the same timeline (the page's simulation, grown
+or slid on) sends only its new frames (`extension`). Each process warms the numba cache
 (`jit.warm_up`) and loads the page's plugins once, when it starts.
 
 **Generations** as in `Rejudger`: `submit` takes the next one and writes it to a value shared
