@@ -446,7 +446,7 @@ class ScanMatchParams:
         30, lo=3, hi=1000, step=1, help="Fewer matched points than this: the pose is not corrected",
     )
     min_quality: float = param(
-        0.3, lo=0.0, hi=1.0, step=0.01,
+        0.15, lo=0.0, hi=1.0, step=0.01,
         help="A correction is kept when at least this share of the matched points are inliers after it",
     )
     good_quality: float = param(
@@ -454,7 +454,7 @@ class ScanMatchParams:
         help="When the odometry pose already explains this share of the scan, it is kept without matching",
     )
     min_gain: float = param(
-        0.05, lo=0.0, hi=1.0, step=0.01,
+        0.0, lo=0.0, hi=1.0, step=0.01,
         help="A correction is kept only when it explains this much more of the scan than the "
         "odometry pose did (good odometry is left alone)",
     )
@@ -492,7 +492,27 @@ class ScanMatchParams:
         0.03, lo=0.001, hi=1.0, step=0.001, unit="rad", help="...in steps of this",
     )
     min_wall_hits: int = param(
-        2, lo=1, hi=100, step=1, help="Only local walls seen in at least this many scans are matched against",
+        1, lo=1, hi=100, step=1, help="Only local walls seen in at least this many scans are matched against",
+    )
+    odometry_sigma_angle_per_m: float = param(
+        0.05, lo=0.0, hi=10.0, step=0.01, unit="rad/m", help="Odometry heading noise per metre moved",
+    )
+    neighbour_distance: float = param(
+        0.3, lo=0.01, hi=5.0, step=0.01, unit="m",
+        help="A scan point's direction is taken from its neighbours within this (farther: a break)",
+    )
+    normal_angle: float = param(
+        0.5, lo=0.01, hi=1.5708, step=0.01, unit="rad",
+        help="A point is matched only to walls within this of the scan's direction at the point",
+    )
+    min_information: float = param(
+        5.0, lo=0.0, hi=1e6, step=1.0,
+        help="A direction (of x, y, heading) the walls know less than this many times better than odometry "
+        "(an eigenvalue of the odometry-whitened information) is degenerate, e.g. along a corridor: held to odometry",
+    )
+    max_sigmas: float = param(
+        20.0, lo=0.0, hi=100.0, step=0.1,
+        help="A correction farther than this many odometry noise sigmas (Mahalanobis) is implausible: kept as odometry",
     )
 
 
