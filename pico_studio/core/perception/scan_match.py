@@ -33,13 +33,16 @@ direction. Along each eigenvector v of H':
 and x += S dz. Along a corridor's walls the scan holds no information (lambda ~ 0): that
 direction is not moved by matching noise or a stray association, and stays odometry's.
 
-Heading start. Before refining, the heading within `search_angle` of the odometry's under
-which most points lie within half the gate (ties: the nearer) is the start, so a heading
-off by more than the gate allows still converges.
+Two starts. The refinement runs from the odometry pose; when that explains less than
+`good_quality` of the scan (odometry's heading may have failed: real odometry's errors are
+heavy-tailed) it runs again from the heading within `search_angle` of the odometry's under
+which most points lie within half the gate (ties: the nearer), so a heading off by more than
+the gate allows still converges; the result explaining more of the scan wins (a tie: the
+odometry start's).
 
 Quality = the share of the (subsampled) scan's points within `inlier_distance` of a local
-wall at the pose; 0 when nothing was matched (an empty or NaN scan, no local map). A pose
-already explaining `good_quality` is kept without matching. The correction is accepted only
+wall at the pose; 0 when nothing was matched (an empty or NaN scan, no local map). The
+correction is accepted only
 when enough points matched (`min_matches`), its quality reaches `min_quality` and that of the
 odometry pose plus `min_gain`, and it is plausible against odometry: within `max_sigmas` of
 the odometry's noise (the Mahalanobis length |z|) and `max_correction` /
@@ -48,6 +51,7 @@ the odometry's noise (the Mahalanobis length |z|) and `max_correction` /
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -67,7 +71,7 @@ class ScanMatch:
     matches: int  # points matched at the fitted pose
     accepted: bool
     observable: int = 0  # directions (of x, y, heading) the walls pinned down; the rest held to odometry
-    conditioning: float = 0.0  # smallest / largest whitened information eigenvalue (0: degenerate)
+    conditioning: float = 0.0  # the position's weaker / stronger information eigenvalue (0: a corridor)
 
 
 def odometry_sigma(step: Pose | None, params: ScanMatchParams) -> tuple[float, float]:
@@ -86,35 +90,15 @@ def match_scan(points: np.ndarray, walls: np.ndarray, pose: Pose, step: Pose | N
     """Align `points` (M, 2) robot frame, scan order, to `walls` (W, 4) zero frame, starting
     at `pose`; `step` is the odometry's motion since the previous scan (None: unknown)."""
     none = ScanMatch(pose, 0.0, 0, False)
-    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    pts = pts[np.isfinite(pts).all(axis=1)]
-    walls = np.asarray(walls, dtype=np.float64).reshape(-1, 4)
-    walls = walls[np.isfinite(walls).all(axis=1)]
+    pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    walls = np.ascontiguousarray(walls, dtype=np.float64).reshape(-1, 4)
     if len(pts) < params.min_matches or len(walls) == 0 or not all(math.isfinite(v) for v in pose):
         return none
-    # only walls that can be near a point: within the scan's reach (plus the gate) of the pose
-    reach = float(np.hypot(pts[:, 0], pts[:, 1]).max()) + params.gate + params.max_correction
-    lo = np.minimum(walls[:, 0:2], walls[:, 2:4])
-    hi = np.maximum(walls[:, 0:2], walls[:, 2:4])
-    near = ((lo[:, 0] <= pose[0] + reach) & (hi[:, 0] >= pose[0] - reach)
-            & (lo[:, 1] <= pose[1] + reach) & (hi[:, 1] >= pose[1] - reach))
-    walls = walls[near]
-    a = np.ascontiguousarray(walls[:, 0:2])
-    ab = np.ascontiguousarray(walls[:, 2:4] - a)
-    length = np.hypot(ab[:, 0], ab[:, 1])
-    keep = length > 1e-9
-    a, ab, length = np.ascontiguousarray(a[keep]), np.ascontiguousarray(ab[keep]), length[keep]
-    if len(a) == 0:
-        return none
-    normal = np.ascontiguousarray(np.column_stack([-ab[:, 1], ab[:, 0]]) / length[:, None])
     sig_xy, sig_a = odometry_sigma(step, params)
-    sig = np.array([sig_xy, sig_xy, sig_a])
     x0 = np.array(pose, dtype=np.float64)
-    x, info = kn.fit_pose(np.ascontiguousarray(pts), a, ab, normal, length, x0, sig, _settings(len(pts), params))
+    x, info = kn.fit_pose(pts, walls, x0, np.array([sig_xy, sig_xy, sig_a]), _settings(params))
     quality, matched, quality0 = float(info[0]), int(info[1]), float(info[2])
     observable, conditioning = int(info[3]), float(info[4])
-    if info[5]:  # the odometry pose already explains the scan: nothing to correct
-        return ScanMatch(pose, quality0, 0, False, 3, 1.0)
     dx, dy, da = x[0] - x0[0], x[1] - x0[1], float(wrap_angle(x[2] - x0[2]))
     mahalanobis = math.sqrt((dx * dx + dy * dy) / sig_xy**2 + da * da / sig_a**2)
     corrected = (float(x[0]), float(x[1]), float(wrap_angle(x[2])))
@@ -126,10 +110,12 @@ def match_scan(points: np.ndarray, walls: np.ndarray, pose: Pose, step: Pose | N
     return ScanMatch(corrected, quality, matched, True, observable, conditioning)
 
 
-def _settings(n_points: int, params: ScanMatchParams) -> np.ndarray:
-    """The kernel's scalar settings, in scan_match_kernels' S_* order."""
+@functools.lru_cache(maxsize=16)
+def _settings(params: ScanMatchParams) -> np.ndarray:
+    """The kernel's scalar settings, in scan_match_kernels' S_* order (one array per params;
+    the kernel only reads it)."""
     s = np.zeros(kn.N_SETTINGS)
-    s[kn.S_STRIDE] = max(1, int(math.ceil(n_points / params.max_points)))
+    s[kn.S_MAX_POINTS] = params.max_points
     s[kn.S_NEIGHBOUR] = params.neighbour_distance
     s[kn.S_GATE] = params.gate
     s[kn.S_INLIER] = params.inlier_distance
@@ -140,4 +126,6 @@ def _settings(n_points: int, params: ScanMatchParams) -> np.ndarray:
     s[kn.S_SEARCH_STEP] = params.search_step
     s[kn.S_NORMAL_ANGLE] = params.normal_angle
     s[kn.S_ITERATIONS] = params.iterations
+    s[kn.S_CONDITIONING] = params.min_conditioning
+    s[kn.S_SEARCH_POINTS] = params.search_points
     return s
