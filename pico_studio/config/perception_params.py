@@ -472,14 +472,14 @@ class ScanMatchParams:
         help="Noise of one scan point against its wall: weighs the points against the odometry",
     )
     odometry_sigma: float = param(
-        0.002, lo=0.0001, hi=10.0, step=0.001, unit="m",
+        0.01, lo=0.0001, hi=10.0, step=0.001, unit="m",
         help="Position noise of odometry over one step, plus odometry_sigma_per_m per metre moved",
     )
     odometry_sigma_per_m: float = param(
         0.2, lo=0.0, hi=10.0, step=0.01, unit="m/m", help="Odometry position noise per metre moved",
     )
     odometry_sigma_angle: float = param(
-        0.002, lo=0.0001, hi=3.0, step=0.001, unit="rad",
+        0.005, lo=0.0001, hi=3.0, step=0.001, unit="rad",
         help="Heading noise of odometry over one step, plus odometry_sigma_per_rad per radian turned",
     )
     odometry_sigma_per_rad: float = param(
@@ -518,6 +518,12 @@ class ScanMatchParams:
         0.05, lo=0.0, hi=1.0, step=0.005,
         help="The weaker position direction is degenerate (held to odometry) when its information is below "
         "this share of the stronger one's: along a corridor, a door jamb's few points must not slide the pose",
+    )
+    min_evidence: float = param(
+        11.3, lo=0.0, hi=1e6, step=0.1,
+        help="A correction is kept only when it lowers the matching objective (walls' robust cost over "
+        "point_sigma^2 plus the odometry prior) by at least this: a likelihood-ratio test (11.3: chi-square, "
+        "3 dof, 1 %); smaller corrections are matching noise, and applying them random-walks pose and map",
     )
     max_sigmas: float = param(
         20.0, lo=0.0, hi=100.0, step=0.1,

@@ -23,15 +23,18 @@ Odometry-whitened Gauss-Newton. With the odometry's noise over the step S = diag
 s_xy, s_a) — s_xy = `odometry_sigma` + `odometry_sigma_per_m` x distance moved, s_a =
 `odometry_sigma_angle` + `odometry_sigma_per_rad` x |turn| + `odometry_sigma_angle_per_m` x
 distance — and z = S^-1 (x - x0), the cost is sum w r^2 + |z|^2 (the walls and the odometry
-prior). Its information in whitened units is H' = S (J^T W J) S (g' = S J^T W r), so an
-eigenvalue lambda of H' says how many times better than odometry the walls know that
-direction. Along each eigenvector v of H':
+prior). Its information in whitened units is H' = S (J^T W J) S (g' = S J^T W r): an
+eigenvalue says how many times better than odometry the walls know a direction. Which
+directions the walls pin down: the heading when H'_aa >= `min_information`; the position
+by the eigenvalues l1 >= l2 (eigenvectors u1, u2) of its information once the heading is
+solved with it, the Schur complement T = H'_tt - H'_ta H'_aa^-1 H'_at: u1 when l1 >=
+`min_information`, u2 when also l2 >= `min_information` and l2 >= `min_conditioning` x l1.
+With B the free directions (columns) and w = B^T z, each iteration takes the MAP step
 
-    observable (lambda >= `min_information`):  dz_v = -(v.g' + v.z) / (lambda + 1)
-    degenerate (along a corridor):             dz_v = -v.z   (held to odometry)
+    (B^T H' B + I) dw = -(B^T g' + w),   z <- B (w + dw),   x = x0 + S z
 
-and x += S dz. Along a corridor's walls the scan holds no information (lambda ~ 0): that
-direction is not moved by matching noise or a stray association, and stays odometry's.
+so the held directions stay exactly odometry's: along a corridor (l2 a sliver of l1) a door
+jamb's few points or a stray association cannot slide the pose.
 
 Two starts. The refinement runs from the odometry pose; when that explains less than
 `good_quality` of the scan (odometry's heading may have failed: real odometry's errors are
@@ -40,13 +43,19 @@ which most points lie within half the gate (ties: the nearer), so a heading off 
 the gate allows still converges; the result explaining more of the scan wins (a tie: the
 odometry start's).
 
-Quality = the share of the (subsampled) scan's points within `inlier_distance` of a local
-wall at the pose; 0 when nothing was matched (an empty or NaN scan, no local map). The
-correction is accepted only
-when enough points matched (`min_matches`), its quality reaches `min_quality` and that of the
-odometry pose plus `min_gain`, and it is plausible against odometry: within `max_sigmas` of
-the odometry's noise (the Mahalanobis length |z|) and `max_correction` /
-`max_correction_angle`. Otherwise the pose stays the odometry's.
+Quality (`wm.pose_correction_quality`) = the share of the (subsampled) scan's points within
+`inlier_distance` of a local wall at the pose returned; 0 when nothing could be matched (an
+empty or NaN scan, no local map). The correction is accepted only when
+- enough points matched (`min_matches`) and its quality reaches `min_quality` and that of
+  the odometry pose plus `min_gain`;
+- it is significant: the objective (the walls' robust cost, Tukey's rho over sigma_p^2 with
+  an unmatched point at rho's ceiling, plus |z|^2) drops by at least `min_evidence` from the
+  odometry pose to the fit, a likelihood-ratio test. A correction within the matching noise
+  is not applied: applied every scan, such corrections random-walk the pose and the local
+  map merged from it together (seen on the PICO bag and on simulated runs at 20 Hz);
+- it is plausible against odometry: within `max_sigmas` of the odometry's noise (the
+  Mahalanobis length |z|) and `max_correction` / `max_correction_angle`.
+Otherwise the pose stays the odometry's.
 """
 
 from __future__ import annotations
@@ -98,11 +107,11 @@ def match_scan(points: np.ndarray, walls: np.ndarray, pose: Pose, step: Pose | N
     x0 = np.array(pose, dtype=np.float64)
     x, info = kn.fit_pose(pts, walls, x0, np.array([sig_xy, sig_xy, sig_a]), _settings(params))
     quality, matched, quality0 = float(info[0]), int(info[1]), float(info[2])
-    observable, conditioning = int(info[3]), float(info[4])
+    observable, conditioning, evidence = int(info[3]), float(info[4]), float(info[5])
     dx, dy, da = x[0] - x0[0], x[1] - x0[1], float(wrap_angle(x[2] - x0[2]))
     mahalanobis = math.sqrt((dx * dx + dy * dy) / sig_xy**2 + da * da / sig_a**2)
     corrected = (float(x[0]), float(x[1]), float(wrap_angle(x[2])))
-    accepted = (matched >= params.min_matches and quality >= params.min_quality
+    accepted = (matched >= params.min_matches and quality >= params.min_quality and evidence >= params.min_evidence
                 and quality >= quality0 + params.min_gain and mahalanobis <= params.max_sigmas
                 and math.hypot(dx, dy) <= params.max_correction and abs(da) <= params.max_correction_angle)
     if not accepted:

@@ -120,9 +120,10 @@ def fit_pose(points: np.ndarray, walls: np.ndarray, x0: np.ndarray, sig: np.ndar
     skipped) against `walls` (W, 4, zero frame) from the odometry pose `x0`, odometry noise
     `sig` (3,): scan_match.py's maths.
 
-    Returns (x (3,), info (5,)): the fitted pose and [quality, matched, quality at x0, free
+    Returns (x (3,), info (6,)): the fitted pose and [quality, matched, quality at x0, free
     directions (of x, y, heading; the rest held to odometry), position conditioning (weaker /
-    stronger eigenvalue of the position's information)]; x0 and quality 0 when nothing fitted."""
+    stronger eigenvalue of the position's information), evidence (the objective's drop from
+    x0 to x)]; x0 and quality 0 when nothing fitted."""
     neighbour, gate0, inlier = settings[S_NEIGHBOUR], settings[S_GATE], settings[S_INLIER]
     sigma_p, good, min_info = settings[S_SIGMA], settings[S_GOOD], settings[S_INFORMATION]
     min_cond = settings[S_CONDITIONING]
@@ -130,7 +131,7 @@ def fit_pose(points: np.ndarray, walls: np.ndarray, x0: np.ndarray, sig: np.ndar
     max_sin = math.sin(settings[S_NORMAL_ANGLE])
     iterations = int(settings[S_ITERATIONS])
     search_points = max(int(settings[S_SEARCH_POINTS]), 1)
-    info = np.zeros(5)
+    info = np.zeros(6)
     x = x0.copy()
     # the finite points, then at most max_points of them evenly spread, each with its direction
     # along the scan (its neighbours within `neighbour`: a wall's points lie along it, so only
@@ -217,18 +218,27 @@ def fit_pose(points: np.ndarray, walls: np.ndarray, x0: np.ndarray, sig: np.ndar
                 r_of[i] = (qx - a[best_k, 0]) * normal[best_k, 0] + (qy - a[best_k, 1]) * normal[best_k, 1]
         return n_ok
 
-    def explained(x: np.ndarray) -> tuple[int, float]:
-        match(x, 2.0 * inlier)
+    def explained(x: np.ndarray) -> tuple[int, float, float]:
+        """(points matched, share within `inlier_distance`, the walls' robust cost) at x: the
+        cost sums Tukey's rho(r) = c^2/6 (1 - (1 - (r/c)^2)^3) over sigma_p^2, c = 2 x
+        inlier_distance, an unmatched point costing rho's ceiling c^2/6."""
+        c = 2.0 * inlier
+        match(x, c)
         n_in = 0
         n_ok = 0
+        cost = 0.0
         for i in range(m):
+            rho = c * c / 6.0
             if k_of[i] >= 0:
                 n_ok += 1
+                u = r_of[i] / c
+                rho *= 1.0 - (1.0 - u * u) ** 3
                 if abs(r_of[i]) <= inlier:
                     n_in += 1
-        return n_ok, n_in / max(m, 1)
+            cost += rho / (sigma_p * sigma_p)
+        return n_ok, n_in / max(m, 1), cost
 
-    _, quality0 = explained(x0)
+    _, quality0, cost0 = explained(x0)
     info[2] = quality0
     trial = x0.copy()
     h = np.empty((3, 3))
@@ -357,11 +367,17 @@ def fit_pose(points: np.ndarray, walls: np.ndarray, x0: np.ndarray, sig: np.ndar
         refine(trial)
         if fit[2] == 0.0:
             continue
-        matched, quality = explained(trial)
+        matched, quality, cost = explained(trial)
         if quality > best_q:
             best_q = quality
             x[:] = trial
+            # the evidence for the correction: how much lower the whole objective (walls +
+            # odometry prior |z|^2) is at the fit than at the odometry pose
+            zx, zy = (trial[0] - x0[0]) / sig[0], (trial[1] - x0[1]) / sig[1]
+            dza = trial[2] - x0[2]
+            za = math.atan2(math.sin(dza), math.cos(dza)) / sig[2]
             info[0], info[1], info[3], info[4] = quality, matched, fit[0], fit[1]
+            info[5] = cost0 - (cost + zx * zx + zy * zy + za * za)
     if best_q < 0.0:
         return x0.copy(), info
     return x, info
