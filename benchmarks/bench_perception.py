@@ -3,7 +3,8 @@
 Scans: the simulator at random free poses (seeded), the robot turning slowly at each, so the
 local map is realistic. Each recorded sequence is then perceived `--repeats` times; the
 figure per stage is the median over all steps of all repeats. Segmentation alone (scan
-stage + segmenter + refit) is timed per segmenter and reported as scans per second. The
+stage + segmenter + refit, CPU time) is timed per segmenter and reported as scans per second,
+with the same uncompiled (every kernel's `.py_func`) on the first 20 scans as its peer. A second
 peer for split-and-merge is OpenCV's `cv2.approxPolyDP` (Douglas-Peucker in C++) per
 cluster done naively (the production split did until it became a compiled loop of the same
 arithmetic, see segment_split_merge.py), timed in the same process; the whole step is also
@@ -79,14 +80,14 @@ def time_steps(runs: list[list[tuple]], params, repeats: int) -> dict[str, list[
 
 
 def time_segmentation(scans: list, params, repeats: int) -> float:
-    """Median ms per scan of scan processing + segmentation + refit."""
+    """Median CPU ms per scan of scan processing + segmentation + refit."""
     times = []
     for _ in range(repeats):
         for laser in scans:
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             scan, _ = process_scan(laser, params.scan, params.proximity)
             segment_scan(scan, params)
-            times.append((time.perf_counter() - t0) * 1000)
+            times.append((time.process_time() - t0) * 1000)
     return statistics.median(times)
 
 
@@ -96,7 +97,7 @@ def time_opencv_peer(scans: list, params, repeats: int) -> float:
     times = []
     for _ in range(repeats):
         for laser in scans:
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             scan, _ = process_scan(laser, params.scan, params.proximity)
             pts32 = scan.points.astype(np.float32)
             pieces = []
@@ -108,7 +109,7 @@ def time_opencv_peer(scans: list, params, repeats: int) -> float:
                 idx = a + np.flatnonzero(np.isin(chunk.view(np.complex64).ravel(), v.view(np.complex64).ravel()))
                 pieces += list(zip(idx[:-1].tolist(), idx[1:].tolist(), strict=True))
             finish_pieces(scan, np.array(pieces, dtype=np.int64).reshape(-1, 2), params)
-            times.append((time.perf_counter() - t0) * 1000)
+            times.append((time.process_time() - t0) * 1000)
     return statistics.median(times)
 
 
@@ -182,7 +183,9 @@ def main() -> None:
     for name in ("split_merge", "angle", "ransac"):
         params = with_value(cfg, "perception.scan.segmenter", name).perception
         ms = time_segmentation(scans, params, args.repeats)
-        print(f"  {name:12s} {ms:7.3f} ms  {1000 / ms:7.0f} scans/s")
+        with uncompiled():
+            slow = time_segmentation(scans[:20], params, 1)
+        print(f"  {name:12s} {ms:7.3f} ms  {1000 / ms:7.0f} scans/s   uncompiled {slow:7.3f} ms ({slow / ms:.0f}x)")
     ours = time_segmentation(scans, cfg.perception, args.repeats)
     peer = time_opencv_peer(scans, cfg.perception, args.repeats)
     print(f"  split_merge vs cv2.approxPolyDP per cluster: {ours:.3f} ms vs {peer:.3f} ms "

@@ -203,6 +203,7 @@ def make_files(d: Path) -> None:
     ms("ms_res_nan.yaml", "image: ok.png\nresolution: .nan\n")
     ms("ms_origin_short.yaml", "image: ok.png\nresolution: 0.05\norigin: [0]\n")
     ms("ms_origin_nan.yaml", "image: ok.png\nresolution: 0.05\norigin: [.nan, 0, 0]\n")
+    ms("ms_origin_far.yaml", "image: ok.png\nresolution: 0.05\norigin: [0, 1.0e+12, 0]\n")
     ms("ms_negate.yaml", "image: ok.png\nresolution: 0.05\nnegate: 2\n")
     ms("ms_thresholds.yaml", "image: ok.png\nresolution: 0.05\noccupied_thresh: 0.1\nfree_thresh: 0.5\n")
     ms("ms_duplicate.yaml", "image: ok.png\nresolution: 0.05\nresolution: 0.1\n")
@@ -469,6 +470,7 @@ def _map_cases() -> list[Case]:
         refuse("ms-resolution-nan", info("ms_res_nan.yaml"), "resolution: must be a finite number"),
         refuse("ms-origin-short", info("ms_origin_short.yaml"), "origin: must be [x, y, yaw]"),
         refuse("ms-origin-nan", info("ms_origin_nan.yaml"), "origin: must be [x, y, yaw]"),
+        refuse("ms-origin-far", info("ms_origin_far.yaml"), "origin: x, y must lie within 10000 m"),
         refuse("ms-negate", info("ms_negate.yaml"), "negate: must be 0 or 1"),
         refuse("ms-thresholds", info("ms_thresholds.yaml"), "free_thresh: 0.5 must be below"),
         refuse("ms-duplicate-key", info("ms_duplicate.yaml"), "duplicate key 'resolution' (first at line 2)"),

@@ -72,8 +72,8 @@ def test_segmenters_compiled_equal_their_python(scans: list):
               jit.py_func(segment_angle._walk)(pts, cl, a.lookahead, a.angle_tolerance))
         r = P.ransac
         args = (r.iterations, r.inlier_distance, r.max_gap_points)
-        _same(segment_ransac._extract(pts, cl, np.random.default_rng(r.seed), *args),
-              jit.py_func(segment_ransac._extract)(pts, cl, np.random.default_rng(r.seed), *args))
+        _same(segment_ransac._extract(pts, cl, segment_ransac.seeded_state(r.seed), *args),
+              jit.py_func(segment_ransac._extract)(pts, cl, segment_ransac.seeded_state(r.seed), *args))
 
 
 def test_split_is_opencvs_douglas_peucker(scans: list):
@@ -293,3 +293,55 @@ def test_scan_on_line_equals_its_python_and_the_vectorised_form(scans: list):
         np.testing.assert_array_equal(got[0], fwd)
         np.testing.assert_array_equal(got[1], bwd)
         assert got[0].sum() > 100  # most neighbours of a wall are on its line
+
+
+def test_combined_map_and_tracker_loops_compiled_equal_their_python():
+    """Every call of the combined map's and the tracker's loops (walls on the map, doors the
+    map confirms, usable points, seen-wall counts) during a localising run on hospital_2019:
+    compiled as in their Python, and not vacuous (walls matched, doors confirmed, hits)."""
+    from pico_studio.core.behaviours.registry import Drive
+    from pico_studio.core.localisation import (
+        combined,
+        combined_kernels,
+        match_kernels,
+        matcher,
+        tracker,
+    )
+    from pico_studio.core.localisation.stage import LocalisingPerceptor
+    from pico_studio.evaluation.runner import make_perceptor
+    from pico_studio.session import Session
+    from pico_studio.sim import Simulator
+    from tests.jit_scenes import hospital_frames, recorded_calls
+
+    names = {combined: ("on_map_kernel", "doors_confirmed"), matcher: ("usable_kernel",), tracker: ("seen_hits_kernel",)}
+    cfg = Config()
+    with recorded_calls(names) as calls:
+        first = hospital_frames(1)[0][0]
+        sim = Simulator(first.world.map, cfg.sim, seed=0, initial_pose=first.truth.pose)
+        perceptor = make_perceptor(cfg, sim.world.map, first.truth.pose, localise=True)
+        assert isinstance(perceptor, LocalisingPerceptor)
+        for _ in Session(sim, perceptor=perceptor, behaviour=Drive(0.3, 0.0, 0.2)).frames(until=1.5):
+            pass
+    kernels = {"on_map_kernel": combined_kernels.walls_on_map, "doors_confirmed": combined_kernels.doors_confirmed,
+               "usable_kernel": match_kernels.usable_kernel, "seen_hits_kernel": match_kernels.seen_hits_kernel}
+    found = {}
+    for n, k in kernels.items():
+        assert calls[n], n
+        outs = [k(*args) for args in calls[n]]
+        for args, got in zip(calls[n], outs, strict=True):
+            _same(got, jit.py_func(k)(*args))
+        found[n] = sum(int(np.sum(o)) for o in outs)
+    assert all(found.values()), found  # walls on the map, doors confirmed, points kept, walls hit
+
+
+def test_search_takes_the_best_grid_poses_in_a_stable_order():
+    """The pose search's best-first order (a partial sort) is a stable argsort's first k,
+    ties and NaN included."""
+    from pico_studio.core.localisation.matcher import best_first
+
+    rng = np.random.default_rng(3)
+    for shape, k in (((4, 30, 40), 300), ((2, 5, 5), 50), ((3, 7, 9), 500), ((1, 1, 1), 5)):
+        scores = np.round(rng.random(shape), 2).astype(np.float32)  # many ties
+        scores.flat[rng.integers(0, scores.size, 3)] = np.nan
+        want = np.argsort(scores, axis=None, kind="stable")[:k]
+        np.testing.assert_array_equal(best_first(scores, k), want)

@@ -220,3 +220,41 @@ def test_beam_layout_cache_follows_the_layout_and_keeps_warnings():
         np.testing.assert_allclose(pts, np.column_stack([r * np.cos(angles), r * np.sin(angles)]), atol=1e-12)
         if expect is not None:
             np.testing.assert_allclose(pts, expect, atol=1e-12)
+
+
+def _kernel_args(laser: LaserData, p) -> tuple:  # noqa: ANN001
+    from pico_studio.core.perception.scan import _layout
+
+    angles, cos, sin, _ = _layout(laser)
+    s = p.scan
+    return (np.ascontiguousarray(laser.ranges, dtype=np.float64), angles, cos, sin, s.min_range, s.max_range,
+            p.proximity.footprint_length / 2, p.proximity.footprint_width / 2, s.break_distance, s.break_slope,
+            s.min_spacing, s.grazing_factor, s.grazing_max_break, s.grazing_line_distance)
+
+
+def test_cheap_step_lengths_decide_as_hypot_does():
+    """The scan pass measures steps by sqrt(dx^2 + dy^2) and calls each break and resampling
+    bin it could get wrong "uncertain"; it is then run again by hypot. On real scans (with and
+    without grazing-angle breaks) both give the same arrays; a min_spacing that puts a point
+    exactly on a bin's edge is uncertain, and process_scan then returns hypot's answer."""
+    from pico_studio.core.perception.scan_kernels import scan_points
+    from tests.jit_scenes import hospital_scans
+
+    grazing = with_value(CFG, "perception.scan.grazing_factor", 10.0).perception
+    for laser in hospital_scans(4):
+        for p in (P, grazing):
+            fast, exact = scan_points(*_kernel_args(laser, p), False), scan_points(*_kernel_args(laser, p), True)
+            assert fast[6] and exact[6]
+            for a, b in zip(fast[:6], exact[:6], strict=True):
+                np.testing.assert_array_equal(a, b)
+    laser = hospital_scans(1)[0]
+    s = process_scan(laser, P.scan, P.proximity)[0].valid_xy
+    edge = float(np.hypot(*(s[1] - s[0])))  # the first step: arc / min_spacing is exactly 1 there
+    p = with_value(CFG, "perception.scan.min_spacing", edge).perception
+    fast = scan_points(*_kernel_args(laser, p), False)
+    assert not fast[6]
+    exact = scan_points(*_kernel_args(laser, p), True)
+    scan, _ = process_scan(laser, p.scan, p.proximity)
+    for a, b in zip((scan.valid, scan.valid_xy, scan.points, scan.beam, scan.clusters, scan.end_seen), exact[:6],
+                    strict=True):
+        np.testing.assert_array_equal(a, b)

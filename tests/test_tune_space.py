@@ -39,15 +39,48 @@ def test_globs_union_without_repeats_and_suggested_values_validate():
     assert len(space.paths) == len(set(space.paths))
     assert "perception.merge.angle" in space.paths and "perception.identify.door_angle" in space.paths
     study = optuna.create_study(sampler=optuna.samplers.RandomSampler(seed=1))
-    for _ in range(20):
+    for _ in range(60):  # door_min_width is sampled below door_max_width: no trial is refused
         trial = study.ask()
         values = space.suggest(trial)
-        try:
-            cfg = space.apply(Config(), values)
-        except ConfigError as e:  # door_min_width above door_max_width: a failed trial
-            assert "door_min_width" in str(e)
-            continue
+        cfg = space.apply(Config(), values)
         assert cfg.perception.merge.angle == values["perception.merge.angle"]
+        assert cfg.perception.identify.door_min_width < cfg.perception.identify.door_max_width
+
+
+@pytest.mark.parametrize("sampler", [optuna.samplers.RandomSampler(seed=3), optuna.samplers.TPESampler(seed=3)])
+def test_an_ordered_chain_is_kept_and_a_fixed_sibling_bounds_its_partner(sampler):
+    # quality_lost <= quality_found <= quality_confirm, all three searched
+    space = search_space(Config(), "localisation.tracker.quality_*")
+    study = optuna.create_study(sampler=sampler)
+    for _ in range(40):
+        trial = study.ask()
+        t = space.apply(Config(), space.suggest(trial)).localisation.tracker
+        assert t.quality_lost <= t.quality_found <= t.quality_confirm
+        study.tell(trial, t.quality_found)
+    # only the upper side searched: the lower side's base value bounds it
+    only_max = search_space(Config(), "perception.identify.door_max_width")
+    base = Config().perception.identify.door_min_width
+    seen = [only_max.suggest(optuna.create_study().ask())["perception.identify.door_max_width"]
+            for _ in range(30)]
+    assert min(seen) > base
+
+
+def test_every_declared_order_names_a_sibling_of_its_kind():
+    cfg = Config()
+    declared = {p.path: p for p in params(cfg)}
+    orders = [(p, p.spec.upper) for p in declared.values() if p.spec.upper is not None]
+    assert len(orders) >= 6
+    for p, (other, _strict) in orders:
+        sibling = declared[p.path.rsplit(".", 1)[0] + "." + other]
+        assert sibling.spec.kind == p.spec.kind
+        assert sibling.spec.upper is None or sibling.spec.upper[0] != p.name  # no two-cycle
+
+
+def test_a_violated_order_names_the_field_and_its_sibling():
+    from pico_studio.config import loads_yaml
+
+    with pytest.raises(ConfigError, match=r"quality_lost.*at most quality_found"):
+        loads_yaml(Config, "localisation:\n  tracker:\n    quality_lost: 0.9\n")
 
 
 def test_the_start_config_is_the_first_point():

@@ -277,8 +277,8 @@ def test_an_invalid_value_is_reported_and_reverted(app, page) -> None:
     page.get_by_text("ui", exact=True).locator("visible=true").first.click()
     page.get_by_text("wander", exact=True).locator("visible=true").first.click()
     before = app.studio.cfg.ui.wander.clear_distance
-    set_number(page, "clear_distance", 0.2)  # below stop_distance: the section's own check refuses it
-    page.get_by_text(re.compile("must be at least stop_distance")).first.wait_for(timeout=20000)
+    set_number(page, "clear_distance", 0.2)  # below stop_distance: the declared ordering refuses it
+    page.get_by_text(re.compile("must be at most clear_distance")).first.wait_for(timeout=20000)
     assert app.studio.cfg.ui.wander.clear_distance == before
     assert wait_until(lambda: float(input_of(page, "clear_distance").input_value()) == before)
 

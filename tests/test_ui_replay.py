@@ -53,6 +53,8 @@ def test_a_bag_replay_shows_relative_time_one_scrubber_and_no_driving(recordings
         app.redraw()
         assert app.studio.source.frame_index == 242 and app.timeline.value == 242
         assert "paused" in app.status_md.content and app.play.label == "Play"  # they agree at the end
+        # no map, so no localiser: its figures are absent, not "quality 0.00"
+        assert app.studio.metrics()["localisation"] == {}
     finally:
         app.stop()
 

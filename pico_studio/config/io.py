@@ -75,12 +75,30 @@ def _coerce(spec: ParamSpec, value: Any, *, file: str | Path | None, field: str)
 
 
 def _check(obj: Any, *, file: str | Path | None, prefix: str) -> None:
-    """Run a section's own cross-field `check()` (if it has one): it returns problems."""
+    """The declared orderings (`below=` / `at_most=` a sibling), then the section's own
+    cross-field `check()` (if it has one): it returns problems."""
+    for field, problem in ordering_problems(obj):
+        raise ConfigError(problem, file=file, field=f"{prefix}{field}")
     check = getattr(obj, "check", None)
     if check is None:
         return
     for field, problem in check():
         raise ConfigError(problem, file=file, field=f"{prefix}{field}")
+
+
+def ordering_problems(obj: Any) -> list[tuple[str, str]]:
+    """(field, problem) for each parameter of section `obj` not below / at most the sibling
+    its declaration names."""
+    problems = []
+    for f in dataclasses.fields(obj):
+        spec = f.metadata.get("pico_studio.param")
+        if spec is None or spec.upper is None:
+            continue
+        other, strict = spec.upper
+        mine, theirs = getattr(obj, f.name), getattr(obj, other)
+        if mine >= theirs if strict else mine > theirs:
+            problems.append((f.name, f"must be {'below' if strict else 'at most'} {other} ({theirs:g}), got {mine:g}"))
+    return problems
 
 
 def to_dict(obj: Any) -> dict[str, Any]:

@@ -99,9 +99,11 @@ class SearchParams:
 @dataclass(frozen=True)
 class TrackerParams:
     quality_lost: float = param(0.45, lo=0.0, hi=1.0, step=0.01, unit="",
-                                help="Quality (fraction of beams explained) below which a step is bad")
+                                help="Quality (fraction of beams explained) below which a step is bad",
+                                at_most="quality_found")
     quality_found: float = param(0.65, lo=0.0, hi=1.0, step=0.01, unit="",
-                                 help="Quality at or above which a step is good (clears lost; a searched pose is believed)")
+                                 help="Quality at or above which a step is good (clears lost; a searched pose is believed)",
+                                 at_most="quality_confirm")
     quality_confirm: float = param(
         0.85, lo=0.0, hi=1.0, step=0.01, unit="",
         help="Quality a pose found only by a widened search needs (far from the estimate: more alike places)",
@@ -124,13 +126,6 @@ class TrackerParams:
                                   help="A correction moving the pose further than this in one step is rejected")
     max_correction_angle: float = param(0.1, lo=0.01, hi=math.pi, step=0.01, unit="rad",
                                         help="A correction turning the pose more than this in one step is rejected")
-
-    def check(self) -> list[tuple[str, str]]:
-        if self.quality_lost > self.quality_found:
-            return [("quality_lost", f"must not exceed quality_found ({self.quality_found})")]
-        if self.quality_found > self.quality_confirm:
-            return [("quality_found", f"must not exceed quality_confirm ({self.quality_confirm})")]
-        return []
 
 
 @dataclass(frozen=True)

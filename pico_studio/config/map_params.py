@@ -24,6 +24,7 @@ class HeightmapParams:
     door_grey_low: int = param(
         50, lo=0, hi=255, step=1, unit="grey",
         help="Without a map_server YAML: grey values up to this are walls; above it (and below door_grey_high) door candidates",
+        below="door_grey_high",
     )
     door_grey_high: int = param(
         205, lo=0, hi=255, step=1, unit="grey",
@@ -32,7 +33,7 @@ class HeightmapParams:
 
     door_min_width: float = param(
         0.5, lo=0.05, hi=5.0, step=0.05, unit="m",
-        help="A grey region is a door only when its long side is at least this long",
+        help="A grey region is a door only when its long side is at least this long", at_most="door_max_width",
     )
     door_max_width: float = param(
         1.5, lo=0.05, hi=10.0, step=0.05, unit="m",
@@ -50,13 +51,6 @@ class HeightmapParams:
         128, lo=0, hi=255, step=1, unit="grey",
         help="A grey pixel that is no door's is a wall (an anti-aliased wall edge) when darker than this, else free",
     )
-
-    def check(self) -> list[tuple[str, str]]:
-        if self.door_grey_low >= self.door_grey_high:
-            return [("door_grey_low", f"must be below door_grey_high ({self.door_grey_high})")]
-        if self.door_min_width > self.door_max_width:
-            return [("door_min_width", f"must not exceed door_max_width ({self.door_max_width})")]
-        return []
 
 
 @dataclass(frozen=True)

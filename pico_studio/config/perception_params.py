@@ -267,7 +267,7 @@ class IdentifyParams:
         help="Door detector: the built-in one, or a plugin's (pico_studio.plugins.door_detector)",
     )
     door_min_width: float = param(
-        0.5, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at least this wide",
+        0.5, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at least this wide", below="door_max_width",
     )
     door_max_width: float = param(
         1.3, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at most this wide",
@@ -330,11 +330,6 @@ class IdentifyParams:
         help="...when they span at least this across their main direction too (a piece of a thick wall "
         "with its end cap is long and thin)",
     )
-
-    def check(self) -> list[tuple[str, str]]:
-        if self.door_min_width >= self.door_max_width:
-            return [("door_min_width", f"must be below door_max_width ({self.door_max_width:g})")]
-        return []
 
 
 @dataclass(frozen=True)

@@ -102,7 +102,8 @@ class ObjectParams:
 
 @dataclass(frozen=True)
 class TruthParams:
-    door_min_width: float = param(0.5, lo=0.1, hi=5.0, step=0.05, unit="m", help="Narrowest gap between wall ends that counts as a door opening")
+    door_min_width: float = param(0.5, lo=0.1, hi=5.0, step=0.05, unit="m", help="Narrowest gap between wall ends that counts as a door opening",
+                                 at_most="door_max_width")
     door_max_width: float = param(1.5, lo=0.1, hi=5.0, step=0.05, unit="m", help="Widest gap between wall ends that counts as a door opening")
     max_wall_thickness: float = param(0.3, lo=0.01, hi=2.0, step=0.01, unit="m", help="A short segment closing a thick wall's end (an end cap) is at most this long")
     straight_tolerance: float = param(0.15, lo=0.0, hi=1.0, step=0.01, unit="rad", help="Walls meeting within this of a straight line form no corner")
@@ -114,11 +115,6 @@ class TruthParams:
     mouth_probe: float = param(0.25, lo=0.05, hi=2.0, step=0.05, unit="m", help="How far either side of a candidate passage mouth the free width is measured")
     mouth_wall_length: float = param(0.5, lo=0.0, hi=5.0, step=0.05, unit="m", help="A passage's side walls run at least this long from its mouth (a plant pot beside a wall makes no passage)")
     mouth_margin: float = param(0.1, lo=0.0, hi=1.0, step=0.01, unit="m", help="A passage is at most this much wider than its mouth (and the area it opens into at least door_min_width wider)")
-
-    def check(self) -> list[tuple[str, str]]:
-        if self.door_min_width > self.door_max_width:
-            return [("door_min_width", f"must not exceed door_max_width ({self.door_max_width})")]
-        return []
 
 
 @dataclass(frozen=True)

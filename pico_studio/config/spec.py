@@ -36,6 +36,19 @@ class ParamSpec:
     step: float | None = None
     # a tuple, or a `LiveChoices` that plugins add names to (read it when needed, never copy)
     choices: Sequence[str] | None = None
+    # the sibling parameter (same section) this one must stay below (`below`, strictly) or
+    # not exceed (`at_most`): validation and the tuner's search space both read it
+    below: str | None = None
+    at_most: str | None = None
+
+    @property
+    def upper(self) -> tuple[str, bool] | None:
+        """(sibling, strict) this value is bounded by, or None."""
+        if self.below is not None:
+            return self.below, True
+        if self.at_most is not None:
+            return self.at_most, False
+        return None
 
     @property
     def kind(self) -> str:
@@ -59,6 +72,8 @@ class ParamSpec:
             parts.append("one of: " + ", ".join(self.choices))
         elif self.lo is not None or self.hi is not None:
             parts.append(f"range {_fmt(self.lo)} .. {_fmt(self.hi)}")
+        if self.upper is not None:
+            parts.append(("below " if self.upper[1] else "at most ") + self.upper[0])
         return " ".join(parts)
 
 
@@ -75,6 +90,8 @@ def param(
     hi: float | None = None,
     step: float | None = None,
     choices: Sequence[str] | None = None,
+    below: str | None = None,
+    at_most: str | None = None,
 ) -> Any:
     """Declare a parameter field of a section dataclass."""
     spec = ParamSpec(
@@ -85,7 +102,11 @@ def param(
         hi=hi,
         step=step,
         choices=choices if isinstance(choices, LiveChoices) or choices is None else tuple(choices),
+        below=below,
+        at_most=at_most,
     )
+    if below is not None and at_most is not None:
+        raise TypeError(f"parameter {help!r} takes one of below= and at_most=, not both")
     if spec.kind in ("int", "float"):
         if spec.lo is None or spec.hi is None:
             raise TypeError(f"numeric parameter {help!r} needs lo and hi")

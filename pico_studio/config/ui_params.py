@@ -20,7 +20,7 @@ class WanderParams:
     )
     stop_distance: float = param(
         0.5, lo=0.15, hi=2.0, step=0.01, unit="m",
-        help="Closest range ahead at which the robot stops driving and turns in place",
+        help="Closest range ahead at which the robot stops driving and turns in place", at_most="clear_distance",
     )
     clear_distance: float = param(
         0.8, lo=0.2, hi=3.0, step=0.01, unit="m",
@@ -34,11 +34,6 @@ class WanderParams:
         0.6, lo=0.0, hi=3.0, step=0.05, unit="rad/s",
         help="Rotation per unit of left/right clearance imbalance while driving",
     )
-
-    def check(self) -> list[tuple[str, str]]:
-        if self.clear_distance < self.stop_distance:
-            return [("clear_distance", f"must be at least stop_distance ({self.stop_distance:g})")]
-        return []
 
 
 @dataclass(frozen=True)

@@ -71,7 +71,7 @@ from pico_studio.config.map_params import HeightmapParams
 from pico_studio.errors import MapError
 from pico_studio.json_map.grid import GridFrame
 from pico_studio.json_map.image_header import read_image_bytes
-from pico_studio.json_map.model import GlobalMap
+from pico_studio.json_map.model import MAX_COORDINATE_M, GlobalMap
 from pico_studio.user_files import parse_yaml, read_text
 
 IMAGE_SUFFIXES = (".png", ".pgm")
@@ -163,6 +163,9 @@ def read_map_server_yaml(path: Path) -> dict[str, Any]:
         or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) for v in origin)
     ):
         raise MapError(f"must be [x, y, yaw] (finite numbers), got {origin!r}", file=path, field="origin")
+    if any(abs(v) > MAX_COORDINATE_M for v in origin[:2]):  # as a JSON map's coordinates
+        raise MapError(f"x, y must lie within {MAX_COORDINATE_M:g} m of zero (a typo?), got {origin[:2]!r}",
+                       file=path, field="origin")
     negate = data.get("negate", 0)
     if negate not in (0, 1) or (isinstance(negate, float)):
         raise MapError(f"must be 0 or 1, got {negate!r}", file=path, field="negate")

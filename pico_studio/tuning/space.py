@@ -17,6 +17,7 @@ from __future__ import annotations
 import fnmatch
 import hashlib
 import json
+import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -55,18 +56,24 @@ class Dimension:
         # Optuna cannot step a log scale; a declared step is a slider's resolution, not a rule
         return cls(p.path, "float", float(s.lo), float(s.hi), None if log else s.step, log)
 
-    def suggest(self, trial: Any) -> Any:
-        """Ask an Optuna trial for this dimension's value."""
+    def suggest(self, trial: Any, lo: float | None = None, hi: float | None = None) -> Any:
+        """Ask an Optuna trial for this dimension's value, on lo..hi when an ordering with a
+        sibling narrows the declared range (an empty narrowing keeps the declared one: the
+        trial then fails validation, as it would have)."""
         if self.kind in ("bool", "choice"):
             return trial.suggest_categorical(self.path, list(self.choices or ()))
         assert self.lo is not None and self.hi is not None
+        lo = self.lo if lo is None else max(self.lo, lo)
+        hi = self.hi if hi is None else min(self.hi, hi)
+        if lo > hi:
+            lo, hi = self.lo, self.hi
         if self.kind == "int":
-            return trial.suggest_int(self.path, int(self.lo), int(self.hi),
-                                     step=int(self.step or 1), log=self.log)
-        hi = self.hi
-        if self.step:  # Optuna wants hi on the grid from lo
-            hi = self.lo + self.step * int((self.hi - self.lo) / self.step + 1e-9)
-        return trial.suggest_float(self.path, self.lo, hi, step=self.step, log=self.log)
+            step = int(self.step or 1)
+            return trial.suggest_int(self.path, math.ceil(lo), math.floor(hi), step=step, log=self.log)
+        if self.step:  # on the declared grid from self.lo (Optuna wants hi on the grid from lo)
+            lo = round(self.lo + self.step * math.ceil((lo - self.lo) / self.step - 1e-9), 12)
+            hi = round(lo + self.step * int((hi - lo) / self.step + 1e-9), 12)
+        return trial.suggest_float(self.path, lo, hi, step=self.step, log=self.log)
 
     def describe(self) -> str:
         if self.kind in ("bool", "choice"):
@@ -76,9 +83,30 @@ class Dimension:
 
 
 @dataclass(frozen=True)
+class Order:
+    """A declared ordering between two parameters (`below=` / `at_most=`): `lower` stays
+    below (strict) or at most `upper`. A side outside the space is fixed at its base value."""
+
+    lower: str
+    upper: str
+    strict: bool
+    fixed_lower: float | None = None  # the base value when `lower` is not searched
+    fixed_upper: float | None = None
+
+    def gap(self, dim: Dimension) -> float:
+        """The least difference a strict order needs on `dim`'s grid."""
+        if not self.strict:
+            return 0.0
+        return dim.step or (1.0 if dim.kind == "int" else 1e-9 * max(1.0, abs(dim.hi or 1.0)))
+
+
+@dataclass(frozen=True)
 class SearchSpace:
     globs: tuple[str, ...]
     dimensions: tuple[Dimension, ...]
+    # the declared orderings touching a searched parameter: sampled in order, so no trial is
+    # spent on a config validation refuses (door_min_width >= door_max_width was ~30%)
+    orders: tuple[Order, ...] = ()
 
     @property
     def paths(self) -> list[str]:
@@ -90,7 +118,39 @@ class SearchSpace:
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     def suggest(self, trial: Any) -> dict[str, Any]:
-        return {d.path: d.suggest(trial) for d in self.dimensions}
+        """One value per dimension; a parameter bounded from below by an ordered sibling is
+        asked after it, on the range that keeps the order."""
+        dims = {d.path: d for d in self.dimensions}
+        values: dict[str, Any] = {}
+        for d in self._ordered():
+            lo = hi = None
+            for o in self.orders:
+                if o.upper == d.path:  # bounded below by the lower one's value
+                    below = values.get(o.lower, o.fixed_lower)
+                    if below is not None:
+                        lo = max(lo if lo is not None else -math.inf, below + o.gap(d))
+                if o.lower == d.path:  # bounded above by the upper one's largest value
+                    up = dims[o.upper].hi if o.upper in dims else o.fixed_upper
+                    if up is not None:
+                        hi = min(hi if hi is not None else math.inf, up - o.gap(d))
+            values[d.path] = d.suggest(trial, lo, hi)
+        return {d.path: values[d.path] for d in self.dimensions}
+
+    def _ordered(self) -> list[Dimension]:
+        """The dimensions, each after every searched one that bounds it from below."""
+        done: list[Dimension] = []
+        pending = list(self.dimensions)
+        while pending:
+            for d in pending:
+                if all(o.lower in {e.path for e in done} or o.lower not in self.paths
+                       for o in self.orders if o.upper == d.path):
+                    done.append(d)
+                    pending.remove(d)
+                    break
+            else:  # a cycle cannot be declared consistently; ask the rest as they come
+                done.extend(pending)
+                break
+        return done
 
     def start_params(self, cfg: Config) -> dict[str, Any]:
         """The values of `cfg` in this space: the study's first trial (the start config)."""
@@ -131,4 +191,20 @@ def search_space(cfg: Config, globs: str | tuple[str, ...] | None = None) -> Sea
             raise ConfigError(f"'{g}' matches no tunable parameter (those under {roots}; "
                               "see `pico-studio config defaults`)", field="--params")
         dims.extend(Dimension.from_param(p) for p in hits if p.path not in {d.path for d in dims})
-    return SearchSpace(globs, tuple(dims))
+    return SearchSpace(globs, tuple(dims), _orders(cfg, {d.path for d in dims}))
+
+
+def _orders(cfg: Config, searched: set[str]) -> tuple[Order, ...]:
+    """The declared orderings with at least one side searched."""
+    out = []
+    for p in params(cfg):
+        if p.spec.upper is None:
+            continue
+        other, strict = p.spec.upper
+        upper = p.path.rsplit(".", 1)[0] + "." + other
+        if p.path not in searched and upper not in searched:
+            continue
+        out.append(Order(p.path, upper, strict,
+                         None if p.path in searched else float(p.value),
+                         None if upper in searched else float(get_value(cfg, upper))))
+    return tuple(out)

@@ -416,7 +416,8 @@ class Studio:
     @staticmethod
     def _localisation_figures(frame: FrameRecord | None) -> dict[str, Any]:
         wm = frame.wm if frame is not None else None
-        if wm is None or not hasattr(wm, "localisation_quality"):
+        # no localiser ran (a replay without a map): no figures, rather than a "quality 0.00"
+        if wm is None or "localisation" not in wm.timings_ms:
             return {}
         out: dict[str, Any] = {"quality": float(wm.localisation_quality), "lost": bool(wm.lost)}
         g, t = wm.global_pose, frame.truth_pose if frame is not None else None

@@ -22,13 +22,9 @@ from typing import Any
 import numpy as np
 
 from pico_studio.config.localisation_params import CombinedParams
-from pico_studio.core.geometry import (
-    compose,
-    invert,
-    point_segment_distance,
-    segment_lengths,
-    transform_segments,
-)
+from pico_studio.core.geometry import compose, invert, transform_segments
+from pico_studio.core.localisation.combined_kernels import doors_confirmed
+from pico_studio.core.localisation.combined_kernels import walls_on_map as on_map_kernel
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose
 
@@ -64,17 +60,11 @@ def zero_to_global(global_pose: Pose, zero_pose: Pose) -> Pose:
 
 
 def walls_on_map(walls: np.ndarray, dfield: DistanceField, params: CombinedParams) -> np.ndarray:
-    """(W,) bool: whether each wall (global frame) lies on the map."""
-    if len(walls) == 0:
-        return np.zeros(0, dtype=bool)
-    n = np.maximum(2, np.ceil(segment_lengths(walls) / params.sample_spacing).astype(int) + 1)
-    owner = np.repeat(np.arange(len(walls)), n)
-    t = np.concatenate([np.linspace(0.0, 1.0, k) for k in n])
-    a, b = walls[owner, 0:2], walls[owner, 2:4]
-    samples = a + t[:, None] * (b - a)
-    on = dfield.distance(samples) <= params.match_distance
-    fraction = np.bincount(owner, weights=on, minlength=len(walls)) / n
-    return fraction >= params.match_fraction
+    """(W,) bool: whether each wall (global frame) lies on the map (the samples' loop:
+    combined_kernels.walls_on_map)."""
+    return on_map_kernel(dfield.field, dfield.x0, dfield.y0, dfield.resolution,
+                         np.ascontiguousarray(walls, dtype=float).reshape(-1, 4), float(params.sample_spacing),
+                         float(params.match_distance), float(params.match_fraction))
 
 
 def map_door_lines(door_polygons: list[np.ndarray]) -> np.ndarray:
@@ -98,25 +88,13 @@ def confirmed_by_map(doors: np.ndarray, map_doors: np.ndarray, map_walls: np.nda
     `door_confirm_distance` of a map door line and its direction is within `door_confirm_angle`
     of that line's, or it spans an opening between the map's walls: one end within
     `jamb_confirm_distance` of a map wall's corner, the other of a map wall (a corner or a face:
-    a T-opening). `map_walls` are the map's walls only, so a table's corner is never a jamb."""
-    out = np.zeros(len(doors), dtype=bool)
+    a T-opening). `map_walls` are the map's walls only, so a table's corner is never a jamb.
+    The loops: combined_kernels.doors_confirmed."""
     if len(doors) == 0:
-        return out
-    if len(map_walls):
-        corners = map_walls.reshape(-1, 2)
-        r = params.jamb_confirm_distance
-        at_corner = [np.hypot(*(doors[:, None, 2 * e:2 * e + 2] - corners[None]).transpose(2, 0, 1)).min(axis=1) <= r
-                     for e in (0, 1)]
-        on_wall = [point_segment_distance(doors[:, 2 * e:2 * e + 2], map_walls).min(axis=1) <= r for e in (0, 1)]
-        out |= (at_corner[0] & on_wall[1]) | (at_corner[1] & on_wall[0])
-    if len(map_doors) == 0:
-        return out
-    mid = (doors[:, 0:2] + doors[:, 2:4]) / 2
-    near = point_segment_distance(mid, map_doors) <= params.door_confirm_distance  # (D, K)
-    a = np.arctan2(doors[:, 3] - doors[:, 1], doors[:, 2] - doors[:, 0])[:, None]
-    b = np.arctan2(map_doors[:, 3] - map_doors[:, 1], map_doors[:, 2] - map_doors[:, 0])[None, :]
-    diff = np.abs((a - b + np.pi / 2) % np.pi - np.pi / 2)  # undirected lines
-    return out | (near & (diff <= params.door_confirm_angle)).any(axis=1)
+        return np.zeros(0, dtype=bool)
+    return doors_confirmed(np.ascontiguousarray(doors, dtype=float), np.ascontiguousarray(map_doors, dtype=float).reshape(-1, 4),
+                           np.ascontiguousarray(map_walls, dtype=float).reshape(-1, 4), float(params.jamb_confirm_distance),
+                           float(params.door_confirm_distance), float(params.door_confirm_angle))
 
 
 def combine(

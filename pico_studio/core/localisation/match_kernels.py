@@ -283,3 +283,40 @@ def coarse_scores(grid: np.ndarray, offsets: np.ndarray, r0: int, c0: int, ny: i
                 for j in range(nx):
                     scores[h, i, j] += grid[r + i, q + j]
     return scores
+
+
+def _usable_example() -> tuple:
+    return np.array([[1.0, 0.0], [np.nan, 1.0], [20.0, 0.0], [0.5, -0.5]]), 10.0
+
+
+@kernel(_usable_example)
+def usable_kernel(points: np.ndarray, max_range: float) -> np.ndarray:
+    """The points (N, 2) with finite coordinates and |p| <= max_range, in order (a copy)."""
+    keep = np.empty(points.shape[0], dtype=np.bool_)
+    for i in range(points.shape[0]):
+        x, y = points[i, 0], points[i, 1]
+        keep[i] = np.isfinite(x) and np.isfinite(y) and np.hypot(x, y) <= max_range
+    return points[keep]
+
+
+def _hits_example() -> tuple:
+    field, x0, y0, res, pts = _field_example()
+    return field, np.zeros((4, 4), dtype=np.int32), x0, y0, res, pts, 0.0, 0.0, 0.1, 0.05, np.zeros(2, dtype=np.int64)
+
+
+@kernel(_hits_example)
+def seen_hits_kernel(field: np.ndarray, index: np.ndarray, x0: float, y0: float, res: float, pts: np.ndarray,
+                     px: float, py: float, pa: float, inlier_distance: float, hits: np.ndarray) -> np.ndarray:
+    """`hits` (a copy) plus one for every point (robot frame) that lands, at the pose, within
+    `inlier_distance` of the map, on its nearest segment (those beyond len(hits) and off the
+    grid uncounted)."""
+    out = hits.copy()
+    c, s = math.cos(pa), math.sin(pa)
+    for i in range(pts.shape[0]):
+        qx = pts[i, 0] * c + pts[i, 1] * -s + px
+        qy = pts[i, 0] * s + pts[i, 1] * c + py
+        if _bilinear(field, x0, y0, res, qx, qy) <= inlier_distance:
+            k = _nearest(index, x0, y0, res, qx, qy)
+            if 0 <= k < out.shape[0]:
+                out[k] += 1
+    return out

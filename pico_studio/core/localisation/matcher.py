@@ -37,6 +37,7 @@ from pico_studio.core.localisation.match_kernels import (
     quality_kernel,
     refine_kernel,
     through_kernel,
+    usable_kernel,
 )
 
 Pose = tuple[float, float, float]
@@ -54,10 +55,7 @@ class Match:
 
 def usable_points(points: np.ndarray, max_range: float) -> np.ndarray:
     """Finite points within range (robot frame)."""
-    points = np.asarray(points, dtype=float).reshape(-1, 2)
-    ok = np.isfinite(points).all(axis=1)
-    ok[ok] &= np.hypot(points[ok, 0], points[ok, 1]) <= max_range
-    return points[ok]
+    return usable_kernel(_c(np.asarray(points, dtype=float).reshape(-1, 2)), float(max_range))
 
 
 def quality(field: DistanceField, points: np.ndarray, pose: Pose, inlier_distance: float) -> float:
@@ -152,6 +150,20 @@ def search_grid(
         head_step *= 1.25
 
 
+def best_first(scores: np.ndarray, k: int) -> np.ndarray:
+    """Flat indices of the k lowest scores, lowest first, ties in index order: a stable
+    argsort's first k, without sorting the whole grid (a million poses: ~1 ms, not ~20)."""
+    flat = scores.ravel()
+    if k <= 0 or flat.size == 0:
+        return np.zeros(0, dtype=np.int64)
+    part = np.arange(flat.size)
+    if k < flat.size:
+        kth = np.partition(flat, k - 1)[k - 1]
+        if not np.isnan(kth):  # (NaN sorts last: with fewer than k numbers, take them all)
+            part = np.flatnonzero(flat <= kth)  # every tie of the k-th, so the order is stable
+    return part[np.lexsort((part, flat[part]))][:k]
+
+
 def _axis(half: float, step: float) -> np.ndarray:
     n = int(math.floor(half / step))
     return np.arange(-n, n + 1) * step
@@ -202,9 +214,8 @@ def coarse_candidates(
     scores = coarse_scores(np.ascontiguousarray(grid, dtype=np.float32), offsets, pad + i0, pad + j0, ny, nx)
 
     # best first; skip candidates close to one already taken (non-maximum suppression)
-    order = np.argsort(scores, axis=None)
     taken: list[Pose] = []
-    for flat in order[: 50 * params.candidates]:
+    for flat in best_first(scores, 50 * params.candidates):
         h, i, j = np.unravel_index(flat, scores.shape)
         pose = (field.x0 + (j0 + j) * step, field.y0 + (i0 + i) * step,
                 float(wrap_angle(heading + hs[h])))

@@ -35,6 +35,7 @@ import numpy as np
 from pico_studio.config.localisation_params import LocalisationParams
 from pico_studio.core.geometry import compose, relative, transform_points, wrap_angle
 from pico_studio.core.localisation.distance_field import DistanceField
+from pico_studio.core.localisation.match_kernels import seen_hits_kernel
 from pico_studio.core.localisation.matcher import (
     Match,
     Pose,
@@ -176,11 +177,10 @@ def _finish(
         since_search = params.search.every_steps
 
     hits = state.seen_hits
-    if not lost and len(pts):
-        q_pts = transform_points(pts, pose)
-        explained = lmap.field.distance(q_pts) <= params.matcher.inlier_distance
-        k = lmap.field.nearest_segment(q_pts[explained])
-        hits = hits + np.bincount(k[k >= 0], minlength=len(hits))[: len(hits)]
+    if not lost and len(pts):  # the explained points' nearest walls
+        f = lmap.field
+        hits = seen_hits_kernel(f.field, f.segment_index, f.x0, f.y0, f.resolution, pts, float(pose[0]),
+                                float(pose[1]), float(pose[2]), float(params.matcher.inlier_distance), hits)
 
     new = replace(state, quality=q, lost=lost, bad_steps=bad_steps, good_steps=good_steps,
                   failed_searches=failed, steps_since_search=since_search, good_from=good_from,

@@ -22,6 +22,7 @@ import numpy as np
 
 from pico_studio.config.perception_params import CornerParams
 from pico_studio.core.perception.scan import ScanPoints
+from pico_studio.core.perception.scan_kernels import cheap_length, too_close
 from pico_studio.jit import kernel
 
 
@@ -35,12 +36,25 @@ def _spikes(p: np.ndarray, gap_min: float, max_range: float) -> np.ndarray:
     m = p.shape[0]
     out = np.empty(max(m, 1), dtype=np.int64)
     n = 0
+    # lengths by the cheap sqrt(x^2 + y^2), each comparison too close to call by it made by
+    # hypot (scan_kernels.cheap_length): the decisions are hypot's
+    r1 = cheap_length(p[0, 0], p[0, 1]) if m else 0.0
     for i in range(m - 1):
-        gap = math.hypot(p[i + 1, 0] - p[i, 0], p[i + 1, 1] - p[i, 1])
-        r0 = math.hypot(p[i, 0], p[i, 1])
-        r1 = math.hypot(p[i + 1, 0], p[i + 1, 1])
-        near, r = (i, r0) if r0 <= r1 else (i + 1, r1)
-        if gap > gap_min and r < max_range and (n == 0 or out[n - 1] != near):
+        r0 = r1  # each point's range once
+        r1 = cheap_length(p[i + 1, 0], p[i + 1, 1])
+        a0, a1 = r0, r1
+        if too_close(a0, a1):
+            a0, a1 = math.hypot(p[i, 0], p[i, 1]), math.hypot(p[i + 1, 0], p[i + 1, 1])
+        near, r = (i, a0) if a0 <= a1 else (i + 1, a1)
+        if too_close(r, max_range):
+            r = math.hypot(p[near, 0], p[near, 1])
+        if not r < max_range:
+            continue  # (the gap only matters near the robot)
+        dx, dy = p[i + 1, 0] - p[i, 0], p[i + 1, 1] - p[i, 1]
+        gap = cheap_length(dx, dy)
+        if too_close(gap, gap_min):
+            gap = math.hypot(dx, dy)
+        if gap > gap_min and (n == 0 or out[n - 1] != near):
             out[n] = near  # non-decreasing: a point between two gaps counts once
             n += 1
     return out[:n].copy()
@@ -52,6 +66,11 @@ def spike_corners(scan: ScanPoints, params: CornerParams) -> np.ndarray:
     if len(p) < 2:
         return np.zeros((0, 2))
     return p[_spikes(np.ascontiguousarray(p, dtype=np.float64), float(params.spike_gap), float(params.spike_max_range))]
+
+
+# |cos| of a vector-corner angle is compared with sin(tol) with this relative margin, far above
+# the roundings (a few 1e-16) of the dot and cross products and of atan2
+MARGIN = 1e-9
 
 
 def _vector_example() -> tuple:
@@ -72,12 +91,19 @@ def _vectors(p: np.ndarray, clusters: np.ndarray, k: int, tol: float) -> tuple[n
     n = 0
     last_hit = -2
     best_dev = 0.0
+    # (the margin widens tol by at least MARGIN / 2 x tol: above rounding unless tol is tiny)
+    near_square = math.sin(tol) ** 2 * (1 + MARGIN) if 1e-6 < tol < math.pi / 2 else np.inf
     for i in range(k, m - k):
         if cid[i - k] != cid[i] or cid[i + k] != cid[i]:
             continue
         v1x, v1y = p[i - k, 0] - p[i, 0], p[i - k, 1] - p[i, 1]
         v2x, v2y = p[i + k, 0] - p[i, 0], p[i + k, 1] - p[i, 1]
-        ang = math.atan2(v1x * v2y - v1y * v2x, v1x * v2x + v1y * v2y)
+        cross, dot = v1x * v2y - v1y * v2x, v1x * v2x + v1y * v2y
+        # the angle is within tol of +-90 deg only if |cos| = |dot| / |v1||v2| < sin(tol):
+        # far from it (with a margin far above rounding), skip the atan2
+        if dot * dot > near_square * (dot * dot + cross * cross):
+            continue
+        ang = math.atan2(cross, dot)
         dev_in = abs(ang + math.pi / 2)
         dev_out = abs(ang - math.pi / 2)
         dev = min(dev_in, dev_out)

@@ -18,44 +18,67 @@ import numpy as np
 
 from pico_studio.config.perception_params import EntranceParams
 from pico_studio.core.geometry import wrap_angle
+from pico_studio.jit import kernel
 
 Estimate = tuple[float, float, bool]  # angle, distance, hallway
 
 
 def entrance_in_scan(segments: np.ndarray, params: EntranceParams) -> Estimate | None:
-    s = len(segments)
+    kind, angle, distance = scan_entrance(
+        np.ascontiguousarray(segments, dtype=float).reshape(-1, 4), float(params.parallel_tolerance),
+        float(params.min_gap), float(params.max_gap), float(params.hallway_min_width), float(params.hallway_max_width))
+    return None if kind == _NONE else (angle, distance, kind == _HALLWAY)
+
+
+_NONE, _ENTRANCE, _HALLWAY = 0, 1, 2
+
+
+def _example() -> tuple:
+    return np.array([[1.0, -1.0, 1.0, 1.0], [1.0, 1.8, 1.0, 3.0], [-1.0, 3.0, -1.0, -1.0]]), 0.2, 0.5, 1.5, 1.0, 3.0
+
+
+@kernel(_example)
+def scan_entrance(segments: np.ndarray, tol: float, min_gap: float, max_gap: float, hallway_min: float,
+                  hallway_max: float) -> tuple[int, float, float]:
+    """(kind: 0 none, 1 entrance, 2 hallway; angle; distance) of the current map (S, 4).
+
+    Directions theta = atan2(dy, dx); two directions are parallel when
+    |((theta_j - theta_i + pi/2) mod pi) - pi/2| < tol (perpendicular: that minus pi/2).
+    Two walls, parallel and hallway_min..hallway_max apart (|n_0 . (mid_1 - p_0)|, n the
+    normal): a hallway, its point midway between their far ends. Else the widest gap
+    min_gap..max_gap from a wall's end to the start of one of the next two, parallel or
+    perpendicular: an entrance, its point midway."""
+    s = segments.shape[0]
     if s < 2:
-        return None
-    d = segments[:, 2:4] - segments[:, 0:2]
-    theta = np.arctan2(d[:, 1], d[:, 0])
+        return _NONE, 0.0, 0.0
+    theta = np.empty(s)
+    for i in range(s):
+        theta[i] = np.arctan2(segments[i, 3] - segments[i, 1], segments[i, 2] - segments[i, 0])
     if s == 2:
         diff = abs((theta[1] - theta[0] + math.pi / 2) % math.pi - math.pi / 2)
-        if diff < params.parallel_tolerance:
-            n = np.array([-math.sin(theta[0]), math.cos(theta[0])])
-            mid1 = (segments[1, 0:2] + segments[1, 2:4]) / 2
-            width = abs(float(n @ (mid1 - segments[0, 0:2])))
-            if params.hallway_min_width <= width <= params.hallway_max_width:
-                ends = segments.reshape(-1, 2)
-                r = np.hypot(ends[:, 0], ends[:, 1])
-                far0 = ends[0:2][np.argmax(r[0:2])]
-                far1 = ends[2:4][np.argmax(r[2:4])]
-                p = (far0 + far1) / 2
-                return math.atan2(p[1], p[0]), math.hypot(p[0], p[1]), True
-    best: tuple[float, float, float] | None = None
-    th = theta.tolist()
-    seg = segments.tolist()
-    tol = params.parallel_tolerance
+        if diff < tol:
+            nx, ny = -math.sin(theta[0]), math.cos(theta[0])
+            mx, my = (segments[1, 0] + segments[1, 2]) / 2, (segments[1, 1] + segments[1, 3]) / 2
+            width = abs(nx * (mx - segments[0, 0]) + ny * (my - segments[0, 1]))
+            if hallway_min <= width <= hallway_max:
+                px = py = 0.0
+                for w in range(2):  # each wall's end farther from the robot (the first on ties)
+                    far = 2 if np.hypot(segments[w, 2], segments[w, 3]) > np.hypot(segments[w, 0], segments[w, 1]) else 0
+                    px, py = px + segments[w, far], py + segments[w, far + 1]
+                px, py = px / 2, py / 2
+                return _HALLWAY, math.atan2(py, px), np.hypot(px, py)
+    best, bx, by = -1.0, 0.0, 0.0
     for i in range(s - 1):
         for j in range(i + 1, min(i + 3, s)):
-            gap = math.hypot(seg[j][0] - seg[i][2], seg[j][1] - seg[i][3])
-            if not params.min_gap <= gap <= params.max_gap or (best is not None and gap <= best[0]):
+            gap = np.hypot(segments[j, 0] - segments[i, 2], segments[j, 1] - segments[i, 3])
+            if not (min_gap <= gap <= max_gap) or (best >= 0 and gap <= best):
                 continue
-            diff = abs((th[j] - th[i] + math.pi / 2) % math.pi - math.pi / 2)
+            diff = abs((theta[j] - theta[i] + math.pi / 2) % math.pi - math.pi / 2)
             if diff < tol or abs(diff - math.pi / 2) < tol:
-                best = (gap, (seg[i][2] + seg[j][0]) / 2, (seg[i][3] + seg[j][1]) / 2)
-    if best is None:
-        return None
-    return math.atan2(best[2], best[1]), math.hypot(best[1], best[2]), False
+                best, bx, by = gap, (segments[i, 2] + segments[j, 0]) / 2, (segments[i, 3] + segments[j, 1]) / 2
+    if best < 0:
+        return _NONE, 0.0, 0.0
+    return _ENTRANCE, math.atan2(by, bx), np.hypot(bx, by)
 
 
 def median_entrance(history: tuple[Estimate, ...]) -> tuple[tuple[float, float] | None, bool]:

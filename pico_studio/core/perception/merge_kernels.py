@@ -1,4 +1,21 @@
-"""Merge's compiled loops: near pairs, and connecting wall ends into corners (merge.py's maths).
+"""Merge's compiled passes (merge.py calls them in this order; the maths beside each).
+
+One step folds the current map (K new walls, zero frame) into the local map (W walls with
+their hits, last sighting, misses, seen ends, end weights):
+
+1. `fold_in` — associate each new wall with its most similar local wall (`associate`), fuse
+   the matched ones in (`fuse`, in scan order: a wall seen in two pieces takes them one
+   after the other), append the rest as tentative walls.
+2. `merge_similar` — local walls similar both ways are absorbed into the one seen more
+   (`absorb`), up to 8 rounds.
+3. `see_through` — unseen walls the laser passed through count a miss.
+4. `connect` — ends into corners and T's (`near_pairs`, `connect_candidates`, `connect_walk`).
+5. `drop_mask`, then `compact` — what stays; the connections renumbered.
+
+Similar (`similar`). Wall b is similar to wall a (from p_a, unit direction d_a, length l_a)
+when |d_a . d_b| > cos(angle), b's ends lie within `distance` of a's line
+(n = |(q - p_a) x d_a|) and b's extent along it, t = (q - p_a) . d_a, overlaps [0, l_a] or
+leaves a gap max(min t - l_a, -max t) below `gap`. Its cost: the mean of the two n.
 
 Near pairs. Walls i != k whose bounding boxes, grown by r, overlap — in row order (i, then
 k), as numpy's nonzero lists them: the only pairs that can merge or connect.
@@ -14,11 +31,12 @@ corner when |c| > sin(connect_min_angle) and both distances are below r; a T (i'
 k's inside) when i's distance is below r and -r < u < l_k + r instead. Its cost: the two
 distances, plus r for each tentative wall (seen fewer than `confirm_hits` times).
 
-Connecting. Corners in order of cost, then T's in order of i's distance, each taking ends
-still free: the corner is the crossing x = p_i + s d_i pulled towards the previous corner
-(the mean of the two ends) by the end weight w = min(max(w_i, w_k), max_weight):
-(w prev + x) / (w + 1); a T pulls i's end towards x alike. Ends read p_i from the walls as
-they move, so a moved end moves later crossings (the order matters, as in the Python).
+Connecting. Corners in order of cost, then T's in order of i's distance (stable sorts: ties
+keep pair order), each taking ends still free: the corner is the crossing x = p_i + s d_i
+pulled towards the previous corner (the mean of the two ends) by the end weight
+w = min(max(w_i, w_k), max_weight): (w prev + x) / (w + 1); a T pulls i's end towards x
+alike. Ends read p_i from the walls as they move, so a moved end moves later crossings (the
+order matters, as in the Python).
 """
 
 from __future__ import annotations
@@ -27,7 +45,245 @@ import math
 
 import numpy as np
 
-from pico_studio.jit import kernel
+from pico_studio.jit import kernel, njit
+
+# the local map's per-wall arrays, in the order every pass takes and returns them:
+# walls (W, 4) float, hits (W,) float, last_seen (W,) int64, missed (W,) int64,
+# seen_end (W, 2) bool, end_weight (W, 2) float
+
+
+def _example_map() -> tuple:
+    walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.05, 1.0, 1.0], [3.0, 3.0, 4.0, 3.0]])
+    return (walls, np.array([3.0, 1.0, 2.0]), np.zeros(3, dtype=np.int64), np.zeros(3, dtype=np.int64),
+            np.zeros((3, 2), dtype=np.bool_), np.zeros((3, 2)))
+
+
+@njit
+def direction(walls: np.ndarray, i: int) -> tuple[float, float, float]:
+    """(d_x, d_y, length) of wall i: d = (end - start) / max(length, 1e-12)."""
+    dx, dy = walls[i, 2] - walls[i, 0], walls[i, 3] - walls[i, 1]
+    length = np.hypot(dx, dy)
+    den = max(length, 1e-12)
+    return dx / den, dy / den, length
+
+
+@njit
+def similar(a: np.ndarray, i: int, b: np.ndarray, j: int, cos_angle: float, distance: float,
+            gap: float) -> tuple[bool, float]:
+    """Is wall b[j] similar to wall a[i] (see the module docstring), and its cost."""
+    dax, day, la = direction(a, i)
+    dbx, dby, _ = direction(b, j)
+    ang_ok = abs(dax * dbx + day * dby) > cos_angle
+    r0x, r0y = b[j, 0] - a[i, 0], b[j, 1] - a[i, 1]
+    r1x, r1y = b[j, 2] - a[i, 0], b[j, 3] - a[i, 1]
+    t0, t1 = r0x * dax + r0y * day, r1x * dax + r1y * day
+    n0, n1 = abs(r0x * day - r0y * dax), abs(r1x * day - r1y * dax)
+    near = max(n0, n1) < distance
+    ext = max(min(t0, t1) - la, -max(t0, t1))
+    return ang_ok and near and ext < gap, (n0 + n1) / 2
+
+
+def _example_associate() -> tuple:
+    walls = _example_map()[0]
+    return walls, np.array([[0.1, 0.02, 0.9, 0.01]]), 0.98, 0.08, 0.15
+
+
+@kernel(_example_associate)
+def associate(walls: np.ndarray, new: np.ndarray, cos_angle: float, distance: float, gap: float) -> np.ndarray:
+    """(K,) int64: the local wall each new wall is most similar to (least cost, the first
+    on ties), -1 none."""
+    target = np.full(new.shape[0], -1, dtype=np.int64)
+    for j in range(new.shape[0]):
+        best = np.inf
+        for i in range(walls.shape[0]):
+            ok, cost = similar(walls, i, new, j, cos_angle, distance, gap)
+            if ok and cost < best:
+                best, target[j] = cost, i
+    return target
+
+
+def _example_fold_in() -> tuple:
+    new = np.array([[0.1, 0.02, 0.9, 0.01], [5.0, 5.0, 6.0, 5.0]])
+    real = np.array([[True, False], [True, True]])
+    return (*_example_map(), new, real, real.copy(), 1, 0.98, 0.08, 0.15, 10.0)
+
+
+@kernel(_example_fold_in)
+def fold_in(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray,
+            seen_end: np.ndarray, end_weight: np.ndarray, new: np.ndarray, real: np.ndarray, seen: np.ndarray,
+            step: int, cos_angle: float, distance: float, gap: float, max_weight: float) -> tuple:
+    """Steps 1-3: the map's arrays (copies, W + fresh rows) with the new walls associated,
+    fused in (`fuse`, new wall by new wall in scan order) and the unmatched ones appended
+    (seen once, now; their seen ends are the scan's)."""
+    target = associate(walls, new, cos_angle, distance, gap)
+    w, k = walls.shape[0], new.shape[0]
+    fresh = 0
+    for j in range(k):
+        fresh += target[j] < 0
+    n = w + fresh
+    walls2, hits2 = np.empty((n, 4)), np.empty(n)
+    last2, missed2 = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+    seen2, weight2 = np.empty((n, 2), dtype=np.bool_), np.zeros((n, 2))
+    walls2[:w] = walls
+    hits2[:w] = hits
+    last2[:w] = last_seen
+    missed2[:w] = missed
+    seen2[:w] = seen_end
+    weight2[:w] = end_weight
+    matched = np.flatnonzero(target >= 0)
+    fuse(walls2, hits2, last2, missed2, seen2, target[matched], new[matched], real[matched], seen[matched],
+         step, max_weight, gap)
+    m = w
+    for j in range(k):
+        if target[j] < 0:
+            walls2[m] = new[j]
+            hits2[m], last2[m], missed2[m] = 1.0, step, 0
+            seen2[m] = seen[j]
+            m += 1
+    return walls2, hits2, last2, missed2, seen2, weight2
+
+
+def _example_fuse() -> tuple:
+    walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.05, 1.0, 1.0]])
+    seg = np.array([[1.2, 0.02, 0.1, 0.01]])
+    real = np.array([[True, False]])
+    return (walls, np.array([3.0, 1.0]), np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64),
+            np.zeros((2, 2), dtype=np.bool_), np.array([0], dtype=np.int64), seg, real, real.copy(), 1, 5.0, 0.3)
+
+
+@kernel(_example_fuse)
+def fuse(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray, seen_end: np.ndarray,
+         idx: np.ndarray, seg: np.ndarray, real: np.ndarray, seen: np.ndarray, step: int, max_weight: float,
+         gap: float) -> None:
+    """Fuse new walls seg (K, 4) into local walls idx (K,), one after the other, in place.
+
+    Each new wall is oriented like its old one (flipped when d_new . d_old < 0). With the
+    old wall's weight w = min(hits, max_weight): the direction turns from the old one by
+    atan2(d_old x d_new, d_old . d_new) / (w + 1), the line's offset rho (along the normal
+    n) is the weighted mean (w n.mid_old + n.mid_new) / (w + 1). On that line, with old ends
+    at a and new ends at b (positions along d from rho n), `beyond` says how far the new
+    end reaches past the old one. A real new end (seen past, or a corner of the scan) no
+    further than `gap` inside: it wins when past the old end by more than `gap` (or past a
+    floating old end), else pulls the old end to (w a + b) / (w + 1). Any other new end only
+    extends the wall."""
+    for r in range(idx.shape[0]):
+        i = idx[r]
+        ox0, oy0, ox1, oy1 = walls[i, 0], walls[i, 1], walls[i, 2], walls[i, 3]
+        lo = max(np.hypot(ox1 - ox0, oy1 - oy0), 1e-12)
+        dox, doy = (ox1 - ox0) / lo, (oy1 - oy0) / lo
+        nx0, ny0, nx1, ny1 = seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3]
+        ln = max(np.hypot(nx1 - nx0, ny1 - ny0), 1e-12)
+        dnx, dny = (nx1 - nx0) / ln, (ny1 - ny0) / ln
+        real0, real1, seen0, seen1 = real[r, 0], real[r, 1], seen[r, 0], seen[r, 1]
+        if dnx * dox + dny * doy < 0:
+            nx0, ny0, nx1, ny1 = nx1, ny1, nx0, ny0
+            dnx, dny = -dnx, -dny
+            real0, real1, seen0, seen1 = real1, real0, seen1, seen0
+        wo = min(hits[i], max_weight)
+        da = np.arctan2(dox * dny - doy * dnx, dox * dnx + doy * dny)
+        ang = np.arctan2(doy, dox) + da / (wo + 1.0)
+        dx, dy = np.cos(ang), np.sin(ang)
+        mx, my = -dy, dx
+        rho = (wo * (mx * ((ox0 + ox1) / 2) + my * ((oy0 + oy1) / 2))
+               + (mx * ((nx0 + nx1) / 2) + my * ((ny0 + ny1) / 2))) / (wo + 1.0)
+        cx, cy = rho * mx, rho * my
+        a0, a1 = (ox0 - cx) * dx + (oy0 - cy) * dy, (ox1 - cx) * dx + (oy1 - cy) * dy
+        b0, b1 = (nx0 - cx) * dx + (ny0 - cy) * dy, (nx1 - cx) * dx + (ny1 - cy) * dy
+        out = np.empty(2)
+        for e in range(2):
+            a, b = (a0, b0) if e == 0 else (a1, b1)
+            beyond = (b - a) * (-1.0 if e == 0 else 1.0)
+            old_seen = seen_end[i, e]
+            blend = (wo * a + b) / (wo + 1.0)
+            is_real = real0 if e == 0 else real1
+            near_real = is_real and beyond > -gap
+            take_new = beyond > gap or (beyond >= 0 and not old_seen)
+            if near_real:
+                out[e] = b if take_new else blend
+                seen_end[i, e] = seen0 if e == 0 else seen1
+            else:
+                out[e] = b if beyond > 0 else a
+                seen_end[i, e] = False if beyond > gap else old_seen
+        walls[i, 0], walls[i, 1] = cx + out[0] * dx, cy + out[0] * dy
+        walls[i, 2], walls[i, 3] = cx + out[1] * dx, cy + out[1] * dy
+        hits[i] += 1
+        last_seen[i] = step
+        missed[i] = 0
+
+
+def _example_merge_similar() -> tuple:
+    walls, hits, last, missed, seen, weight = _example_map()
+    walls = np.vstack([walls, [[0.9, 0.01, 1.8, 0.02]]])
+    return (walls, np.append(hits, 1.0), np.append(last, 0), np.append(missed, 0), np.vstack([seen, [[True, False]]]),
+            np.vstack([weight, [[0.0, 0.0]]]), 0.98, 0.08, 0.15, 10.0)
+
+
+@kernel(_example_merge_similar)
+def merge_similar(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray,
+                  seen_end: np.ndarray, end_weight: np.ndarray, cos_angle: float, distance: float, gap: float,
+                  max_weight: float) -> tuple:
+    """Step 4: local walls similar to each other both ways (a wall seen in two pieces) merge:
+    pairs i < k with bounding boxes within max(gap, distance), in row order, each wall once
+    a round; the one seen more (i on ties) absorbs the other. Up to 8 rounds, until none."""
+    r = max(gap, distance)
+    for _ in range(8):
+        n = walls.shape[0]
+        if n < 2:
+            break
+        ia, ka = near_pairs(walls, r)
+        pairs = []
+        for m in range(ia.shape[0]):
+            i, k = ia[m], ka[m]
+            if i < k and similar(walls, i, walls, k, cos_angle, distance, gap)[0] \
+                    and similar(walls, k, walls, i, cos_angle, distance, gap)[0]:
+                pairs.append((i, k))
+        if len(pairs) == 0:
+            break
+        gone = np.zeros(n, dtype=np.bool_)
+        for i, k in pairs:  # tested on the round's walls, absorbed one after the other
+            if gone[i] or gone[k]:
+                continue
+            keep, drop = (i, k) if hits[i] >= hits[k] else (k, i)
+            absorb(walls, hits, last_seen, missed, seen_end, keep, drop, max_weight)
+            gone[drop] = True
+        walls, hits, last_seen, missed, seen_end, end_weight, _ = compact(
+            ~gone, walls, hits, last_seen, missed, seen_end, end_weight, np.full((n, 2), -1, dtype=np.int64))
+    return walls, hits, last_seen, missed, seen_end, end_weight
+
+
+@njit
+def absorb(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray, seen_end: np.ndarray,
+           i: int, k: int, max_weight: float) -> None:
+    """Wall i takes wall k in, in place. With k oriented like i (flipped when d_i . d_k < 0)
+    and weights w = min(hits, max_weight): the direction turns from i's by
+    atan2(d_i x d_k, d_i . d_k) w_k / (w_i + w_k), the offset rho along the normal n is the
+    weighted mean of n . mid; on that line the outermost ends win (with their seen flags).
+    Hits add up, the last sighting is the later, the misses the fewer."""
+    bx0, by0, bx1, by1 = walls[k, 0], walls[k, 1], walls[k, 2], walls[k, 3]
+    dax, day, _ = direction(walls, i)
+    dbx, dby, _ = direction(walls, k)
+    seen_k0, seen_k1 = seen_end[k, 0], seen_end[k, 1]
+    if dax * dbx + day * dby < 0:
+        bx0, by0, bx1, by1 = bx1, by1, bx0, by0
+        dbx, dby = -dbx, -dby
+        seen_k0, seen_k1 = seen_k1, seen_k0
+    wa, wb = min(hits[i], max_weight), min(hits[k], max_weight)
+    ang = math.atan2(day, dax) + math.atan2(dax * dby - day * dbx, dax * dbx + day * dby) * wb / (wa + wb)
+    dx, dy = math.cos(ang), math.sin(ang)
+    nx, ny = -dy, dx
+    ax0, ay0, ax1, ay1 = walls[i, 0], walls[i, 1], walls[i, 2], walls[i, 3]
+    rho = (wa * ((nx * (ax0 + ax1) + ny * (ay0 + ay1)) / 2) + wb * ((nx * (bx0 + bx1) + ny * (by0 + by1)) / 2)) / (wa + wb)
+    ox, oy = rho * nx, rho * ny
+    ta0, ta1 = (ax0 - ox) * dx + (ay0 - oy) * dy, (ax1 - ox) * dx + (ay1 - oy) * dy
+    tb0, tb1 = (bx0 - ox) * dx + (by0 - oy) * dy, (bx1 - ox) * dx + (by1 - oy) * dy
+    lo, lo_seen = (ta0, seen_end[i, 0]) if ta0 <= tb0 else (tb0, seen_k0)
+    hi, hi_seen = (ta1, seen_end[i, 1]) if ta1 >= tb1 else (tb1, seen_k1)
+    walls[i, 0], walls[i, 1] = ox + lo * dx, oy + lo * dy
+    walls[i, 2], walls[i, 3] = ox + hi * dx, oy + hi * dy
+    seen_end[i, 0], seen_end[i, 1] = lo_seen, hi_seen
+    hits[i] = hits[i] + hits[k]
+    last_seen[i] = max(last_seen[i], last_seen[k])
+    missed[i] = min(missed[i], missed[k])
 
 
 def _example_walls() -> tuple:
@@ -146,85 +402,17 @@ def connect_walk(walls: np.ndarray, d: np.ndarray, old_weight: np.ndarray, seen:
     return conn, ew
 
 
-def _example_fuse() -> tuple:
-    walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.05, 1.0, 1.0]])
-    seg = np.array([[1.2, 0.02, 0.1, 0.01]])
-    real = np.array([[True, False]])
-    return (walls, np.array([3.0, 1.0]), np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64),
-            np.zeros((2, 2), dtype=np.bool_), np.array([0], dtype=np.int64), seg, real, real.copy(), 1, 5.0, 0.3)
-
-
-@kernel(_example_fuse)
-def fuse(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray, seen_end: np.ndarray,
-         idx: np.ndarray, seg: np.ndarray, real: np.ndarray, seen: np.ndarray, step: int, max_weight: float,
-         gap: float) -> None:
-    """Fuse new walls seg (K, 4) into local walls idx (K,) (distinct), in place.
-
-    Each new wall is oriented like its old one (flipped when d_new . d_old < 0). With the
-    old wall's weight w = min(hits, max_weight): the direction turns from the old one by
-    atan2(d_old x d_new, d_old . d_new) / (w + 1), the line's offset rho (along the normal
-    n) is the weighted mean (w n.mid_old + n.mid_new) / (w + 1). On that line, with old ends
-    at a and new ends at b (positions along d from rho n), `beyond` says how far the new
-    end reaches past the old one. A real new end (seen past, or a corner of the scan) no
-    further than `gap` inside: it wins when past the old end by more than `gap` (or past a
-    floating old end), else pulls the old end to (w a + b) / (w + 1). Any other new end only
-    extends the wall."""
-    for r in range(idx.shape[0]):
-        i = idx[r]
-        ox0, oy0, ox1, oy1 = walls[i, 0], walls[i, 1], walls[i, 2], walls[i, 3]
-        lo = max(np.hypot(ox1 - ox0, oy1 - oy0), 1e-12)
-        dox, doy = (ox1 - ox0) / lo, (oy1 - oy0) / lo
-        nx0, ny0, nx1, ny1 = seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3]
-        ln = max(np.hypot(nx1 - nx0, ny1 - ny0), 1e-12)
-        dnx, dny = (nx1 - nx0) / ln, (ny1 - ny0) / ln
-        real0, real1, seen0, seen1 = real[r, 0], real[r, 1], seen[r, 0], seen[r, 1]
-        if dnx * dox + dny * doy < 0:
-            nx0, ny0, nx1, ny1 = nx1, ny1, nx0, ny0
-            dnx, dny = -dnx, -dny
-            real0, real1, seen0, seen1 = real1, real0, seen1, seen0
-        wo = min(hits[i], max_weight)
-        da = np.arctan2(dox * dny - doy * dnx, dox * dnx + doy * dny)
-        ang = np.arctan2(doy, dox) + da / (wo + 1.0)
-        dx, dy = np.cos(ang), np.sin(ang)
-        mx, my = -dy, dx
-        rho = (wo * (mx * ((ox0 + ox1) / 2) + my * ((oy0 + oy1) / 2))
-               + (mx * ((nx0 + nx1) / 2) + my * ((ny0 + ny1) / 2))) / (wo + 1.0)
-        cx, cy = rho * mx, rho * my
-        a0, a1 = (ox0 - cx) * dx + (oy0 - cy) * dy, (ox1 - cx) * dx + (oy1 - cy) * dy
-        b0, b1 = (nx0 - cx) * dx + (ny0 - cy) * dy, (nx1 - cx) * dx + (ny1 - cy) * dy
-        out = np.empty(2)
-        for e in range(2):
-            a, b = (a0, b0) if e == 0 else (a1, b1)
-            beyond = (b - a) * (-1.0 if e == 0 else 1.0)
-            old_seen = seen_end[i, e]
-            blend = (wo * a + b) / (wo + 1.0)
-            is_real = real0 if e == 0 else real1
-            near_real = is_real and beyond > -gap
-            take_new = beyond > gap or (beyond >= 0 and not old_seen)
-            if near_real:
-                out[e] = b if take_new else blend
-                seen_end[i, e] = seen0 if e == 0 else seen1
-            else:
-                out[e] = b if beyond > 0 else a
-                seen_end[i, e] = False if beyond > gap else old_seen
-        walls[i, 0], walls[i, 1] = cx + out[0] * dx, cy + out[0] * dy
-        walls[i, 2], walls[i, 3] = cx + out[1] * dx, cy + out[1] * dy
-        hits[i] += 1
-        last_seen[i] = step
-        missed[i] = 0
-
-
 def _example_see_through() -> tuple:
     walls = np.array([[1.0, -1.0, 1.0, 1.0], [3.0, 3.0, 4.0, 3.0]])
-    unseen = np.array([True, True])
     ranges, valid = np.array([2.0, 2.0, 0.5]), np.array([True, True, False])
-    return walls, unseen, np.zeros(2, dtype=np.int64), 0.0, 0.0, 0.0, ranges, valid, -0.5, 0.5, 0.1
+    return walls, np.zeros(2, dtype=np.int64), 1, np.zeros(2, dtype=np.int64), 0.0, 0.0, 0.0, ranges, valid, -0.5, 0.5, 0.1
 
 
 @kernel(_example_see_through)
-def see_through(walls: np.ndarray, unseen: np.ndarray, missed: np.ndarray, px: float, py: float, pa: float,
+def see_through(walls: np.ndarray, last_seen: np.ndarray, step: int, missed: np.ndarray, px: float, py: float, pa: float,
                 ranges: np.ndarray, valid: np.ndarray, a0: float, inc: float, margin: float) -> None:
-    """Count, in place in `missed`, the scans the laser passed through each unseen wall.
+    """Step 3: count, in place in `missed`, the scans the laser passed through each wall not
+    seen this scan (last_seen != step).
 
     Five points q of the wall (fractions 0.2 .. 0.8), in the robot's frame at distance |q|
     and bearing atan2; the beam at that bearing (rint((bearing - a0) / inc)) measured m
@@ -235,7 +423,7 @@ def see_through(walls: np.ndarray, unseen: np.ndarray, missed: np.ndarray, px: f
     n_beams = ranges.shape[0]
     c, s_ = math.cos(pa), math.sin(pa)
     for k in range(walls.shape[0]):
-        if not unseen[k]:
+        if last_seen[k] == step:  # seen this scan
             continue
         through_n, blocked_n, on_n = 0, 0, 0
         for f in (0.2, 0.35, 0.5, 0.65, 0.8):
@@ -259,3 +447,119 @@ def see_through(walls: np.ndarray, unseen: np.ndarray, missed: np.ndarray, px: f
             missed[k] += 1
         elif on_n > 5 // 2:
             missed[k] = 0
+
+
+def _example_connect() -> tuple:
+    walls, hits, _, _, seen, weight = _example_map()
+    return walls.copy(), hits, weight, seen.copy(), 0.12, 0.48, 1.0, 10.0
+
+
+@kernel(_example_connect)
+def connect(walls: np.ndarray, hits: np.ndarray, end_weight: np.ndarray, seen_end: np.ndarray, r: float,
+            sin_min: float, confirm_hits: float, cap: float) -> tuple[np.ndarray, np.ndarray]:
+    """Step 5: connect wall ends into corners and T's (the module docstring), moving `walls`
+    and clearing `seen_end` in place: (connected (W, 2) int64, -1 none; end weights (W, 2))."""
+    n = walls.shape[0]
+    ia, ka = near_pairs(walls, r)
+    if ia.shape[0] == 0:
+        return np.full((n, 2), -1, dtype=np.int64), np.zeros((n, 2))
+    d, ei, ek, s, dist_i, cost, end_end, t_join = connect_candidates(walls, ia, ka, hits, r, sin_min, confirm_hits)
+    # tentative walls connect last (their cost carries r): a sliver seen once must not steal
+    # a corner from walls seen many times
+    pairs = np.flatnonzero(end_end & (ia < ka))
+    tees = np.flatnonzero(t_join)
+    pairs = pairs[np.argsort(cost[pairs], kind="mergesort")]
+    tees = tees[np.argsort(dist_i[tees], kind="mergesort")]
+    # a handful of corners per scan, one after the other (each may take an end another wanted)
+    return connect_walk(walls, d, end_weight, seen_end, ia, ka, ei, ek, s, pairs, tees, cap)
+
+
+def _example_drop() -> tuple:
+    walls, hits, last, missed, _, _ = _example_map()
+    conn = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    return walls, hits, last, missed, conn, 0.0, 0.0, 1, 2, 5, 6, 0, 12.0, 0.06
+
+
+@kernel(_example_drop)
+def drop_mask(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray,
+              connected: np.ndarray, px: float, py: float, step: int, unconnected_hits: float,
+              tentative_life: int, miss_limit: int, forget_scans: int, keep_radius: float,
+              min_length: float) -> np.ndarray:
+    """Step 6 (W,) bool, the walls kept: passed through fewer than `miss_limit` scans in a
+    row; a tentative wall (fewer than `unconnected_hits` hits) seen within `tentative_life`
+    scans, or 4x that when connected; seen within `forget_scans` (when set); some point
+    a + t (b - a), t = clip((p - a).(b - a) / |b - a|^2, 0, 1), within `keep_radius` of the
+    robot p; at least `min_length` long."""
+    n = walls.shape[0]
+    keep = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        linked = connected[i, 0] >= 0 or connected[i, 1] >= 0
+        age = step - last_seen[i]
+        tentative = hits[i] < unconnected_hits
+        ok = missed[i] < miss_limit and not (tentative and not linked and age > tentative_life)
+        ok = ok and not (tentative and linked and age > 4 * tentative_life)
+        ax, ay, bx, by = walls[i, 0], walls[i, 1], walls[i, 2], walls[i, 3]
+        abx, aby = bx - ax, by - ay
+        t = ((px - ax) * abx + (py - ay) * aby) / max(abx * abx + aby * aby, 1e-12)
+        t = min(max(t, 0.0), 1.0)
+        ok = ok and np.hypot(ax + t * abx - px, ay + t * aby - py) <= keep_radius
+        if forget_scans > 0:
+            ok = ok and age <= forget_scans
+        keep[i] = ok and np.hypot(abx, aby) >= min_length
+    return keep
+
+
+def _example_compact() -> tuple:
+    conn = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    return (np.array([True, False, True]), *_example_map(), conn)
+
+
+@kernel(_example_compact)
+def compact(keep: np.ndarray, walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray,
+            seen_end: np.ndarray, end_weight: np.ndarray, connected: np.ndarray) -> tuple:
+    """The rows `keep` of every array; connections to dropped walls become -1, the others
+    take their wall's new number."""
+    n = keep.shape[0]
+    remap = np.full(n, -1, dtype=np.int64)
+    m = 0
+    for i in range(n):
+        if keep[i]:
+            remap[i] = m
+            m += 1
+    conn = np.empty((m, 2), dtype=np.int64)
+    for i in range(n):
+        if keep[i]:
+            for e in range(2):
+                c = connected[i, e]
+                conn[remap[i], e] = remap[c] if c >= 0 else -1
+    return walls[keep], hits[keep], last_seen[keep], missed[keep], seen_end[keep], end_weight[keep], conn
+
+
+def _example_shown() -> tuple:
+    conn = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    return np.array([3.0, 1.0, 2.0]), conn, 1.0, 2.0
+
+
+@kernel(_example_shown)
+def shown_walls(hits: np.ndarray, connected: np.ndarray, confirm_hits: float,
+                unconnected_hits: float) -> tuple[np.ndarray, np.ndarray]:
+    """The walls shown — seen at least `confirm_hits` times and connected, or seen
+    `unconnected_hits` times — as (indices (S,), their connections renumbered among the
+    shown (S, 2), -1 none or not shown)."""
+    n = hits.shape[0]
+    remap = np.full(n, -1, dtype=np.int64)
+    m = 0
+    for i in range(n):
+        linked = connected[i, 0] >= 0 or connected[i, 1] >= 0
+        if hits[i] >= confirm_hits and (linked or hits[i] >= unconnected_hits):
+            remap[i] = m
+            m += 1
+    idx = np.empty(m, dtype=np.int64)
+    conn = np.empty((m, 2), dtype=np.int64)
+    for i in range(n):
+        if remap[i] >= 0:
+            idx[remap[i]] = i
+            for e in range(2):
+                c = connected[i, e]
+                conn[remap[i], e] = remap[c] if c >= 0 else -1
+    return idx, conn

@@ -118,22 +118,22 @@ def _perceive(
     fit = None
     if params.scan_match.enabled and len(state.local_map.walls):
         firm = state.local_map.hits >= params.scan_match.min_wall_hits
-        still = ~np.repeat(objs.held, scan.clusters[:, 1] - scan.clusters[:, 0])  # not objects being tracked
-        fit = match_scan(scan.points[still], state.local_map.walls[firm], loc.pose, step, params.scan_match)
+        points = scan.points
+        if objs.held.any():  # not the points of objects being tracked
+            points = points[~np.repeat(objs.held, scan.clusters[:, 1] - scan.clusters[:, 0])]
+        fit = match_scan(points, state.local_map.walls[firm], loc.pose, step, params.scan_match)
         if fit.accepted:
             loc = loc.corrected(fit.pose)
     lap("scan_match")
-    kept = ~objs.held[segs.cluster] if len(segs.cluster) else np.zeros(0, dtype=bool)
     local_before = drop_near(state.local_map, objs.vanished_at, params.objects.max_size)
-    free = Segments(segs.segments[kept], segs.index[kept], segs.cluster[kept], segs.end_kind[kept], segs.rms[kept],
-                    segs.covariance[kept])
+    free = segs
+    if objs.held.any():  # the walls of objects being tracked stay out of the local map
+        kept = ~objs.held[segs.cluster]
+        free = Segments(segs.segments[kept], segs.index[kept], segs.cluster[kept], segs.end_kind[kept],
+                        segs.rms[kept], segs.covariance[kept])
     local = merge(local_before, free, loc.pose, scan, params.merge)
     lap("merge")
-    shown = local.shown(params.merge)
-    idx = np.flatnonzero(shown)
-    remap = np.full(len(shown) + 1, -1, dtype=np.int64)
-    remap[idx] = np.arange(len(idx))
-    conn = remap[np.where(local.connected >= 0, local.connected, len(shown))][idx]
+    idx, conn = local.shown_walls(params.merge)
     view = View(scan.ranges, scan.angles, scan.valid, loc.pose)
     ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view)
     lap("identify")
@@ -147,35 +147,23 @@ def _perceive(
     lap("rooms")
 
     new_state = PerceptorState(loc, local, history, side, corners_now, stamp, objects_state)
-    wm = _model(new_state, stamp, timings, warnings)
-    wm.points = scan.all_points
-    wm.beam_valid = scan.valid
-    wm.proximity = prox
-    wm.too_close = bool(prox.any())
-    wm.current_map = segs.segments
-    wm.current_map_covariance = segs.covariance
-    wm.spike_corners = spikes
-    wm.vector_corners = vec
-    wm.vector_corner_inner = inner
-    wm.local_map = LocalMap(local.walls[idx].copy(), ident.endpoint_property)
-    wm.corners = ident.corners
-    wm.corner_convex = ident.corner_convex
-    wm.doors = ident.doors
-    wm.door_kind = ident.door_kind
-    wm.objects = objs.static_boxes
-    wm.dynamic_obstacles = objs.dynamic_boxes
-    wm.dynamic_points = scan.points[np.repeat(objs.dynamic, scan.clusters[:, 1] - scan.clusters[:, 0])]
-    wm.object_walls = ident.object_wall
-    wm.possible_doors = ident.possible_doors
-    wm.possible_door_kind = ident.possible_door_kind
-    wm.entrance = entrance
-    wm.hallway = hallway
-    wm.room = room
-    wm.laser_motion = motion
-    wm.laser_motion_matches = matches
-    if fit is not None:
-        wm.pose_correction_quality = fit.quality
-        wm.pose_corrected = fit.accepted
+    dynamic_points = scan.points[np.repeat(objs.dynamic, scan.clusters[:, 1] - scan.clusters[:, 0])] \
+        if objs.dynamic.any() else np.zeros((0, 2))
+    wm = WorldModel(  # every field given: no default made only to be replaced
+        time=stamp, pose=loc.pose, zero_pose=loc.zero_pose, points=scan.all_points, beam_valid=scan.valid,
+        proximity=prox, too_close=bool(prox.any()), current_map=segs.segments,
+        current_map_covariance=segs.covariance, spike_corners=spikes, vector_corners=vec,
+        vector_corner_inner=inner, local_map=LocalMap(local.walls[idx], ident.endpoint_property),
+        corners=ident.corners, corner_convex=ident.corner_convex, doors=ident.doors, door_kind=ident.door_kind,
+        object_walls=ident.object_wall, objects=objs.static_boxes, dynamic_obstacles=objs.dynamic_boxes,
+        dynamic_points=dynamic_points, possible_doors=ident.possible_doors,
+        possible_door_kind=ident.possible_door_kind, entrance=entrance, hallway=hallway, room=room,
+        laser_motion=motion, laser_motion_matches=matches,
+        pose_correction_quality=0.0 if fit is None else fit.quality,
+        pose_corrected=False if fit is None else fit.accepted,
+        global_pose=None, localisation_quality=0.0, lost=False, combined=None, extras={},
+        timings_ms=timings, warnings=warnings,
+    )
     timings["total"] = sum(timings.values())
     return wm, new_state
 

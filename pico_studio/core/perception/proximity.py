@@ -1,7 +1,8 @@
 """Close proximity (seed 001): per-beam flags for laser points within a circle around the robot.
 
 Points inside the robot's own footprint (a box centred on the laser) are the robot itself
-(cables, the frame) and neither count as close nor as walls.
+(cables, the frame) and neither count as close nor as walls: the scan stage drops them
+(`scan_kernels.scan_points`), so they are never valid.
 """
 
 from __future__ import annotations
@@ -9,13 +10,6 @@ from __future__ import annotations
 import numpy as np
 
 from pico_studio.config.perception_params import ProximityParams
-
-
-def in_footprint(xy: np.ndarray, params: ProximityParams) -> np.ndarray:
-    """(n,) bool: which points (n, 2) lie inside the footprint box."""
-    return (np.abs(xy[:, 0]) <= params.footprint_length / 2) & (
-        np.abs(xy[:, 1]) <= params.footprint_width / 2
-    )
 
 
 def proximity_flags(ranges: np.ndarray, valid: np.ndarray, params: ProximityParams) -> np.ndarray:

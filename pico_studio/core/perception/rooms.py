@@ -16,31 +16,62 @@ from typing import Any
 import numpy as np
 
 from pico_studio.config.perception_params import RoomParams
+from pico_studio.jit import kernel
 
 
 def side_range(ranges: np.ndarray, angles: np.ndarray, valid: np.ndarray, params: RoomParams) -> float | None:
     if len(angles) == 0:
         return None
-    i = int(np.argmin(np.abs(angles - params.side_angle)))
-    if abs(angles[i] - params.side_angle) > 0.05 or not valid[i]:
-        return None
-    return float(ranges[i])
+    r = _side_beam(np.ascontiguousarray(ranges, dtype=float), np.ascontiguousarray(angles, dtype=float),
+                   np.ascontiguousarray(valid, dtype=bool), float(params.side_angle))
+    return None if math.isnan(r) else r
 
 
 def room_content(ranges: np.ndarray, angles: np.ndarray, valid: np.ndarray, params: RoomParams) -> tuple[int, int]:
     """(edges, objects) over the beams facing the side."""
-    sel = np.flatnonzero(valid & (np.abs(angles - params.side_angle) <= params.content_half_angle))
-    if len(sel) < 2:
-        return 0, 0
-    r = ranges[sel]
-    jump = np.flatnonzero(np.abs(np.diff(r)) > params.edge_jump)
-    edges = 0
-    last = -(10**9)
-    for j in (sel[jump]).tolist():  # at most a few dozen jumps
-        if j - last > params.edge_skip:
-            edges += 1
-            last = j
+    edges = _edges(np.ascontiguousarray(ranges, dtype=float), np.ascontiguousarray(angles, dtype=float),
+                   np.ascontiguousarray(valid, dtype=bool), float(params.side_angle), float(params.content_half_angle),
+                   float(params.edge_jump), int(params.edge_skip))
     return edges, int(math.ceil(edges / 2))
+
+
+def _example() -> tuple:
+    angles = np.linspace(-2.0, 2.0, 9)
+    return np.array([1.0, 1.0, 3.0, 3.0, 1.0, 1.0, 2.0, 2.0, 2.0]), angles, np.ones(9, dtype=np.bool_), -1.57
+
+
+@kernel(_example)
+def _side_beam(ranges: np.ndarray, angles: np.ndarray, valid: np.ndarray, side: float) -> float:
+    """The range of the beam nearest the side bearing (the first on ties); NaN when that beam
+    is more than 0.05 rad off or invalid."""
+    i, best = 0, np.inf
+    for k in range(angles.shape[0]):
+        if abs(angles[k] - side) < best:
+            i, best = k, abs(angles[k] - side)
+    if best > 0.05 or not valid[i]:
+        return np.nan
+    return ranges[i]
+
+
+def _example_edges() -> tuple:
+    return (*_example(), 1.0, 0.5, 1)
+
+
+@kernel(_example_edges)
+def _edges(ranges: np.ndarray, angles: np.ndarray, valid: np.ndarray, side: float, half_angle: float,
+           edge_jump: float, edge_skip: int) -> int:
+    """Edges among the valid beams within `half_angle` of the side: a jump above `edge_jump`
+    from one such beam to the next (at beam j, the first of the two), jumps within
+    `edge_skip` beams after an edge belonging to it."""
+    edges, last, prev = 0, -(10**9), -1
+    for j in range(ranges.shape[0]):
+        if not (valid[j] and abs(angles[j] - side) <= half_angle):
+            continue
+        if prev >= 0 and abs(ranges[j] - ranges[prev]) > edge_jump and prev - last > edge_skip:
+            edges += 1
+            last = prev
+        prev = j
+    return edges
 
 
 def rooms(

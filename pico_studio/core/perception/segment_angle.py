@@ -7,7 +7,10 @@ direction is the running (circular) average of the directions of its points,
     mean direction = atan2(sum sin(angle_j), sum cos(angle_j))   over the wall's points j,
 
 and the next point starts a new wall when its direction differs from that average by more
-than `angle_tolerance` — that is where the scan turns a corner. The walk is a sequential
+than `angle_tolerance` — that is where the scan turns a corner. (The test is made as cos of
+the angle between the point's direction and the sum vector against cos(tol), a dot product;
+only a case within rounding of the threshold is decided by the atan2 form above, so the
+walls are those of the atan2 form.) The walk is a sequential
 recurrence (the average resets at every corner), so it is one compiled loop (`_walk`) over
 the whole scan.
 """
@@ -21,6 +24,10 @@ import numpy as np
 from pico_studio.config.perception_params import AngleClusterParams
 from pico_studio.jit import kernel
 
+# the atan2 form of "within tol of the average" and the dot-product form differ by a few
+# 1e-15 (roundings of atan2, the wrap, the sums): far below this margin
+MARGIN = 1e-12
+
 
 def _example() -> tuple:
     pts = np.array([[1.0, 0.1 * i] for i in range(8)] + [[1.0 - 0.1 * i, 0.7] for i in range(1, 8)])
@@ -33,6 +40,7 @@ def _walk(points: np.ndarray, clusters: np.ndarray, k: int, tol: float) -> np.nd
     out = np.empty((max(points.shape[0], 1), 2), dtype=np.int64)
     n_out = 0
     ang = np.empty(points.shape[0])
+    cos_tol = math.cos(tol)
     for c in range(clusters.shape[0]):
         c0, c1 = clusters[c, 0], clusters[c, 1]
         n = c1 - c0
@@ -46,10 +54,20 @@ def _walk(points: np.ndarray, clusters: np.ndarray, k: int, tol: float) -> np.nd
         sx, sy = math.cos(ang[0]), math.sin(ang[0])
         i = 1
         while i < m:
-            diff = (ang[i] - math.atan2(sy, sx) + math.pi) % (2 * math.pi) - math.pi
-            if abs(diff) <= tol:
-                sx += math.cos(ang[i])
-                sy += math.sin(ang[i])
+            ci, si = math.cos(ang[i]), math.sin(ang[i])
+            # within tol of the average: cos of the angle between them against cos(tol), by
+            # the dot product; only a case within rounding (MARGIN) of it takes the atan2s
+            norm = math.sqrt(sx * sx + sy * sy)
+            inside = False
+            cos_between = (ci * sx + si * sy) / norm if norm > 1e-9 else cos_tol
+            if cos_between >= cos_tol + MARGIN:
+                inside = True
+            elif cos_between > cos_tol - MARGIN:
+                diff = (ang[i] - math.atan2(sy, sx) + math.pi) % (2 * math.pi) - math.pi
+                inside = abs(diff) <= tol
+            if inside:
+                sx += ci
+                sy += si
                 i += 1
                 continue
             # the corner lies about half a look-ahead past the first deviating direction;

@@ -9,8 +9,9 @@ draws); a point p is an inlier of it when its distance to the line is within `in
 Keep the hypothesis with the most inliers (the first such). Its wall is the longest
 contiguous run of inliers (at most `max_gap_points` outliers inside it), since a wall is a
 contiguous piece of the scan; the points before and after that run are searched again the
-same way (an explicit stack, the later run first). The random generator is numpy's PCG64
-seeded from `seed` (numba draws the very same integers from it), so a scan always gives
+same way (an explicit stack, the later run first). The random draws are numpy's
+`default_rng(seed).integers`, made inside the loop (pcg64.py: the same integers, without the
+cost of handing numpy's Generator over), from a fresh state per scan, so a scan always gives
 the same walls and the perceptor stays a pure function. One compiled loop (`_extract`).
 """
 
@@ -19,20 +20,23 @@ from __future__ import annotations
 import numpy as np
 
 from pico_studio.config.perception_params import RansacParams
+from pico_studio.core.perception.pcg64 import integers_into, seeded_state
 from pico_studio.jit import kernel
 
 MIN_RUN = 3  # fewer points cannot carry a line hypothesis and its check
+BLOCK = 32  # points counted between checks whether a hypothesis can still win
 
 
 def _example() -> tuple:
     pts = np.array([[1.0, 0.1 * i] for i in range(8)] + [[1.0 - 0.1 * i, 0.7] for i in range(1, 8)])
-    return pts, np.array([[0, 15]], dtype=np.int64), np.random.default_rng(0), 20, 0.02, 2
+    return pts, np.array([[0, 15]], dtype=np.int64), seeded_state(0), 20, 0.02, 2
 
 
 @kernel(_example)
-def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator, iterations: int,
+def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.ndarray, iterations: int,
              inlier_distance: float, max_gap: int) -> np.ndarray:
-    """(S, 2) int64 inclusive [first, last] point index of every wall, in scan order."""
+    """(S, 2) int64 inclusive [first, last] point index of every wall, in scan order; `rng`:
+    the random state (pcg64.seeded_state), advanced by the draws."""
     m_all = points.shape[0]
     out = np.empty((max(m_all, 1), 2), dtype=np.int64)
     n_out = 0
@@ -42,6 +46,8 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator,
         stack[top, 0], stack[top, 1] = clusters[c, 0], clusters[c, 1] - 1
         top += 1
     hits = np.empty(m_all, dtype=np.int64)  # inlier indices of the best hypothesis
+    i_draw = np.empty(iterations, dtype=np.int64)  # a run's random pairs (i, j)
+    j_draw = np.empty(iterations, dtype=np.int64)
     xs = np.ascontiguousarray(points[:, 0])
     ys = np.ascontiguousarray(points[:, 1])
     while top > 0:
@@ -51,8 +57,8 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator,
         if m < MIN_RUN:
             continue
         # hypotheses: the chord, then `iterations` random pairs
-        i_draw = rng.integers(0, m, size=iterations)
-        j_draw = rng.integers(0, m, size=iterations)
+        integers_into(rng, m, i_draw)  # numpy's rng.integers(0, m, size=iterations), twice
+        integers_into(rng, m, j_draw)
         best_count = -1
         best_h = -1
         for h in range(iterations + 1):
@@ -65,8 +71,14 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator,
                 continue
             thr = inlier_distance * norm
             count = 0
-            for q in range(s, e + 1):  # x and y apart: a loop the compiler vectorises
-                count += abs(abx * (ys[q] - ay) - aby * (xs[q] - ax)) <= thr
+            q = s
+            while q <= e:  # in blocks (x and y apart: loops the compiler vectorises)...
+                stop = min(q + BLOCK, e + 1)
+                for t in range(q, stop):
+                    count += abs(abx * (ys[t] - ay) - aby * (xs[t] - ax)) <= thr
+                q = stop
+                if count + (e + 1 - q) <= best_count:
+                    break  # ...until even all the points left could not beat the best
             if count > best_count:
                 best_count = count
                 best_h = h
@@ -105,5 +117,5 @@ def _extract(points: np.ndarray, clusters: np.ndarray, rng: np.random.Generator,
 def extract(points: np.ndarray, clusters: np.ndarray, params: RansacParams) -> np.ndarray:
     """(S, 2) int inclusive [first, last] point index of every wall, in scan order."""
     return _extract(np.ascontiguousarray(points, dtype=np.float64), np.ascontiguousarray(clusters, dtype=np.int64),
-                    np.random.default_rng(params.seed), int(params.iterations), float(params.inlier_distance),
+                    seeded_state(int(params.seed)), int(params.iterations), float(params.inlier_distance),
                     int(params.max_gap_points))
