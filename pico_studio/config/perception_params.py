@@ -450,7 +450,7 @@ class ScanMatchParams:
         "heading is searched and the fit tried again from there",
     )
     min_gain: float = param(
-        0.0, lo=0.0, hi=1.0, step=0.01,
+        0.05, lo=0.0, hi=1.0, step=0.01,
         help="A correction is kept only when it explains this much more of the scan than the "
         "odometry pose did (good odometry is left alone)",
     )
