@@ -1,6 +1,13 @@
-"""The scan matcher's compiled loop: each point's nearest local wall (scan_match.py's maths).
+"""The scan matcher's compiled loops (scan_match.py's maths).
 
-For a point q (zero frame) and a wall from a with direction ab (length L, unit normal n):
+`fit_pose` is the whole point-to-line ICP: association, Tukey weights, the odometry-whitened
+Gauss-Newton with its free and held directions, the heading search, quality and evidence.
+Its association takes, of the walls whose foot lies inside them and whose direction agrees
+with the scan's at the point, the one nearest to the point's line distance, skipping walls
+whose bounding box is already farther than the best so far.
+
+`associate` is the plain nearest-wall association the matcher used before (kept for its
+equality test in tests/test_jit.py): for a point q (zero frame) and a wall from a with direction ab (length L, unit normal n):
 
     t = (q - a) . ab / L^2,   closest = a + clip(t, 0, 1) ab,   dist = |q - closest|
 
