@@ -401,9 +401,13 @@ class ProcessRejudger:
         threading.Thread(target=self._read_loop, args=(results_in, perceiver, scorer), name="rejudge-read",
                          daemon=True).start()
 
-    def _stop_processes(self, procs: tuple[Any, Any]) -> None:
+    def _stop_processes(self, procs: tuple[Any, Any], seconds: float = 1.0) -> None:
+        """Join both within `seconds` (they were asked to stop), then terminate what is left (a
+        process still loading its kernels reads the stop only when done: no need to wait)."""
+        end = time.monotonic() + seconds
         for p in procs:
-            p.join(timeout=2.0)
+            p.join(timeout=max(0.0, end - time.monotonic()))
+        for p in procs:
             if p.is_alive():
                 p.terminate()
                 p.join(timeout=2.0)
