@@ -99,4 +99,7 @@ def test_a_worker_process_killed_is_reported_and_the_next_change_re_judges(studi
     s.set_param("perception.scan.min_length", 1.5)
     w.changed()
     assert w.wait(120) and w.error == ""
-    assert w.b.judged is not None and w.b.judged.config == s.cfg and len(w.b.judged.times) == 50
+    from pico_studio.config import to_dict
+
+    assert w.b.judged is not None and to_dict(w.b.judged.config) == to_dict(s.cfg)
+    assert len(w.b.judged.times) == 50
