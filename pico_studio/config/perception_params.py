@@ -251,6 +251,11 @@ class MergeParams:
         help="A wall not seen for this many scans is dropped (0: never): keeps the local map local, so "
         "pose drift over a long run leaves no ghosts",
     )
+    forget_seconds: float = param(
+        20.0, lo=0.0, hi=3600.0, step=1.0, unit="s",
+        help="A wall not seen for this long (scan stamps) is dropped (0: never): as forget_scans, but the "
+        "same at any scan rate (a 1 Hz log and a 20 Hz robot drift alike per second, not per scan)",
+    )
     keep_radius: float = param(
         12.0, lo=0.5, hi=100.0, step=0.5, unit="m",
         help="Walls entirely farther than this from the robot are dropped",
