@@ -60,19 +60,6 @@ def reference_classify_corners(graph: Vertices, viewpoint: tuple[float, float], 
     return np.array(idx, dtype=np.int64), np.array(convex, dtype=bool), np.array(loose, dtype=bool)
 
 
-def free_args(truth: GroundTruth) -> tuple:
-    """`free_lengths`'s arguments towards every vertex of the map, and `cast_rays`' answer."""
-    x, y, _ = truth.pose
-    d = truth._graph.points - (x, y)
-    angles = np.arctan2(d[:, 1], d[:, 0])
-    segs = np.ascontiguousarray(truth._world.segments())
-    return (float(x), float(y), np.cos(angles), np.sin(angles), segs), cast_rays((x, y), angles, segs)
-
-
-SECONDS = {"hospital_2019.json": 12.0, "restaurant_2024.json": 40.0}
-MAP_NAMES = list(SECONDS)
-
-
 def reference_in_view(truth: GroundTruth, points: np.ndarray, segments: np.ndarray) -> np.ndarray:
     seen = truth._in_fov(points)
     if not seen.any():
@@ -83,6 +70,21 @@ def reference_in_view(truth: GroundTruth, points: np.ndarray, segments: np.ndarr
     free = cast_rays((x, y), np.arctan2(d[:, 1], d[:, 0]), segments)
     seen[seen] = free >= dist - truth._params.visible_tolerance
     return seen
+
+
+def in_view_args(truth: GroundTruth) -> tuple:
+    """`in_view`'s arguments for every vertex of the map against every segment, the
+    numpy/`cast_rays` answer it replaced, and which vertices are in the field of view."""
+    x, y, a = truth.pose
+    p = truth._laser.profile
+    points, segs = np.ascontiguousarray(truth._graph.points), np.ascontiguousarray(truth._world.segments())
+    args = (points, float(x), float(y), float(a), float(p.range_max), float(p.angle_min), float(p.angle_max),
+            segs, float(truth._params.visible_tolerance))
+    return args, reference_in_view(truth, points, segs), truth._in_fov(points)
+
+
+SECONDS = {"hospital_2019.json": 12.0, "restaurant_2024.json": 40.0}
+MAP_NAMES = list(SECONDS)
 
 
 def reference_visible_corners(truth: GroundTruth):
@@ -136,7 +138,7 @@ def wander_frames(map_name: str, every: int = 6) -> list[dict]:
                 "pose": truth.pose, "graph": truth._graph,
                 "doors": truth.visible_doors(), "corners": truth.visible_corners(),
                 "doors_ref": reference_visible_doors(truth), "corners_ref": reference_visible_corners(truth),
-                "free_args": free_args(truth),
+                "in_view_args": in_view_args(truth),
             })
 
         def summary(self) -> dict:
@@ -188,14 +190,18 @@ def test_corner_classes_are_the_python_they_replaced(map_name: str):
 @pytest.mark.parametrize("map_name", MAP_NAMES)
 def test_whole_queries_are_the_python_they_replaced(map_name: str):
     """visible_doors and visible_corners (every compiled loop together) against the old code."""
+    seen = hidden = 0
     for f in wander_frames(map_name):
         np.testing.assert_array_equal(f["doors"], f["doors_ref"])
         for x, y in zip(f["corners"], f["corners_ref"], strict=True):
             np.testing.assert_array_equal(x, y)
-        args, ref = f["free_args"]
-        got = truth_kernels.free_lengths(*args)
+        args, ref, fov = f["in_view_args"]
+        got = truth_kernels.in_view(*args)
         np.testing.assert_array_equal(got, ref)
-        np.testing.assert_array_equal(got, jit.py_func(truth_kernels.free_lengths)(*args))
+        np.testing.assert_array_equal(got, jit.py_func(truth_kernels.in_view)(*args))
+        seen += int(got.sum())
+        hidden += int((fov & ~got).sum())
+    assert seen >= 10 and hidden >= 10  # vertices in view and vertices in the field of view but occluded
 
 
 def test_the_frames_see_doors():

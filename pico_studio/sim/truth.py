@@ -39,7 +39,7 @@ from pico_studio.sim.base import Base, CollisionEvent
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
 from pico_studio.sim.odometry import Odometry
-from pico_studio.sim.truth_kernels import free_lengths, jamb_seen_lengths
+from pico_studio.sim.truth_kernels import in_view, jamb_seen_lengths
 from pico_studio.sim.world import KIND_DOOR, World
 
 Pose = tuple[float, float, float]
@@ -168,7 +168,8 @@ class GroundTruth:
         )
 
     def _in_fov(self, points: np.ndarray) -> np.ndarray:
-        """Within the laser's range and angular field of view from the current pose."""
+        """Within the laser's range and angular field of view from the current pose (the numpy
+        form of `truth_kernels.in_view`'s first test; the tests compare the two)."""
         x, y, a = self.pose
         p = self._laser.profile
         d = points - (x, y)
@@ -177,18 +178,14 @@ class GroundTruth:
         return (dist <= p.range_max) & (bearing >= p.angle_min) & (bearing <= p.angle_max)
 
     def _in_view(self, points: np.ndarray, segments: np.ndarray) -> np.ndarray:
-        """In the field of view and not occluded by `segments`."""
-        seen = self._in_fov(points)
-        if not seen.any():
-            return seen
-        x, y, _ = self.pose
-        d = points[seen] - (x, y)
-        dist = np.hypot(d[:, 0], d[:, 1])
-        angles = np.arctan2(d[:, 1], d[:, 0])
-        free = free_lengths(float(x), float(y), np.cos(angles), np.sin(angles),
-                            np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4))
-        seen[seen] = free >= dist - self._params.visible_tolerance
-        return seen
+        """In the field of view and not occluded by `segments`: `_in_fov` and the rays cast
+        towards the points in it as one compiled loop (`truth_kernels.in_view`)."""
+        x, y, a = self.pose
+        p = self._laser.profile
+        return in_view(np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2), float(x), float(y), float(a),
+                       float(p.range_max), float(p.angle_min), float(p.angle_max),
+                       np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4),
+                       float(self._params.visible_tolerance))
 
     def _hit_points(self) -> tuple[np.ndarray, np.ndarray]:
         """(B, 2) map-frame noise-free end points of the latest scan's beams and (B,) the

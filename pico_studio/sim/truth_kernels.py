@@ -1,6 +1,6 @@
 """The truth's compiled loops: how much of the walls at each door jamb the scan's beams hit,
-which map vertices are corners as seen from the robot, and how far rays run free (whether a
-corner or a door's middle is in view).
+which map vertices are corners as seen from the robot, and whether a corner or a door's middle
+is in view.
 
 Jamb seen length (`sim.truth.GroundTruth.jamb_seen_length`). A wall w = a + u (b - a),
 u in [0, 1], *touches* jamb p when its point-to-segment distance is at most `touch`:
@@ -9,7 +9,7 @@ u in [0, 1], *touches* jamb p when its point-to-segment distance is at most `tou
 
 Every beam end point q that hit a touching wall k and lies within `reach` of p is placed
 along that wall, s = (q - a_k) . (b_k - a_k) / |b_k - a_k|; the jamb's seen length is the
-sum over those walls, in increasing k, of max s - min s. One pass over the beams per jamb.
+sum over those walls, in increasing k, of max s - min s. One pass over the beams for all jambs.
 
 Corner classes (`sim.map_features.classify_corners`). At each candidate vertex V the
 directions of the segments leaving it, taken relative to the direction towards the viewpoint
@@ -17,9 +17,17 @@ R and wrapped to [0, 2 pi), cut the plane into sectors; R lies in the one from t
 (as a negative angle) to the smallest: w = min + (2 pi - max); a single direction gives
 w = 2 pi. |w - pi| <= tol: straight on, not a corner; w > pi: convex; else concave.
 
-Free lengths (`GroundTruth._in_view`): `raycast.cast_rays`'s ray-segment test, one ray at a
-time, without its (rays x segments) arrays; the rays' cosines and sines come from numpy, so
-the answers are those of `cast_rays`.
+In view (`GroundTruth._in_view`, the corners and door middles of a frame): a point p seen
+from the laser at (x, y, a), d = p - (x, y), is in view when
+
+    |d| <= range_max,   angle_min <= wrap(atan2(d_y, d_x) - a) <= angle_max,
+    free length along d / |d|  >=  |d| - tolerance
+
+(within range and field of view, and nothing solid more than `tolerance` before it), the free
+length by `raycast.cast_rays`' ray-segment test: with p1 = a - o, e = b - a and
+den = c e_y - s e_x, the ray (c, s) meets segment a b at t = (p1 x e) / den when t >= 0 and
+u = (p1 x (c, s)) / den lies in [0, 1]. One pass over the points, a ray cast only for those in
+the field of view, without `cast_rays`' (rays x segments) arrays.
 """
 
 from __future__ import annotations
@@ -41,38 +49,61 @@ def _jamb_example() -> tuple:
 def jamb_seen_lengths(jambs: np.ndarray, xy: np.ndarray, hits: np.ndarray, walls: np.ndarray,
                       touch: float, reach: float) -> np.ndarray:
     """(J,) seen length at each jamb (J, 2) from beam end points `xy` (B, 2) and the wall each
-    hit `hits` (B,) (an index into `walls` (W, 4); anything else: not a wall)."""
-    n_walls = walls.shape[0]
-    out = np.zeros(jambs.shape[0])
-    touching = np.zeros(n_walls, dtype=np.bool_)
-    lo = np.empty(n_walls)
-    hi = np.empty(n_walls)
-    for j in range(jambs.shape[0]):
+    hit `hits` (B,) (an index into `walls` (W, 4); anything else: not a wall). First the
+    jambs touching each wall (wall k's: `by_wall[first[k]:first[k + 1]]`), then one pass
+    over the beams: a beam on a wall no jamb touches (most of them) costs one look-up."""
+    n_jambs, n_walls = jambs.shape[0], walls.shape[0]
+    touching = np.zeros((n_walls, n_jambs), dtype=np.bool_)
+    for j in range(n_jambs):
         px, py = jambs[j, 0], jambs[j, 1]
         for k in range(n_walls):
-            ax, ay = walls[k, 0], walls[k, 1]
-            abx, aby = walls[k, 2] - ax, walls[k, 3] - ay
+            ax, ay, bx, by = walls[k, 0], walls[k, 1], walls[k, 2], walls[k, 3]
+            # a wall within `touch` of p has p inside its box grown by `touch` (and a hair,
+            # for the rounding of the exact test): most walls are ruled out by that
+            grow = touch + 1e-9
+            if px < min(ax, bx) - grow or px > max(ax, bx) + grow or py < min(ay, by) - grow or py > max(ay, by) + grow:
+                continue
+            abx, aby = bx - ax, by - ay
             len2 = max(abx * abx + aby * aby, 1e-18)
             u = min(max(((px - ax) * abx + (py - ay) * aby) / len2, 0.0), 1.0)
-            touching[k] = np.hypot(ax + u * abx - px, ay + u * aby - py) <= touch
-            lo[k] = np.inf
-            hi[k] = -np.inf
-        for b in range(hits.shape[0]):
-            k = hits[b]
-            if k < 0 or k >= n_walls or not touching[k]:
-                continue
-            qx, qy = xy[b, 0], xy[b, 1]
-            if np.hypot(qx - px, qy - py) > reach:
+            touching[k, j] = np.hypot(ax + u * abx - px, ay + u * aby - py) <= touch
+    first = np.zeros(n_walls + 1, dtype=np.int64)
+    for k in range(n_walls):
+        first[k + 1] = first[k]
+        for j in range(n_jambs):
+            first[k + 1] += touching[k, j]
+    by_wall = np.empty(first[n_walls], dtype=np.int64)
+    for k in range(n_walls):
+        at = first[k]
+        for j in range(n_jambs):
+            if touching[k, j]:
+                by_wall[at] = j
+                at += 1
+    lo = np.full((n_jambs, n_walls), np.inf)  # the stretch of wall k hit near jamb j
+    hi = np.full((n_jambs, n_walls), -np.inf)
+    for b in range(hits.shape[0]):
+        k = hits[b]
+        if k < 0 or k >= n_walls or first[k] == first[k + 1]:
+            continue
+        qx, qy = xy[b, 0], xy[b, 1]
+        for at in range(first[k], first[k + 1]):
+            j = by_wall[at]
+            dx, dy = qx - jambs[j, 0], qy - jambs[j, 1]
+            # |d| >= max(|dx|, |dy|), also as rounded: the square around the jamb first, the
+            # exact distance inside it
+            if abs(dx) > reach or abs(dy) > reach or np.hypot(dx, dy) > reach:
                 continue
             ax, ay = walls[k, 0], walls[k, 1]
             abx, aby = walls[k, 2] - ax, walls[k, 3] - ay
             s = ((qx - ax) * abx + (qy - ay) * aby) / math.sqrt(max(abx * abx + aby * aby, 1e-18))
-            lo[k] = min(lo[k], s)
-            hi[k] = max(hi[k], s)
+            lo[j, k] = min(lo[j, k], s)
+            hi[j, k] = max(hi[j, k], s)
+    out = np.zeros(n_jambs)
+    for j in range(n_jambs):
         total = 0.0
         for k in range(n_walls):
-            if hi[k] >= lo[k]:
-                total += hi[k] - lo[k]
+            if hi[j, k] >= lo[j, k]:
+                total += hi[j, k] - lo[j, k]
         out[j] = total
     return out
 
@@ -116,28 +147,53 @@ def corner_classes(points: np.ndarray, candidates: np.ndarray, starts: np.ndarra
     return idx[:kept], convex[:kept], loose[:kept]
 
 
-def _free_example() -> tuple:
+def _in_view_example() -> tuple:
     segs = np.array([[1.0, -1.0, 1.0, 1.0], [-1.0, 1.0, -1.0, -1.0]])
-    return 0.0, 0.0, np.array([1.0, 0.0]), np.array([0.0, 1.0]), segs
+    return np.array([[2.0, 0.0], [0.5, 0.5]]), 0.0, 0.0, 0.0, 10.0, -2.0, 2.0, segs, 0.05
 
 
-@kernel(_free_example)
-def free_lengths(ox: float, oy: float, cos_a: np.ndarray, sin_a: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """(K,) distance from (ox, oy) along each ray (cos_a, sin_a) to the nearest of `segments`
-    (N, 4), inf where none: `raycast.cast_rays`'s test, ray by ray. With p1 = a - o, d = b - a
-    and den = c d_y - s d_x, the ray meets the segment at t = (p1 x d) / den when t >= 0 and
-    u = (p1 x (c, s)) / den lies in [0, 1]."""
-    out = np.empty(cos_a.shape[0])
-    for i in range(cos_a.shape[0]):
-        c, s = cos_a[i], sin_a[i]
-        best = np.inf
-        for k in range(segments.shape[0]):
-            p1x, p1y = segments[k, 0] - ox, segments[k, 1] - oy
-            dx, dy = segments[k, 2] - segments[k, 0], segments[k, 3] - segments[k, 1]
-            den = c * dy - s * dx
-            t = (p1x * dy - p1y * dx) / den
+@kernel(_in_view_example)
+def in_view(points: np.ndarray, x: float, y: float, a: float, range_max: float, angle_min: float,
+            angle_max: float, segments: np.ndarray, tolerance: float) -> np.ndarray:
+    """(P,) bool: each point (P, 2) within range and field of view of the laser at (x, y, a)
+    and not occluded by `segments` (N, 4) more than `tolerance` before it.
+
+    Occluded: the ray towards p, (c, s) = d / |d|, meets a segment at some t < |d| - tolerance
+    (the free length is below that). Such a hit lies between the laser and p and on the
+    segment, so only segments whose box meets the box of the laser and p (grown by a hair for
+    rounding) are tested, and the first hit settles it."""
+    n = segments.shape[0]
+    lo_x, lo_y, hi_x, hi_y = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    for k in range(n):
+        lo_x[k], hi_x[k] = min(segments[k, 0], segments[k, 2]), max(segments[k, 0], segments[k, 2])
+        lo_y[k], hi_y[k] = min(segments[k, 1], segments[k, 3]), max(segments[k, 1], segments[k, 3])
+    hair = 1e-6
+    out = np.zeros(points.shape[0], dtype=np.bool_)
+    for i in range(points.shape[0]):
+        px, py = points[i, 0], points[i, 1]
+        dx, dy = px - x, py - y
+        dist = np.hypot(dx, dy)
+        bearing = np.mod(math.atan2(dy, dx) - a + math.pi, 2 * math.pi) - math.pi
+        if not (dist <= range_max and bearing >= angle_min and bearing <= angle_max):
+            continue
+        if dist <= tolerance:  # free lengths are >= 0: nothing can be before it
+            out[i] = True
+            continue
+        c, s = dx / dist, dy / dist
+        limit = dist - tolerance
+        box_lo_x, box_hi_x = min(x, px) - hair, max(x, px) + hair
+        box_lo_y, box_hi_y = min(y, py) - hair, max(y, py) + hair
+        blocked = False
+        for k in range(n):
+            if lo_x[k] > box_hi_x or hi_x[k] < box_lo_x or lo_y[k] > box_hi_y or hi_y[k] < box_lo_y:
+                continue
+            p1x, p1y = segments[k, 0] - x, segments[k, 1] - y
+            sx, sy = segments[k, 2] - segments[k, 0], segments[k, 3] - segments[k, 1]
+            den = c * sy - s * sx
+            t = (p1x * sy - p1y * sx) / den
             u = (p1x * s - p1y * c) / den
-            if t >= 0.0 and u >= 0.0 and u <= 1.0 and t < best:
-                best = t
-        out[i] = best
+            if t >= 0.0 and u >= 0.0 and u <= 1.0 and t < limit:
+                blocked = True
+                break
+        out[i] = not blocked
     return out
