@@ -39,7 +39,7 @@ from pico_studio.sim.base import Base, CollisionEvent
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
 from pico_studio.sim.odometry import Odometry
-from pico_studio.sim.truth_kernels import in_view, jamb_seen_lengths
+from pico_studio.sim.truth_kernels import beam_ends, hit_runs, in_view, jamb_seen_lengths
 from pico_studio.sim.world import KIND_DOOR, World
 
 Pose = tuple[float, float, float]
@@ -129,10 +129,9 @@ class GroundTruth:
         o = self._openings
         if len(o) == 0:
             return o.copy()
-        segs = self._world.segments()
-        not_doors = segs[self._world.kinds() != KIND_DOOR]
-        seen = self._in_view((o[:, :2] + o[:, 2:]) / 2, not_doors)
-        seen_length = self.jamb_seen_length(np.concatenate([o[:, :2], o[:, 2:]]))
+        middles, jambs, not_door = self._opening_points
+        seen = self._in_view(middles, self._world.segments()[not_door])
+        seen_length = self.jamb_seen_length(jambs)
         seen &= (seen_length[: len(o)] >= self._params.jamb_min_seen) & (seen_length[len(o):] >= self._params.jamb_min_seen)
         return o[seen]
 
@@ -143,14 +142,20 @@ class GroundTruth:
         segment from its first to its last hit point, summed over the segments (one compiled
         loop: `truth_kernels.jamb_seen_lengths`; walls come first in `world.segments()`)."""
         t = self._params
-        xy, hits = self._hit_points()
         jambs = np.ascontiguousarray(jambs, dtype=np.float64).reshape(-1, 2)
-        return jamb_seen_lengths(jambs, xy, np.ascontiguousarray(hits, dtype=np.int64), self._walls,
-                                 t.max_wall_thickness / 2 + 1e-3, float(t.jamb_reach))
+        return jamb_seen_lengths(jambs, *self._scan(), self._walls, t.max_wall_thickness / 2 + 1e-3, float(t.jamb_reach))
 
     @cached_property
     def _walls(self) -> np.ndarray:
         return np.ascontiguousarray(self._world.walls, dtype=np.float64).reshape(-1, 4)
+
+    @cached_property
+    def _opening_points(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The openings' middles (D, 2) and jambs (2 D, 2: first ends, then second ends), and
+        which rows of `world.segments()` are not doors (fixed per world): per map, not per frame."""
+        o = self._openings
+        middles = np.ascontiguousarray((o[:, :2] + o[:, 2:]) / 2)
+        return middles, np.ascontiguousarray(np.concatenate([o[:, :2], o[:, 2:]])), self._world.kinds() != KIND_DOOR
 
     @cached_property
     def _graph(self) -> Vertices:
@@ -203,27 +208,28 @@ class GroundTruth:
         return cast(T, kept[1])
 
     def _compute_hit_points(self) -> tuple[np.ndarray, np.ndarray]:
+        scan = self._scan()
+        return beam_ends(*scan[:6]), scan[6]
+
+    def _scan(self) -> tuple[float, float, float, float, float, np.ndarray, np.ndarray]:
+        """The latest scan as the kernels take it: (x, y, a) where it was taken, angle_min,
+        increment, its noise-free ranges (B,) and the segment each beam hit (B,) (-1: none),
+        once per scan; the kernels compute the beams' end points they need from it."""
+        return self._per_scan("scan", self._compute_scan)
+
+    def _compute_scan(self) -> tuple[float, float, float, float, float, np.ndarray, np.ndarray]:
         laser = self._laser
-        pose = laser.last_pose
-        n = len(laser.true_hits)
-        angles = laser.fan.angle_min + np.arange(n) * laser.fan.increment + pose[2]
-        r = laser.true_ranges
-        return np.column_stack([pose[0] + r * np.cos(angles), pose[1] + r * np.sin(angles)]), laser.true_hits
+        x, y, a = laser.last_pose
+        return (float(x), float(y), float(a), float(laser.fan.angle_min), float(laser.fan.increment),
+                np.ascontiguousarray(laser.true_ranges, dtype=np.float64),
+                np.ascontiguousarray(laser.true_hits, dtype=np.int64))
 
     def _visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
         return self._per_scan("visible pieces", self._compute_visible_pieces)
 
     def _compute_visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
-        xy, hits = self._hit_points()
-        n = len(hits)
-        # runs of consecutive beams on the same segment
-        change = np.flatnonzero(np.diff(hits) != 0) + 1
-        starts = np.concatenate([[0], change])
-        stops = np.concatenate([change, [n]]) - 1
-        keep = (hits[starts] >= 0) & (stops - starts + 1 >= self._params.min_wall_beams)
-        starts, stops = starts[keep], stops[keep]
-        pieces = np.column_stack([xy[starts], xy[stops]])
-        return pieces, hits[starts]
+        # runs of consecutive beams on the same segment (one compiled loop)
+        return hit_runs(*self._scan(), int(self._params.min_wall_beams))
 
     def as_dict(self) -> dict[str, object]:
         """The small per-frame truth the session records (JSON-friendly)."""

@@ -36,22 +36,26 @@ import math
 
 import numpy as np
 
-from pico_studio.jit import kernel
+from pico_studio.jit import kernel, njit
 
 
 def _jamb_example() -> tuple:
     walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 1.0, 1.0]])
-    xy = np.array([[0.5, 0.0], [1.0, 0.5], [9.0, 9.0]])
-    return np.array([[1.0, 0.0]]), xy, np.array([0, 1, -1], dtype=np.int64), walls, 0.16, 0.6
+    ranges = np.array([0.5, 0.7, np.inf])
+    return (np.array([[1.0, 0.0]]), 0.5, 0.5, 0.0, -1.6, 0.8, ranges, np.array([0, 1, -1], dtype=np.int64),
+            walls, 0.16, 0.6)
 
 
 @kernel(_jamb_example)
-def jamb_seen_lengths(jambs: np.ndarray, xy: np.ndarray, hits: np.ndarray, walls: np.ndarray,
-                      touch: float, reach: float) -> np.ndarray:
-    """(J,) seen length at each jamb (J, 2) from beam end points `xy` (B, 2) and the wall each
-    hit `hits` (B,) (an index into `walls` (W, 4); anything else: not a wall). First the
-    jambs touching each wall (wall k's: `by_wall[first[k]:first[k + 1]]`), then one pass
-    over the beams: a beam on a wall no jamb touches (most of them) costs one look-up."""
+def jamb_seen_lengths(jambs: np.ndarray, x: float, y: float, a: float, angle_min: float, increment: float,
+                      ranges: np.ndarray, hits: np.ndarray, walls: np.ndarray, touch: float, reach: float) -> np.ndarray:
+    """(J,) seen length at each jamb (J, 2) from a scan taken at (x, y, a) (`ranges` (B,))
+    and the wall each beam hit, `hits` (B,) (an index into `walls` (W, 4); anything else: not
+    a wall). First the jambs touching each wall (wall k's: `by_wall[first[k]:first[k + 1]]`),
+    then one pass over the beams: a beam on a wall no jamb touches (most of them) costs one
+    look-up, and a beam whose length differs from the jamb's distance by more than `reach`
+    ends farther than that from it (|q - p| >= | |q - o| - |p - o| |): only the rest need
+    their end point."""
     n_jambs, n_walls = jambs.shape[0], walls.shape[0]
     touching = np.zeros((n_walls, n_jambs), dtype=np.bool_)
     for j in range(n_jambs):
@@ -79,15 +83,23 @@ def jamb_seen_lengths(jambs: np.ndarray, xy: np.ndarray, hits: np.ndarray, walls
             if touching[k, j]:
                 by_wall[at] = j
                 at += 1
+    far = np.empty(n_jambs)  # |p - o|, from the laser
+    for j in range(n_jambs):
+        far[j] = np.hypot(jambs[j, 0] - x, jambs[j, 1] - y)
     lo = np.full((n_jambs, n_walls), np.inf)  # the stretch of wall k hit near jamb j
     hi = np.full((n_jambs, n_walls), -np.inf)
     for b in range(hits.shape[0]):
         k = hits[b]
         if k < 0 or k >= n_walls or first[k] == first[k + 1]:
             continue
-        qx, qy = xy[b, 0], xy[b, 1]
+        r = ranges[b]
+        qx = qy = np.nan  # the end point, computed once when needed
         for at in range(first[k], first[k + 1]):
             j = by_wall[at]
+            if abs(r - far[j]) > reach + 1e-9:  # (a hair for the rounding of q)
+                continue
+            if np.isnan(qx):
+                qx, qy = _beam_end(x, y, a, angle_min, increment, r, b)
             dx, dy = qx - jambs[j, 0], qy - jambs[j, 1]
             # |d| >= max(|dx|, |dy|), also as rounded: the square around the jamb first, the
             # exact distance inside it
@@ -197,3 +209,51 @@ def in_view(points: np.ndarray, x: float, y: float, a: float, range_max: float, 
                 break
         out[i] = not blocked
     return out
+
+
+@njit
+def _beam_end(x: float, y: float, a: float, angle_min: float, increment: float, r: float, i: int) -> tuple[float, float]:
+    """The map-frame end of beam i, r long, of a scan taken at (x, y, a): at angle
+    angle_min + i increment + a (r inf: no hit, at infinity)."""
+    angle = angle_min + i * increment + a
+    return x + r * math.cos(angle), y + r * math.sin(angle)
+
+
+def _beam_example() -> tuple:
+    return 1.0, 2.0, 0.5, -2.0, 0.5, np.array([1.0, np.inf, 2.0, 3.0])
+
+
+@kernel(_beam_example)
+def beam_ends(x: float, y: float, a: float, angle_min: float, increment: float, ranges: np.ndarray) -> np.ndarray:
+    """(B, 2) map-frame end points of a scan's beams (`ranges` (B,)) taken at (x, y, a)."""
+    out = np.empty((ranges.shape[0], 2))
+    for i in range(ranges.shape[0]):
+        out[i, 0], out[i, 1] = _beam_end(x, y, a, angle_min, increment, ranges[i], i)
+    return out
+
+
+def _pieces_example() -> tuple:
+    return 0.0, 0.0, 0.0, -1.0, 0.5, np.array([1.0, 1.0, 1.0, np.inf]), np.array([0, 0, 0, -1], dtype=np.int64), 2
+
+
+@kernel(_pieces_example)
+def hit_runs(x: float, y: float, a: float, angle_min: float, increment: float, ranges: np.ndarray,
+             hits: np.ndarray, min_beams: int) -> tuple[np.ndarray, np.ndarray]:
+    """The runs of consecutive beams of a scan (taken at (x, y, a), `ranges` (B,)) on one
+    segment (`hits` (B,), -1: none), at least `min_beams` long: (R, 4) from the first beam's
+    end point to the last's, and (R,) the segment of each."""
+    n = hits.shape[0]
+    pieces = np.empty((n, 4))
+    sources = np.empty(n, dtype=np.int64)
+    count = 0
+    start = 0
+    for i in range(1, n + 1):
+        if i < n and hits[i] == hits[start]:
+            continue
+        if hits[start] >= 0 and i - start >= min_beams:  # the run start .. i - 1
+            pieces[count, 0], pieces[count, 1] = _beam_end(x, y, a, angle_min, increment, ranges[start], start)
+            pieces[count, 2], pieces[count, 3] = _beam_end(x, y, a, angle_min, increment, ranges[i - 1], i - 1)
+            sources[count] = hits[start]
+            count += 1
+        start = i
+    return pieces[:count].copy(), sources[:count].copy()
