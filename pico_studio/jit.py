@@ -58,7 +58,9 @@ KERNEL_MODULES = (
     "pico_studio.core.localisation.match_kernels",
     "pico_studio.core.localisation.combined_kernels",
     "pico_studio.core.behaviours.planner",
+    "pico_studio.core.behaviours.wander",
     "pico_studio.sim.truth_kernels",
+    "pico_studio.sim.base_kernels",
     "pico_studio.evaluation.score_kernels",
 )
 
