@@ -345,3 +345,47 @@ def test_door_matches_and_nearest_vertices_are_the_numpy_they_replaced():
             np.testing.assert_array_equal(got, pairwise_distances(points, vertices).min(axis=1))
             np.testing.assert_array_equal(got, jit.py_func(sk.nearest_distances)(points, vertices))
     assert matched >= 20
+
+
+def reference_wall_coverage(segments: np.ndarray, step: float, targets: np.ndarray, r: float, cos_angle: float):
+    """The wall coverage's definition, sample by sample against every target (score_kernels'
+    module docstring), summed in the same order."""
+    total = ok = 0.0
+    for ax, ay, bx, by in segments:
+        dx, dy = bx - ax, by - ay
+        length = math.hypot(dx, dy)
+        n = max(math.ceil(length / step), 1)
+        w = length / n
+        u = np.array([dx, dy]) / max(length, 1e-12)
+        for k in range(n):
+            t = (k + 0.5) / n
+            p = np.array([ax + t * dx, ay + t * dy])
+            total += w
+            for tx1, ty1, tx2, ty2 in targets:
+                a, ab = np.array([tx1, ty1]), np.array([tx2 - tx1, ty2 - ty1])
+                len2 = max(ab @ ab, 1e-18)
+                if abs(u[0] * ab[0] / math.sqrt(len2) + u[1] * ab[1] / math.sqrt(len2)) < cos_angle:
+                    continue
+                s = min(max(((p - a) @ ab) / len2, 0.0), 1.0)
+                if np.hypot(*(p - a - s * ab)) <= r:
+                    ok += w
+                    break
+    return total, ok
+
+
+def test_wall_coverage_is_its_definition_sample_by_sample():
+    from pico_studio.evaluation import score_kernels as sk
+    from pico_studio.evaluation.frame_score import Tolerances
+
+    tol = Tolerances()
+    cos_angle = math.cos(tol.wall_angle)
+    partly = 0
+    for _, _, ends, truth in perceived_frames()[:4]:
+        walls = np.ascontiguousarray(ends.reshape(-1, 4))
+        for segs, targets in ((walls, np.ascontiguousarray(truth.segments())), (np.ascontiguousarray(truth.visible_walls()), walls)):
+            args = (segs, tol.sample_step, targets, tol.wall_distance, cos_angle)
+            got = sk.wall_coverage(*args)
+            assert got == pytest.approx(reference_wall_coverage(*args), rel=1e-12, abs=1e-12)
+            assert got == jit.py_func(sk.wall_coverage)(*args)
+            partly += 0 < got[1] < got[0]
+    assert partly >= 4

@@ -11,8 +11,9 @@ L / n metres — and a sample counts as covered when some segment of `targets` l
 
 (the point-to-segment distance, tested only inside the target's box grown by the distance).
 Returned: the total sampled length and the covered length. One loop over samples and
-targets, no (samples x targets) arrays; the targets a segment's samples can match (parallel
-enough, their grown box meeting the segment's) are picked once per segment.
+targets, no (samples x targets) arrays: the targets a segment's samples can match (parallel
+enough, their grown box meeting the segment's) are picked once per segment, and for each of
+them only the run of samples that can lie in its box is tested.
 
 Pairing (`match_nearest`): greedy, nearest first — of all pairs within the radius, sorted by
 distance, a pair is taken unless one of its points is taken already. Door matches
@@ -25,7 +26,7 @@ import math
 
 import numpy as np
 
-from pico_studio.jit import kernel
+from pico_studio.jit import kernel, njit
 
 
 def _coverage_example() -> tuple:
@@ -57,6 +58,7 @@ def wall_coverage(segments: np.ndarray, step: float, targets: np.ndarray, wall_d
         tx[j], ty[j] = abx / norm, aby / norm
     near = np.empty(m, dtype=np.int64)  # the targets a segment's samples can match
     hair = 1e-9  # a sample lies in its segment's box up to rounding
+    r2_in, r2_out = r * r * (1 - 1e-9), r * r * (1 + 1e-9)
     total = 0.0
     ok = 0.0
     for i in range(segments.shape[0]):
@@ -79,21 +81,48 @@ def wall_coverage(segments: np.ndarray, step: float, targets: np.ndarray, wall_d
                 continue
             near[n_near] = j
             n_near += 1
-        for k in range(n):
-            t = (k + 0.5) / n
-            px, py = ax + t * dx, ay + t * dy
-            total += w
-            for q in range(n_near):
-                j = near[q]
+        # narrow phase, per near target: only the run of samples that can lie in its box
+        covered = np.zeros(n, dtype=np.bool_)
+        for q in range(n_near):
+            j = near[q]
+            x_first, x_last = _samples_within(ax, dx, lo_x[j], hi_x[j], n)
+            y_first, y_last = _samples_within(ay, dy, lo_y[j], hi_y[j], n)
+            for k in range(max(x_first, y_first), min(x_last, y_last) + 1):
+                if covered[k]:
+                    continue
+                t = (k + 0.5) / n
+                px, py = ax + t * dx, ay + t * dy
                 if px < lo_x[j] or px > hi_x[j] or py < lo_y[j] or py > hi_y[j]:
                     continue
                 qx, qy = px - targets[j, 0], py - targets[j, 1]
                 abx, aby = targets[j, 2] - targets[j, 0], targets[j, 3] - targets[j, 1]
                 s = min(max((qx * abx + qy * aby) / len2[j], 0.0), 1.0)
-                if math.hypot(qx - s * abx, qy - s * aby) <= r:
-                    ok += w
-                    break
+                ex, ey = qx - s * abx, qy - s * aby
+                e2 = ex * ex + ey * ey
+                # the squared distance settles all but a hair around r, where the rounding of
+                # either could differ: only there the exact |e| <= r (math.hypot is slow)
+                covered[k] = e2 < r2_in or (e2 <= r2_out and math.hypot(ex, ey) <= r)
+        for k in range(n):  # summed sample by sample, in order
+            total += w
+            if covered[k]:
+                ok += w
     return total, ok
+
+
+@njit
+def _samples_within(a: float, d: float, lo: float, hi: float, n: int) -> tuple[int, int]:
+    """(first, last) sample k of n whose coordinate a + (k + 1/2) / n d can lie in [lo, hi]:
+    k + 1/2 = n (c - a) / d solved at c = lo and c = hi, two samples wider each side for the
+    rounding of both (a coordinate's rounding, ~1e-13 m, moves k by 1e-13 n / |d|); every
+    sample when |d| < 1 mm (then the other coordinate narrows the run)."""
+    if abs(d) < 1e-3:
+        return 0, n - 1
+    u0, u1 = (lo - a) / d * n - 0.5, (hi - a) / d * n - 0.5
+    if d < 0:
+        u0, u1 = u1, u0
+    first = max(min(math.floor(u0) - 2.0, float(n)), -1.0)
+    last = max(min(math.ceil(u1) + 2.0, float(n)), -1.0)
+    return max(int(first), 0), min(int(last), n - 1)
 
 
 def _nearest_example() -> tuple:
