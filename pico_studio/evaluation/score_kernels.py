@@ -164,9 +164,13 @@ def match_nearest(a: np.ndarray, b: np.ndarray, radius: float) -> tuple[np.ndarr
     dist = np.empty(a.shape[0] * nb)
     flat = np.empty(a.shape[0] * nb, dtype=np.int64)
     n = 0
+    beyond = radius * radius * (1 + 1e-9)  # surely farther than the radius (np.hypot is slow)
     for i in range(a.shape[0]):
         for j in range(nb):
-            d = np.hypot(a[i, 0] - b[j, 0], a[i, 1] - b[j, 1])
+            dx, dy = a[i, 0] - b[j, 0], a[i, 1] - b[j, 1]
+            if dx * dx + dy * dy > beyond:
+                continue
+            d = np.hypot(dx, dy)
             if d <= radius:
                 dist[n] = d
                 flat[n] = i * nb + j

@@ -54,8 +54,8 @@ def jamb_seen_lengths(jambs: np.ndarray, x: float, y: float, a: float, angle_min
     a wall). First the jambs touching each wall (wall k's: `by_wall[first[k]:first[k + 1]]`),
     then one pass over the beams: a beam on a wall no jamb touches (most of them) costs one
     look-up, and a beam whose length differs from the jamb's distance by more than `reach`
-    ends farther than that from it (|q - p| >= | |q - o| - |p - o| |): only the rest need
-    their end point."""
+    ends farther than that from it (|q - p| >= | |q - o| - |p - o| |), as does a beam more
+    than asin(reach / |p - o|) off the jamb's direction: only the rest need their end point."""
     n_jambs, n_walls = jambs.shape[0], walls.shape[0]
     touching = np.zeros((n_walls, n_jambs), dtype=np.bool_)
     for j in range(n_jambs):
@@ -84,8 +84,14 @@ def jamb_seen_lengths(jambs: np.ndarray, x: float, y: float, a: float, angle_min
                 by_wall[at] = j
                 at += 1
     far = np.empty(n_jambs)  # |p - o|, from the laser
+    bearing = np.empty(n_jambs)  # the direction of p from the laser
+    spread = np.empty(n_jambs)  # a beam farther off that direction passes p beyond `reach`
     for j in range(n_jambs):
         far[j] = np.hypot(jambs[j, 0] - x, jambs[j, 1] - y)
+        bearing[j] = math.atan2(jambs[j, 1] - y, jambs[j, 0] - x)
+        # (a hair wider for the rounding of the end points; near the laser every direction)
+        spread[j] = math.asin(reach / far[j]) + 1e-9 if far[j] > reach else 4.0
+    reach2_in, reach2_out = reach * reach * (1 - 1e-9), reach * reach * (1 + 1e-9)
     lo = np.full((n_jambs, n_walls), np.inf)  # the stretch of wall k hit near jamb j
     hi = np.full((n_jambs, n_walls), -np.inf)
     for b in range(hits.shape[0]):
@@ -98,12 +104,16 @@ def jamb_seen_lengths(jambs: np.ndarray, x: float, y: float, a: float, angle_min
             j = by_wall[at]
             if abs(r - far[j]) > reach + 1e-9:  # (a hair for the rounding of q)
                 continue
+            off = angle_min + b * increment + a - bearing[j]
+            if abs(off - 2 * math.pi * math.floor(off / (2 * math.pi) + 0.5)) > spread[j]:
+                continue
             if np.isnan(qx):
                 qx, qy = _beam_end(x, y, a, angle_min, increment, r, b)
             dx, dy = qx - jambs[j, 0], qy - jambs[j, 1]
-            # |d| >= max(|dx|, |dy|), also as rounded: the square around the jamb first, the
-            # exact distance inside it
-            if abs(dx) > reach or abs(dy) > reach or np.hypot(dx, dy) > reach:
+            # |d| <= reach by its square, except within a hair of reach where the rounding of
+            # either could differ: there the exact np.hypot (slow)
+            d2 = dx * dx + dy * dy
+            if d2 > reach2_out or (d2 >= reach2_in and np.hypot(dx, dy) > reach):
                 continue
             ax, ay = walls[k, 0], walls[k, 1]
             abx, aby = walls[k, 2] - ax, walls[k, 3] - ay
