@@ -90,3 +90,67 @@ def clutter_world(seed: int) -> tuple[dict, dict]:
                      "init_pose": [xm + 1.2, 0.8, 0.0], "final_pose": [xm + 1.2, h - 0.8, 0.0]}],
     }
     return doc, sim
+
+
+def cafe_world(seed: int) -> tuple[dict, dict]:
+    """A JSON map and a sim config unlike `clutter_world`'s: a hall (8-10 x 6-7 m, 0.2 m walls)
+    with two T-openings (a partition from the floor wall ending 0.8-1.1 m short of the top
+    wall; one from the right wall ending that far from the first's face), tables in rows along
+    the walls (1-3 cm off, 0.5-0.8 m apart: bays that are no doors), tables standing free in
+    the rooms, and two people (0.4 m boxes) crossing, one walking to and fro."""
+    rng = np.random.default_rng(seed)
+    u = rng.uniform
+    w, h, t = float(u(8.0, 10.0)), float(u(6.0, 7.0)), 0.2
+    pts: list[dict] = []
+    walls: list[list[int]] = []
+    tables: list[list[list[int]]] = []
+
+    def rect(x0: float, y0: float, x1: float, y1: float) -> list[list[int]]:
+        ids = []
+        for x, y in ((x0, y0), (x1, y0), (x1, y1), (x0, y1)):
+            pts.append({"x": round(x, 3), "y": round(y, 3)})
+            ids.append(len(pts) - 1)
+        return [[ids[i], ids[(i + 1) % 4]] for i in range(4)]
+
+    walls += rect(0, 0, w, t) + rect(0, h - t, w, h) + rect(0, t, t, h - t) + rect(w - t, t, w, h - t)
+    xm = float(u(0.45, 0.55)) * w  # the partition from the floor wall, its top a T-opening
+    d1, d2 = float(u(0.8, 1.1)), float(u(0.8, 1.1))
+    walls += rect(xm - t / 2, t, xm + t / 2, h - t - d1)
+    ym = float(u(0.4, 0.5)) * h  # the partition from the right wall, ending d2 from the first
+    walls += rect(xm + t / 2 + d2, ym - t / 2, w - t, ym + t / 2)
+    # a row of tables along the floor wall of the left room, bays between them
+    x = t + float(u(0.6, 0.9))
+    while True:
+        tw = float(u(1.0, 1.4))
+        if x + tw > xm - t / 2 - 0.6:
+            break
+        gap = float(u(0.01, 0.03))
+        tables.append(rect(x, t + gap, x + tw, t + gap + 0.7))
+        x += tw + float(u(0.5, 0.8))
+    # one table standing free in the left room, one against the right wall below the partition,
+    # a row of two along the top wall of the right room
+    cx, cy = (t + xm) / 2 + float(u(-0.3, 0.3)), h * 0.62 + float(u(-0.2, 0.2))
+    tables.append(rect(cx - 0.6, cy - 0.4, cx + 0.6, cy + 0.4))
+    gap = float(u(0.01, 0.03))
+    ty = t + float(u(0.5, 1.0))
+    tables.append(rect(w - t - gap - 0.7, ty, w - t - gap, min(ty + 1.2, ym - t / 2 - 0.9)))
+    x = xm + t / 2 + d2 + float(u(0.3, 0.6))
+    for _ in range(2):
+        tw = float(u(1.0, 1.3))
+        if x + tw > w - t - 0.3:
+            break
+        gap = float(u(0.01, 0.03))
+        tables.append(rect(x, h - t - gap - 0.7, x + tw, h - t - gap))
+        x += tw + float(u(0.5, 0.8))
+    doc = {"walls": walls, "tables": tables, "doors": [], "points": pts}
+    start = (xm / 2, h * 0.4, 0.0)
+    sim = {
+        "initial_pose": list(start), "uncertain_odom": False, "provide_internal_pose": True,
+        "objects": [
+            {"length": 0.4, "width": 0.4, "trigger_radius": 2.5, "repeat": False, "velocity": 0.4,
+             "init_pose": [t + 0.6, h * 0.45, 0.0], "final_pose": [xm - 0.6, h * 0.45, 0.0]},
+            {"length": 0.4, "width": 0.4, "trigger_radius": 3.0, "repeat": True, "velocity": 0.3,
+             "init_pose": [xm + 1.0, ym - 1.2, 0.0], "final_pose": [w - 1.5, ym - 1.2, 0.0]},
+        ],
+    }
+    return doc, sim

@@ -103,6 +103,7 @@ def reference_visible_doors(truth: GroundTruth) -> np.ndarray:
     seen = reference_in_view(truth, (o[:, :2] + o[:, 2:]) / 2, not_doors)
     seen &= reference_jamb_seen_length(truth, o[:, :2]) >= truth._params.jamb_min_seen
     seen &= reference_jamb_seen_length(truth, o[:, 2:]) >= truth._params.jamb_min_seen
+    seen &= ~truth._shut((o[:, :2] + o[:, 2:]) / 2)  # plain Python in both: no door leaf shut across it
     return o[seen]
 
 

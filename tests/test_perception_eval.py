@@ -89,3 +89,29 @@ def test_eval_cli_bad_input(maps_dir, capsys, tmp_path):
     assert main(["eval", "--map", str(tmp_path / "missing.json")]) == 2
     assert "missing.json" in capsys.readouterr().err
     assert Tolerances().wall_distance > 0
+
+
+def test_map_confirmed_doors_are_scored_on_their_own():
+    """A localised world model's combined map: only the doors the map confirmed count in
+    map_door_*; the perceptor's own doors (one true, one false) are scored as before."""
+    from sim_helpers import box_map
+
+    from pico_studio.core.localisation.combined import CombinedMap
+    from pico_studio.core.world_model import WorldModel
+    from pico_studio.evaluation.frame_score import score_frame
+    from pico_studio.sim import Simulator
+
+    # a 10 x 10 m room split at x = 5 with a 1 m gap (y 4..5), the robot facing it
+    gap = box_map(more_points=[{"x": 5, "y": 0}, {"x": 5, "y": 4}, {"x": 5, "y": 5}, {"x": 5, "y": 10}],
+                  more_walls=[[4, 5], [6, 7]])
+    sim = Simulator(gap, initial_pose=(3.0, 4.5, 0.0))
+    assert len(sim.truth.visible_doors()) == 1
+    doors = np.array([[5.0, 4.0, 5.0, 5.0], [2.0, 2.0, 3.0, 2.0]])
+    wm = WorldModel(pose=sim.truth.pose, doors=doors)
+    assert "map_door_precision" not in RunScore([score_frame(wm, sim.truth)]).summary()
+    wm.combined = CombinedMap(walls=np.zeros((0, 4)), wall_matched=np.zeros(0, dtype=bool),
+                              map_wall_seen=np.zeros(0, dtype=bool), doors=doors,
+                              door_confirmed=np.array([True, False]))
+    s = RunScore([score_frame(wm, sim.truth)]).summary()
+    assert s["door_precision"] == 0.5 and s["door_recall"] == 1.0
+    assert s["map_door_precision"] == 1.0 and s["map_door_recall"] == 1.0 and s["map_doors_detected"] == 1

@@ -6,11 +6,12 @@ import math
 
 import numpy as np
 import pytest
-from sim_helpers import box_map
+from sim_helpers import box_map, door_map
 
-from pico_studio.json_map import load_json_map
+from pico_studio.json_map import load_json_map, map_from_dict
 from pico_studio.sim import Simulator
 from pico_studio.sim.map_features import door_openings, sector_width
+from pico_studio.sim.sim_config import sim_config_from_dict
 
 
 def test_visible_walls_are_the_pieces_the_beams_hit() -> None:
@@ -89,3 +90,28 @@ def test_visible_doors_depend_on_the_pose() -> None:
     away = Simulator(m, initial_pose=(4.0, 6.0, 0.0))  # the corridor at the top, facing +x
     mids2 = {tuple(np.round((d[:2] + d[2:]) / 2, 2)) for d in away.truth.visible_doors()}
     assert (1.25, 2.1) not in mids2 and (5.5, 4.5) in mids2
+
+
+def test_a_closed_door_is_no_visible_opening() -> None:
+    # the door map's 1 m gap at x = 5 (y 4..5) holds a closed 0.1 m door: to the laser a wall.
+    # Both jambs are seen and the middle is in view, but the leaf is shut across it
+    sim = Simulator(door_map(), initial_pose=(3.0, 4.5, 0.0))
+    o = sim.truth.door_openings()
+    assert len(o) == 1
+    assert (sim.truth.jamb_seen_length(o.reshape(2, 2)) >= 0.15).all()
+    assert len(sim.truth.visible_doors()) == 0
+    # the same map without the door leaf: the gap is a visible opening
+    m = door_map()
+    bare = Simulator(map_from_dict({"points": [{"x": float(x), "y": float(y)} for x, y in m.points],
+                                    "walls": m.walls.tolist()}), initial_pose=(3.0, 4.5, 0.0))
+    assert len(bare.truth.visible_doors()) == 1
+
+
+def test_dynamic_vertices_are_the_door_leaves_and_moving_boxes_now() -> None:
+    cfg = sim_config_from_dict({"objects": [{"length": 0.5, "width": 0.5, "trigger_radius": 1.0, "velocity": 0.3,
+                                             "init_pose": [8.0, 8.0, 0.0], "final_pose": [8.0, 2.0, 0.0]}]})
+    sim = Simulator(door_map(), sim_config=cfg, initial_pose=(2.0, 2.0, 0.0))
+    v = {tuple(np.round(p, 3)) for p in sim.truth.dynamic_vertices().tolist()}
+    assert {(4.95, 4.0), (5.05, 4.0), (5.05, 5.0), (4.95, 5.0)} <= v  # the closed leaf's corners
+    assert {(7.75, 7.75), (8.25, 8.25)} <= v  # the standing box's corners
+    assert len(v) == 8

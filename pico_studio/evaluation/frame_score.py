@@ -11,7 +11,9 @@ reported on its own.
   (`truth.visible_walls()`: the pieces the scan's beams hit) within the same tolerances of a
   local-map wall.
 - **End points**: mean distance from each non-floating local-map wall end (a corner or a seen
-  end) to the nearest true corner of the static geometry.
+  end) to the nearest true vertex: the static geometry's corners and, when the truth has
+  them, `truth.dynamic_vertices()` (door leaves and moving objects where they are now: a
+  standing box's corner or a closed door's end seen rightly is no error).
 - **Corners**: detected corners vs the true corners in view (`truth.visible_corners()`),
   matched one to one, nearest first, within `corner_distance`: precision, recall, and the
   share of matched corners whose convex/concave property is right.
@@ -22,6 +24,10 @@ reported on its own.
   middle in view, and the scan's beams hit the wall at each jamb over a minimum length: see
   `sim/truth.py`). A door whose jamb is not seen cannot be told from a wall's loose end; the
   perceptor reports it as a possible door at best.
+- **Map-confirmed doors**: when the world model was localised (`wm.combined`, the combined
+  map), its doors the global map confirmed (`combined.door_confirmed`) are scored the same
+  way in the global frame (the simulator's map frame): precision and recall of the doors a
+  localised robot would act on. The perceptor's own doors above are scored without the map.
 - **Pose**: the perceptor's pose relative to its zero vs the true motion since that frame.
 
 Counts and lengths are summed over frames (`run_score.RunScore`), so a run's figures weigh
@@ -86,6 +92,10 @@ class FrameScore:
     doors_ok: int = 0
     truth_doors: int = 0
     truth_doors_ok: int = 0
+    map_frames: int = 0  # frames with a combined (localised) map
+    map_doors: int = 0  # its map-confirmed doors
+    map_doors_ok: int = 0
+    map_truth_doors_ok: int = 0
     pose_err_m: float = 0.0
     pose_err_rad: float = 0.0
 
@@ -229,7 +239,7 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
 
     `true_zero`: the true pose at the frame the perceptor took as zero (for the pose error);
     `true_vertices`: every corner of the static geometry (for the end-point error; default
-    the corners in view)."""
+    the corners in view), joined by the truth's `dynamic_vertices()` when it has them."""
     true_pose = as_pose(truth.pose)
     z = zero_to_map(wm, true_pose)
     walls = transform_segments(np.asarray(wm.local_map.walls, dtype=float), z)
@@ -237,6 +247,10 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     doors = transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4), z)
     vc = truth.visible_corners()
     visible_doors = truth.visible_doors()
+    vertices = vc.points if true_vertices is None else true_vertices
+    dynamic = getattr(truth, "dynamic_vertices", None)
+    if dynamic is not None:
+        vertices = np.concatenate([np.asarray(vertices, dtype=float).reshape(-1, 2), dynamic()])
     s = score_arrays(
         walls=walls,
         endpoint_property=np.asarray(wm.local_map.endpoint_property),
@@ -245,13 +259,19 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
         doors=doors,
         solid=truth.segments(),
         visible_walls=truth.visible_walls(),
-        true_vertices=vc.points if true_vertices is None else true_vertices,
+        true_vertices=vertices,
         visible_corners=vc.points,
         visible_convex=vc.convex,
         openings=truth.door_openings(),
         visible_doors=visible_doors,
         tol=tol,
     )
+    combined = getattr(wm, "combined", None)
+    if combined is not None:
+        confirmed = np.asarray(combined.doors, dtype=float).reshape(-1, 4)[np.asarray(combined.door_confirmed, dtype=bool)]
+        s.map_frames, s.map_doors = 1, len(confirmed)
+        s.map_doors_ok = int(doors_match(confirmed, truth.door_openings(), tol).any(axis=1).sum())
+        s.map_truth_doors_ok = int(doors_match(confirmed, visible_doors, tol).any(axis=0).sum())
     if true_zero is not None:
         true_rel = relative(true_zero, true_pose)
         err = relative(true_rel, as_pose(wm.pose))

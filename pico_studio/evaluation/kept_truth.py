@@ -33,6 +33,7 @@ class TruthSnapshot:
         self._visible_corners = truth.visible_corners()
         self._door_openings = np.array(truth.door_openings())
         self._visible_doors = np.array(truth.visible_doors())
+        self._dynamic_vertices = np.array(truth.dynamic_vertices())
         self._scan_hits = tuple(np.array(a) for a in truth.scan_hits())
 
     def segments(self) -> np.ndarray:
@@ -52,6 +53,9 @@ class TruthSnapshot:
 
     def visible_doors(self) -> np.ndarray:
         return self._visible_doors
+
+    def dynamic_vertices(self) -> np.ndarray:
+        return self._dynamic_vertices
 
     def scan_hits(self) -> tuple[np.ndarray, ...]:
         return self._scan_hits

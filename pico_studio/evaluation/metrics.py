@@ -42,6 +42,8 @@ METRICS: dict[str, Metric] = {m.name: m for m in (
     _m("doors.precision", "share of detected doors at a true opening"),
     _m("doors.recall", "share of the openings in view (both jambs seen) detected"),
     _m("doors.f1", "harmonic mean of door precision and recall"),
+    _m("map_doors.precision", "share of the localised robot's map-confirmed doors at a true opening"),
+    _m("map_doors.recall", "share of the openings in view that a map-confirmed door found"),
     _m("endpoint_error_m", "mean distance of a wall end to the nearest true corner, m", higher=False),
     _m("localisation.pose_error_m.median", "median localised position error, m", higher=False),
     _m("localisation.pose_error_m.max", "largest localised position error, m", higher=False),
@@ -66,6 +68,8 @@ _RUN_KEYS = {
     "convexity_accuracy": "corners.convexity",
     "door_precision": "doors.precision",
     "door_recall": "doors.recall",
+    "map_door_precision": "map_doors.precision",
+    "map_door_recall": "map_doors.recall",
     "endpoint_error_m": "endpoint_error_m",
     "ms_per_scan": "perceptor.ms_per_scan",
 }

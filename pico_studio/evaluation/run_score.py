@@ -76,6 +76,9 @@ def summarise(t: FrameScore, n: int, ms_per_scan: list[float] | None = None) -> 
         "pose_error_m": t.pose_err_m / k,
         "pose_error_rad": t.pose_err_rad / k,
         "ms_per_scan": float(np.median(ms_per_scan)) if ms_per_scan else 0.0,
+        **({"map_door_precision": _ratio(t.map_doors_ok, t.map_doors),
+            "map_door_recall": _ratio(t.map_truth_doors_ok, t.truth_doors),
+            "map_doors_detected": t.map_doors} if t.map_frames else {}),
     }
 
 

@@ -13,9 +13,16 @@ Visibility, two definitions (each method says which it uses):
   before it.
 
 A door opening is visible when beams of the latest scan (noise-free) hit the wall at each of
-its jambs over at least `jamb_min_seen` (counted within `jamb_reach` of the jamb), and its
-middle is *in view* (doors themselves, open or closed, do not occlude) — so a jamb whose
-single corner peeks into view does not make a door visible.
+its jambs over at least `jamb_min_seen` (counted within `jamb_reach` of the jamb), its
+middle is *in view* (doors themselves, open or closed, do not occlude), and no door leaf is
+shut across it (its middle outside every door's outline as the door is now) — so a jamb
+whose single corner peeks into view does not make a door visible, and a closed door, which
+to a laser is a piece of wall, is not an opening it could see.
+
+End points: the vertices a seen wall end may lie on are the static geometry's
+(`static_vertices` of the scorer) and `dynamic_vertices()`, the corners of the door leaves
+and moving objects where they are now (a standing box's corner, a closed door's ends against
+its jambs are real corners).
 
 Corners are those of the static geometry (walls, cabinets/tables), classified convex/concave
 as seen from the robot (see `map_features`); door openings are `map_features.door_openings`
@@ -32,6 +39,7 @@ from collections.abc import Callable
 from functools import cached_property
 from typing import Any, NamedTuple, TypeVar, cast
 
+import cv2
 import numpy as np
 
 from pico_studio.config.sim_params import TruthParams
@@ -133,7 +141,22 @@ class GroundTruth:
         seen = self._in_view(middles, self._world.segments()[not_door])
         seen_length = self.jamb_seen_length(jambs)
         seen &= (seen_length[: len(o)] >= self._params.jamb_min_seen) & (seen_length[len(o):] >= self._params.jamb_min_seen)
+        seen &= ~self._shut((o[:, :2] + o[:, 2:]) / 2)
         return o[seen]
+
+    def _shut(self, points: np.ndarray) -> np.ndarray:
+        """(P,) bool: the point lies inside a door leaf's outline as the door is now."""
+        out = np.zeros(len(points), dtype=bool)
+        for outline, _ in self.doors():
+            poly = np.asarray(outline, dtype=np.float32).reshape(-1, 1, 2)
+            out |= np.array([cv2.pointPolygonTest(poly, (float(x), float(y)), False) >= 0 for x, y in points], dtype=bool)
+        return out
+
+    def dynamic_vertices(self) -> np.ndarray:
+        """(K, 2) the corners of the door leaves and the moving objects where they are now
+        (the static geometry's corners are the scorer's `static_vertices`)."""
+        parts = [np.asarray(v, dtype=float).reshape(-1, 2) for v, _ in self.doors()] + self.moving_objects()
+        return np.vstack(parts) if parts else np.zeros((0, 2))
 
     def jamb_seen_length(self, jambs: np.ndarray) -> np.ndarray:
         """(J,) for each jamb point: how long a stretch of the walls touching it (within

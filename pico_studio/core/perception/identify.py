@@ -14,6 +14,17 @@ that line towards P (the two walls in one line, seed 001) or stands across it (t
 of a thick wall seen from the side while the face beyond the gap is out of view). Possible doors (seed 001), with the same width range: a convex point and a loose
 (floating) end, two loose ends, or a loose end whose wall, continued, hits another wall
 within `facing_distance`.
+
+Jambs among furniture (restaurant_2024's false doors, `tests/test_clutter_jambs.py`): a
+jamb is a wall's end joined to nothing or to a *whole* end cap (no longer than
+`jamb_cap_max`, its far end seen or joined: a side seen in part may run a table deep); a
+wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a
+long wall's line) or a door frame's wall (at least `door_wall_min_length`, or a stub on
+one): a box's or a person's lone face is not. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
+wall — one at least `end_face_min_length` long, or a door frame's length ending in a whole
+cap (a thick wall's end; a table's end is as wide as the table) — and never ends on a
+block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
+cabinet's front).
 """
 
 from __future__ import annotations
@@ -28,6 +39,7 @@ from pico_studio.core.perception.identify_kernels import (
     backed,
     blocked_many,
     door_pairs,
+    jamb_candidates,
     object_groups,
     ray_hits,
 )
@@ -151,12 +163,18 @@ def _doors(
     empty = np.zeros((0, 4))
     if len(walls) < 2:
         return empty, [], empty, []
-    # door-point candidates: (wall, end) with a convex or floating property, not on an object
-    lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
-    # a jamb is a wall's end: what joins it there is no longer than an end cap
-    cap = np.where(connected >= 0, lengths[np.maximum(connected, 0)], 0.0)
-    jamb_ok = ~objects[:, None] & (cap <= params.jamb_cap_max)
-    wi, we = np.nonzero(((prop == CONVEX) | (prop == FLOATING)) & jamb_ok)
+    # door-point candidates: (wall, end) with a convex or floating property, not on an object.
+    # A jamb is a wall's end: joined to nothing there, or to an end cap no longer than a wall's
+    # thickness (`jamb_cap_max`; a longer wall there makes a block's corner, a table against a
+    # wall) that is whole (its far end seen or joined: a side seen in part may run deep, a
+    # table's between two tables standing in a row by a wall). The wall a door continues is
+    # long (`door_wall_min_length`), or a short stub whose far end joins a long wall (a
+    # cabinet's side is short and joins another short side; then the gap must continue it
+    # closely: `door_offset_short`). The loop: identify_kernels.jamb_candidates
+    wi, we, capped, long, stub, cap_sized, cap_seen, lengths = jamb_candidates(
+        np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
+        np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
+        float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX)
     if len(wi) < 1:
         return empty, [], empty, []
     ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i
@@ -165,12 +183,6 @@ def _doors(
     out_dir = pts - other
     out_dir /= np.maximum(np.hypot(out_dir[:, 0], out_dir[:, 1]), 1e-12)[:, None]
     is_convex = prop[wi, we] == CONVEX
-    # the wall a door continues is long, or a short stub whose far end joins a long wall
-    # (a cabinet's side is short and joins another short side)
-    # (then the gap must continue it closely: `door_offset_short`)
-    far = connected[wi, 1 - we]
-    long = lengths[wi] >= params.door_wall_min_length
-    stub = ~long & (far >= 0) & (lengths[np.maximum(far, 0)] >= params.door_wall_min_length)
     # the pairs (ia, ja), ia < ja, a door's width apart that may be a door or a possible door:
     # the gap continues one wall's line (the other point ahead of its end, within door_angle
     # and door_offset), and the other point's wall either comes back along that line or
@@ -179,6 +191,7 @@ def _doors(
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
         np.ascontiguousarray(pts), np.ascontiguousarray(out_dir), wi.astype(np.int64), we.astype(np.int64),
         np.ascontiguousarray(is_convex), np.ascontiguousarray(long), np.ascontiguousarray(stub),
+        np.ascontiguousarray(cap_sized), np.ascontiguousarray(cap_seen),
         np.ascontiguousarray(connected, dtype=np.int64), float(params.door_min_width),
         float(params.door_max_width), float(params.door_angle), float(params.door_offset),
         float(params.door_offset_short))
@@ -206,12 +219,19 @@ def _doors(
     # a convex end (the laser saw the end) within a door's width that is a door, a T-opening;
     # from a loose end a possible door
     if params.end_face_doors:
-        face = np.flatnonzero(is_convex & (lengths[wi] >= params.end_face_min_length))
+        # the end is a building wall's: a long wall, or a door frame's length ending in a whole
+        # end cap of a wall's thickness (a thick wall's end seen with its cap; a table's end is
+        # as wide as the table, a person's side too short)
+        building = (lengths[wi] >= params.end_face_min_length) | (long & capped)
+        face = np.flatnonzero(is_convex & building)
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
             gaps, own, other_k = [], [], []
+            # the face it meets is a building's too: not a small object, nor a block's face (both
+            # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
+            block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
-                if k < 0 or k == wi[m] or objects[k] or connected[wi[m], we[m]] == k:
+                if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
                     continue
                 if not params.door_min_width <= t <= params.door_max_width:
                     continue

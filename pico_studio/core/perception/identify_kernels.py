@@ -99,13 +99,17 @@ def _example_pairs() -> tuple:
     is_convex = np.array([True, True, False])
     long = np.array([True, True, True])
     stub = np.array([False, False, False])
+    cap_sized = np.array([False, False, True])
+    cap_seen = np.array([False, False, True])
     connected = np.full((3, 2), -1, dtype=np.int64)
-    return pts, out_dir, wi, we, is_convex, long, stub, connected, 0.6, 1.2, 0.3, 0.1, 0.05
+    return pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, 0.6, 1.2, 0.3, 0.1, 0.05
 
 
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
-               long: np.ndarray, stub: np.ndarray, connected: np.ndarray, min_width: float, max_width: float,
+               long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
+               min_width: float,
+               max_width: float,
                angle: float, offset: float, offset_short: float,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The pairs (i < j, in row order) of door-point candidates P_i, P_j (wall wi, end we,
@@ -118,7 +122,12 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     through the gap when u_i > cos(angle) and off_ij < offset (a long wall) or < offset_short
     (a stub); wall j's when -u_j > cos(angle) likewise. A door: both convex, and one wall's
     line continues with the other wall coming back along it (-u_j > cos, resp. u_i > cos) or
-    standing across it (|u_j| < sin(angle), resp. |u_i|). A possible door: not both convex,
+    standing across it (|u_j| < sin(angle), resp. |u_i|) as a door frame's wall (`long` or
+    `stub`) or an end cap (`cap_sized`: no longer than a wall's thickness) — seen whole
+    (`cap_seen`) unless the line it stands across is a long wall's (a cap seen in part from
+    the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
+    person's side seen in part looks the same): a lone short wall across the line, a box's or
+    a person's side, is no jamb. A possible door: not both convex,
     the two walls collinear (|o_i . o_j| > cos, both offsets < offset) and facing (u_i > 0,
     u_j < 0)."""
     n = pts.shape[0]
@@ -143,8 +152,10 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             uj = ux * out_dir[j, 0] + uy * out_dir[j, 1]
             line_i = ui > cos_a and ((off_ij < offset and long[i]) or (off_ij < offset_short and stub[i]))
             line_j = -uj > cos_a and ((off_ji < offset and long[j]) or (off_ji < offset_short and stub[j]))
-            door_ij = line_i and (-uj > cos_a or abs(uj) < sin_a)
-            door_ji = line_j and (ui > cos_a or abs(ui) < sin_a)
+            frame_i = long[i] or stub[i] or (cap_sized[i] and (cap_seen[i] or long[j]))
+            frame_j = long[j] or stub[j] or (cap_sized[j] and (cap_seen[j] or long[i]))
+            door_ij = line_i and (-uj > cos_a or (abs(uj) < sin_a and frame_j))
+            door_ji = line_j and (ui > cos_a or (abs(ui) < sin_a and frame_i))
             both_convex = is_convex[i] and is_convex[j]
             is_door = both_convex and (door_ij or door_ji)
             collinear = (abs(out_dir[i, 0] * out_dir[j, 0] + out_dir[i, 1] * out_dir[j, 1]) > cos_a
@@ -306,3 +317,56 @@ def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, ma
         g = group[i]
         candidate[i] = not (np.hypot(hi_x[g] - lo_x[g], hi_y[g] - lo_y[g]) > max_size) and not loose[g]
     return group, candidate
+
+
+def _example_candidates() -> tuple:
+    walls = np.array([[0.0, 0.0, 2.0, 0.0], [2.0, 0.0, 2.0, 0.2], [3.0, 0.0, 5.0, 0.0]])
+    connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    prop = np.array([[0, 2], [2, 2], [2, 0]], dtype=np.int64)
+    return walls, connected, prop, np.zeros(3, dtype=np.bool_), 0.35, 0.5, 0, 2
+
+
+@kernel(_example_candidates)
+def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray,
+                    cap_max: float, frame_min: float, floating: int, convex: int,
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                               np.ndarray]:
+    """The door-point candidates (identify._doors says what and why): every wall end (i, e)
+    that is convex or floating, not on an object, and either joined to nothing or *capped*
+    there. Wall k joined at end e is a cap when |k| <= cap_max and it is *whole*: none of k's
+    ends is floating but the one joining i (a T-joined k: neither). Per candidate, in row order
+    (i, then e): (wall i, end e, capped, long: |i| >= frame_min, stub: not long and the wall
+    joined at i's far end is long, cap_sized: |i| <= cap_max, cap_seen: neither of i's ends
+    floating (seen whole), lengths (W,) of every wall)."""
+    n = walls.shape[0]
+    lengths = np.empty(n)
+    for i in range(n):
+        lengths[i] = np.hypot(walls[i, 2] - walls[i, 0], walls[i, 3] - walls[i, 1])
+    wi, we = np.empty(2 * n, dtype=np.int64), np.empty(2 * n, dtype=np.int64)
+    capped, long, stub = np.empty(2 * n, dtype=np.bool_), np.empty(2 * n, dtype=np.bool_), np.empty(2 * n, dtype=np.bool_)
+    cap_sized, cap_seen = np.empty(2 * n, dtype=np.bool_), np.empty(2 * n, dtype=np.bool_)
+    m = 0
+    for i in range(n):
+        for e in range(2):
+            if objects[i] or not (prop[i, e] == convex or prop[i, e] == floating):
+                continue
+            k = connected[i, e]
+            whole = False
+            if k >= 0 and lengths[k] <= cap_max:
+                whole = True
+                for b in range(2):
+                    if prop[k, b] == floating and connected[k, b] != i:
+                        whole = False
+                if not whole:
+                    continue
+            elif k >= 0:
+                continue
+            far = connected[i, 1 - e]
+            wi[m], we[m], capped[m] = i, e, whole
+            long[m] = lengths[i] >= frame_min
+            stub[m] = not long[m] and far >= 0 and lengths[far] >= frame_min
+            cap_sized[m] = lengths[i] <= cap_max
+            cap_seen[m] = prop[i, 0] != floating and prop[i, 1] != floating
+            m += 1
+    return (wi[:m].copy(), we[:m].copy(), capped[:m].copy(), long[:m].copy(), stub[:m].copy(), cap_sized[:m].copy(),
+            cap_seen[:m].copy(), lengths)

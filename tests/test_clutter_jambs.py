@@ -1,0 +1,97 @@
+"""Which wall ends are door jambs among furniture: the scenes are restaurant_2024's false doors
+and missed T-openings (map frame, metres), each beside the building case it must not be
+mistaken for. The local map only (no scan): the gaps have nothing behind them, so only the
+jamb rules decide."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pico_studio.config import load_config
+from pico_studio.core.perception.identify import identify
+
+PARAMS = load_config(None).perception.identify
+
+
+def _doors(walls: list[list[float]], connected: list[list[int]], seen: list[list[bool]], robot: tuple[float, float]):
+    out = identify(np.array(walls, dtype=float), np.array(connected, dtype=np.int64), np.array(seen, dtype=bool),
+                   robot, PARAMS)
+    return out.doors, out.door_kind
+
+
+TABLE_FRONT = [4.81, 4.1, 3.41, 4.1]  # 1.4 m, its left end seen
+
+
+def test_a_box_face_beside_a_table_end_is_no_door():
+    """A standing box's face (0.47 m, alone, both ends seen) across the line of a table's front,
+    1.2 m on: no door. A thick wall's end cap there (0.2 m) is a jamb."""
+    robot = (5.84, 3.48)
+    box_face = [2.25, 4.25, 2.25, 3.78]
+    doors, _ = _doors([TABLE_FRONT, box_face], [[-1, -1], [-1, -1]], [[False, True], [True, True]], robot)
+    assert len(doors) == 0
+    cap = [2.25, 4.25, 2.25, 4.05]
+    doors, kind = _doors([TABLE_FRONT, cap], [[-1, -1], [-1, -1]], [[False, True], [True, True]], robot)
+    assert kind == ["jambs"] and np.allclose(doors[0], [3.41, 4.1, 2.25, 4.05])  # to the cap's nearer corner
+
+
+def _block(cap_length: float) -> tuple[list[list[float]], list[list[int]], list[list[bool]]]:
+    """The floor wall's face (y = 0.2) and, 1 m above it, the lower end of a block: its end cap
+    (from x = 4.6 to the right), a 0.6 m side going up from that end and the wall it joins
+    there running off to the left out of view."""
+    walls = [[2.9, 0.2, 6.1, 0.2], [4.6 + cap_length, 1.2, 4.6, 1.2], [4.6, 1.2, 4.6, 1.8], [4.6, 1.8, 3.86, 1.8]]
+    connected = [[-1, -1], [-1, 2], [1, 3], [2, -1]]
+    seen = [[False, False], [True, False], [False, False], [False, False]]
+    return walls, connected, seen
+
+
+def test_a_t_opening_from_a_short_capped_wall_end():
+    """A 0.6 m side with a whole 0.2 m end cap (a thick wall's end) facing the floor wall 1 m
+    away: a T-opening, though the side is shorter than end_face_min_length. The same end as
+    wide as a table (0.7 m) is no jamb."""
+    robot = (3.82, 0.68)
+    doors, kind = _doors(*_block(0.2), robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [4.6, 1.2, 4.6, 0.2], atol=1e-6)
+    doors, _ = _doors(*_block(0.7), robot)
+    assert len(doors) == 0
+
+
+def test_a_wall_end_facing_a_table_front_is_no_door():
+    """A thick wall's capped end 1.3 m from a table's front (both its ends convex, shorter than
+    a building's wall): a passage between a wall and furniture. Facing a long wall it is a door."""
+    robot = (3.12, 3.75)
+    end = [[4.6, 1.99, 4.6, 2.8], [4.6, 2.8, 4.8, 2.8]]
+    table = [[4.78, 4.1, 3.4, 4.1], [3.4, 4.1, 3.4, 4.8]]  # the front and its left side
+    doors, _ = _doors(end + table, [[-1, 1], [0, -1], [-1, 3], [2, -1]],
+                      [[False, False], [False, True], [True, False], [False, False]], robot)
+    assert len(doors) == 0
+    wall = [[6.5, 4.1, 2.0, 4.1]]
+    doors, kind = _doors(end + wall, [[-1, 1], [0, -1], [-1, -1]], [[False, False], [False, True], [False, False]],
+                         robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [4.6, 2.8, 4.6, 4.1], atol=1e-6)
+
+
+def test_two_tables_in_a_row_are_no_door_until_the_cap_is_whole():
+    """Two table fronts in a line 0.6 m apart, the right one's side seen only 0.25 m (it runs on
+    out of view: a table's side may be deep): no door. When that side ends within a wall's
+    thickness and the laser saw its far end, it is a thick wall's end cap: a door."""
+    robot = (3.4, 3.53)
+    walls = [[6.78, 4.1, 5.4, 4.1], [5.4, 4.1, 5.4, 4.35], [4.79, 4.1, 3.42, 4.1]]
+    connected = [[-1, 1], [0, -1], [-1, -1]]
+    doors, _ = _doors(walls, connected, [[False, False], [False, False], [True, True]], robot)
+    assert len(doors) == 0
+    doors, kind = _doors(walls, connected, [[False, False], [False, True], [True, True]], robot)
+    assert kind == ["jambs"] and np.allclose(doors[0], [5.4, 4.1, 4.79, 4.1])
+
+
+def test_a_person_seen_in_part_is_no_cap_across_a_door():
+    """A thick wall's end cap (0.2 m, joined to the wall) points at a person 0.9 m below, of
+    whom the laser saw 0.24 m of one side (one end floating): no door. A whole cap there (the
+    end of another thick wall, both its ends seen) is a jamb."""
+    robot = (5.39, 5.43)
+    wall = [[5.72, 2.89, 5.74, 3.09], [5.74, 3.09, 9.41, 3.07]]
+    person = [5.61, 1.98, 5.86, 1.98]
+    connected = [[-1, 1], [0, -1], [-1, -1]]
+    doors, _ = _doors(wall + [person], connected, [[True, False], [False, False], [True, False]], robot)
+    assert len(doors) == 0
+    doors, kind = _doors(wall + [person], connected, [[True, False], [False, False], [True, True]], robot)
+    assert kind == ["jambs"] and np.allclose(doors[0], [5.72, 2.89, 5.61, 1.98])
