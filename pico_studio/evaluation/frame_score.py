@@ -249,8 +249,9 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     visible_doors = truth.visible_doors()
     vertices = vc.points if true_vertices is None else true_vertices
     dynamic = getattr(truth, "dynamic_vertices", None)
-    if dynamic is not None:
-        vertices = np.concatenate([np.asarray(vertices, dtype=float).reshape(-1, 2), dynamic()])
+    more = dynamic() if dynamic is not None else np.zeros((0, 2))
+    if len(more):  # (none: no door leaves or moving objects, nothing to copy)
+        vertices = np.concatenate([np.asarray(vertices, dtype=float).reshape(-1, 2), more])
     s = score_arrays(
         walls=walls,
         endpoint_property=np.asarray(wm.local_map.endpoint_property),
