@@ -139,12 +139,14 @@ class GroundTruth:
             return o.copy()
         middles, jambs, not_door = self._opening_points
         seen = self._in_view(middles, self._world.segments()[not_door])
+        if not seen.any():  # (then neither their jambs nor the door leaves matter)
+            return o[seen]
         # the jambs of openings whose middle is out of view cannot make them visible
         both = np.concatenate([seen, seen])
         seen_length = np.zeros(len(jambs))
         seen_length[both] = self.jamb_seen_length(jambs[both])
         seen &= (seen_length[: len(o)] >= self._params.jamb_min_seen) & (seen_length[len(o):] >= self._params.jamb_min_seen)
-        seen &= ~self._shut((o[:, :2] + o[:, 2:]) / 2)
+        seen &= ~self._shut(middles)
         return o[seen]
 
     def _shut(self, points: np.ndarray) -> np.ndarray:
