@@ -83,6 +83,13 @@ def in_view_args(truth: GroundTruth) -> tuple:
     return args, reference_in_view(truth, points, segs), truth._in_fov(points)
 
 
+def corners_args(truth: GroundTruth) -> tuple:
+    """`corners_in_view`'s arguments now (the candidate corners classified from the pose)."""
+    idx, convex, loose = classify_corners(truth._graph, truth.pose[:2], truth._params.straight_tolerance)
+    return (np.ascontiguousarray(truth._graph.points), idx, convex, loose, *truth._view(),
+            np.ascontiguousarray(truth._world.segments()), float(truth._params.visible_tolerance))
+
+
 SECONDS = {"hospital_2019.json": 12.0, "restaurant_2024.json": 40.0}
 MAP_NAMES = list(SECONDS)
 
@@ -161,7 +168,7 @@ def wander_frames(map_name: str, every: int = 6) -> list[dict]:
                 "pose": truth.pose, "graph": truth._graph,
                 "doors": truth.visible_doors(), "corners": truth.visible_corners(),
                 "doors_ref": reference_visible_doors(truth), "corners_ref": reference_visible_corners(truth),
-                "in_view_args": in_view_args(truth),
+                "in_view_args": in_view_args(truth), "corners_args": corners_args(truth),
             })
 
         def summary(self) -> dict:
@@ -242,6 +249,11 @@ def test_whole_queries_are_the_python_they_replaced(map_name: str):
         np.testing.assert_array_equal(got, jit.py_func(truth_kernels.in_view)(*args))
         seen += int(got.sum())
         hidden += int((fov & ~got).sum())
+        fast, slow = truth_kernels.corners_in_view(*f["corners_args"]), jit.py_func(truth_kernels.corners_in_view)(*f["corners_args"])
+        for x, y, ref in zip(fast, slow, f["corners_ref"], strict=True):
+            np.testing.assert_array_equal(x, y)
+            np.testing.assert_array_equal(x, ref)
+            assert x.dtype == ref.dtype
     assert seen >= 10 and hidden >= 10  # vertices in view and vertices in the field of view but occluded
 
 

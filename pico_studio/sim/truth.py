@@ -47,7 +47,13 @@ from pico_studio.sim.base import Base, CollisionEvent
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
 from pico_studio.sim.odometry import Odometry
-from pico_studio.sim.truth_kernels import beam_ends, hit_runs, in_view, jamb_seen_lengths
+from pico_studio.sim.truth_kernels import (
+    beam_ends,
+    corners_in_view,
+    hit_runs,
+    in_view,
+    jamb_seen_lengths,
+)
 from pico_studio.sim.world import KIND_DOOR, World
 
 Pose = tuple[float, float, float]
@@ -123,9 +129,10 @@ class GroundTruth:
     def visible_corners(self) -> Corners:
         """Corners of the static geometry *in view* from the robot, convex/concave from there."""
         idx, convex, loose = classify_corners(self._graph, self.pose[:2], self._params.straight_tolerance)
-        pts = self._graph.points[idx]
-        seen = self._in_view(pts, self._world.segments())
-        return Corners(pts[seen], convex[seen], loose[seen])
+        # `_in_view` of `_graph.points[idx]` and the selection, as one compiled call
+        pts, convex, loose = corners_in_view(np.ascontiguousarray(self._graph.points, dtype=np.float64), idx, convex, loose,
+                                             *self._view(), self._c4(self._world.segments()), float(self._params.visible_tolerance))
+        return Corners(pts, convex, loose)
 
     def door_openings(self) -> np.ndarray:
         """(D, 4) every door opening of the map, jamb to jamb (see `map_features.door_openings`)."""
@@ -213,12 +220,18 @@ class GroundTruth:
     def _in_view(self, points: np.ndarray, segments: np.ndarray) -> np.ndarray:
         """In the field of view and not occluded by `segments`: `_in_fov` and the rays cast
         towards the points in it as one compiled loop (`truth_kernels.in_view`)."""
+        return in_view(np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2), *self._view(),
+                       self._c4(segments), float(self._params.visible_tolerance))
+
+    def _view(self) -> tuple[float, float, float, float, float, float]:
+        """The laser's view now, as the kernels take it: x, y, a, range_max, angle_min, angle_max."""
         x, y, a = self.pose
         p = self._laser.profile
-        return in_view(np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2), float(x), float(y), float(a),
-                       float(p.range_max), float(p.angle_min), float(p.angle_max),
-                       np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4),
-                       float(self._params.visible_tolerance))
+        return float(x), float(y), float(a), float(p.range_max), float(p.angle_min), float(p.angle_max)
+
+    @staticmethod
+    def _c4(segments: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4)
 
     def _hit_points(self) -> tuple[np.ndarray, np.ndarray]:
         """(B, 2) map-frame noise-free end points of the latest scan's beams and (B,) the

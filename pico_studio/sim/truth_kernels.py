@@ -221,6 +221,37 @@ def in_view(points: np.ndarray, x: float, y: float, a: float, range_max: float, 
     return out
 
 
+
+def _corners_example() -> tuple:
+    segs = np.array([[1.0, -1.0, 1.0, 1.0], [-1.0, 1.0, -1.0, -1.0]])
+    return (np.array([[2.0, 0.0], [0.5, 0.5], [0.2, -0.1]]), np.array([1, 2], dtype=np.int64),
+            np.array([True, False]), np.array([False, False]), 0.0, 0.0, 0.0, 10.0, -2.0, 2.0, segs, 0.05)
+
+
+@kernel(_corners_example)
+def corners_in_view(points: np.ndarray, idx: np.ndarray, convex: np.ndarray, loose: np.ndarray, x: float, y: float,
+                    a: float, range_max: float, angle_min: float, angle_max: float, segments: np.ndarray,
+                    tolerance: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The corners `points[idx]` (with their `convex` and `loose` flags) that are `in_view`:
+    (C, 2), (C,), (C,) — the gather, the test and the selection in one call."""
+    pts = np.empty((idx.shape[0], 2))
+    for i in range(idx.shape[0]):
+        pts[i, 0], pts[i, 1] = points[idx[i], 0], points[idx[i], 1]
+    seen = in_view(pts, x, y, a, range_max, angle_min, angle_max, segments, tolerance)
+    n = 0
+    for i in range(seen.shape[0]):
+        n += seen[i]
+    out = np.empty((n, 2))
+    out_convex = np.empty(n, dtype=np.bool_)
+    out_loose = np.empty(n, dtype=np.bool_)
+    k = 0
+    for i in range(seen.shape[0]):
+        if seen[i]:
+            out[k, 0], out[k, 1] = pts[i, 0], pts[i, 1]
+            out_convex[k], out_loose[k] = convex[i], loose[i]
+            k += 1
+    return out, out_convex, out_loose
+
 @njit
 def _beam_end(x: float, y: float, a: float, angle_min: float, increment: float, r: float, i: int) -> tuple[float, float]:
     """The map-frame end of beam i, r long, of a scan taken at (x, y, a): at angle
