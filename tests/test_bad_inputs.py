@@ -601,6 +601,7 @@ def _argument_cases() -> list[Case]:
         ("render-fps", ["render", "--map", HOSPITAL, "--out", "{d}/o.png", "--fps", "0"], "--fps"),
         ("render-from", ["render", "--map", HOSPITAL, "--out", "{d}/o.png", "--from", "-3"], "--from"),
         ("serve-port", ["serve", "--port", "70000"], "--port"),
+        ("serve-workers", ["serve", "--workers", "0"], "--workers"),
     ]:
         cases.append(refuse(f"arg-{name}", argv, f"argument {flag}" if flag.startswith("--") else flag))
     cases += [

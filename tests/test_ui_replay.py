@@ -25,12 +25,12 @@ def _free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def _app(tmp_path: Path, source: str):  # -> StudioApp
+def _app(tmp_path: Path, source: str, workers: int = 2):  # -> StudioApp
     from pico_studio.cli.serve_cmd import build_app
 
     args = argparse.Namespace(
         map=None, sim_config=None, config=None, behaviour="wander", source=source, host="127.0.0.1",
-        port=_free_port(), seed=1, export_dir=str(tmp_path), paused=True,
+        port=_free_port(), seed=1, export_dir=str(tmp_path), paused=True, workers=workers,
     )
     return build_app(args, verbose=False)
 
@@ -115,5 +115,18 @@ def test_a_guarded_error_and_a_skipped_message_go_to_the_log(recordings_dir: Pat
         assert "entries" in app.log_panel.summary.content
         app.jump_to_frame(3)  # what a click on an entry does
         assert app.studio.source.frame_index == 3
+    finally:
+        app.stop()
+
+
+def test_serve_workers_1_re_judges_in_the_page_process(recordings_dir: Path, tmp_path: Path) -> None:
+    """`serve --workers 1`: the What-if tab judges in a thread of the page's process, no
+    worker processes (a machine with one core)."""
+    from pico_studio.evaluation.rejudge import Rejudger
+
+    app = _app(tmp_path, f"bag:{recordings_dir / 'pico_real_2019-05-07.bag'}", workers=1)
+    try:
+        assert app.whatif.workers == 1
+        assert isinstance(app.whatif._workers["b"], Rejudger)  # started on attach: a thread
     finally:
         app.stop()

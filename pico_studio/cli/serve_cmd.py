@@ -25,6 +25,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=limits.SEED, default=None, help="simulator random seed")
     p.add_argument("--export-dir", default="pico_studio_exports", help="where 'Export config' saves YAML files")
     p.add_argument("--paused", action="store_true", help="start paused")
+    p.add_argument("--workers", type=limits.WORKERS, default=2,
+                   help="the What-if tab's re-judge: 2 or more (default 2) perceives and scores in two processes "
+                   "beside the page's own (a second core); 1 in a thread of the page's process")
     add_plugin_argument(p)
     p.set_defaults(func=_serve)
 
@@ -48,7 +51,8 @@ def build_app(args: argparse.Namespace, *, verbose: bool = True):  # -> StudioAp
     name = map_path.name if map_path is not None else Path(args.source.partition(":")[2] or args.source).name
     studio = Studio(cfg, global_map, factory, behaviour=args.behaviour, map_name=name)
     studio.playing = not args.paused
-    return StudioApp(studio, host=args.host, port=args.port, export_dir=args.export_dir, verbose=verbose)
+    return StudioApp(studio, host=args.host, port=args.port, export_dir=args.export_dir, verbose=verbose,
+                     workers=getattr(args, "workers", 2))
 
 
 def _serve(args: argparse.Namespace) -> int:

@@ -61,6 +61,7 @@ class StudioApp:
         port: int = 8080,
         export_dir: str | Path = "pico_studio_exports",
         verbose: bool = True,
+        workers: int = 2,
     ):
         self.studio = studio
         self.export_dir = Path(export_dir)
@@ -78,7 +79,7 @@ class StudioApp:
         self._draw_lock = threading.RLock()
         self._thread: threading.Thread | None = None
         self.replay = ReplayDriver(studio) if is_replay(studio.source) else None
-        self.whatif = WhatIf(studio, on_update=self.redraw)  # the whole run re-judged, A/B
+        self.whatif = WhatIf(studio, on_update=self.redraw, workers=workers)  # the whole run re-judged, A/B
         self.whatif.attach()
         self._build_panels()
         self.server.on_client_connect(self._on_connect)
