@@ -24,7 +24,8 @@ one): a box's or a person's lone face is not. A T-opening (a convex end facing a
 wall — one at least `end_face_min_length` long, or a door frame's length ending in a whole
 cap (a thick wall's end; a table's end is as wide as the table) — and never ends on a
 block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
-cabinet's front).
+cabinet's front). A door between two jambs is a gap some ray was seen to pass
+through (`door_min_free_rays`): a bay seen edge-on is none.
 """
 
 from __future__ import annotations
@@ -203,10 +204,14 @@ def _doors(
         segs = np.concatenate([pts[ia], pts[ja]], axis=1)
         blocked = _blocked_many(segs, walls, wi[ia], wi[ja])
         some = np.flatnonzero(~blocked)
-        blocked[some] = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
+        backed_some, free_some = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
+        blocked[some] = backed_some
+        # a door is an opening some ray was seen to pass (a possible door is the unknown case)
+        unseen = np.ones(len(segs), dtype=bool)
+        unseen[some] = free_some < params.door_min_free_rays
         # best aligned first; a later door from the same point in about the same direction is
         # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
-        cand = np.flatnonzero(is_door & ~blocked)
+        cand = np.flatnonzero(is_door & ~blocked & ~unseen)
         seg_list = segs.tolist()
         for m in cand[np.argsort(np.minimum(off_ij[cand], off_ji[cand]))].tolist():
             if not any(_same_opening(seg_list[m], d) for d in doors):
@@ -246,7 +251,9 @@ def _doors(
                 g = np.array(gaps)
                 oa, ob = np.array(own), np.array(other_k)
                 bad = _blocked_many(g, walls, oa, ob)
-                bad |= _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))
+                # seen edge-on a T-opening's rays end by its face and say nothing; its jamb (a
+                # building's wall end) and face were tested above, so no free ray is asked for
+                bad |= _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))[0]
                 for m in np.flatnonzero(~bad).tolist():
                     gl = g[m].tolist()
                     if not any(_same_place(gl, d, params) for d in doors):
@@ -289,7 +296,7 @@ def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:
 def _backed(
     segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, robot: tuple[float, float],
     view: View | None, params: IdentifyParams, face_end: np.ndarray | None = None,
-) -> np.ndarray:
+) -> tuple[np.ndarray, np.ndarray]:
     """(G,) bool: is there no seeing through the gap? Rays from the robot through five points of
     the middle of each gap: the current scan's beam when the point is in view, else the local
     map's first wall along the ray (the gap's own two walls left out). A ray stopping more
@@ -301,10 +308,14 @@ def _backed(
     wall's end (`face_end` (G,): the gap's second point lies on a wall's face instead). A ray that goes on, returns nothing, or ends beside the gap
     (the free space behind a door opens sideways, e.g. a corridor seen through a door at an
     angle) is free. Backed when at least `door_backed_share` of the informative
-    rays are closed."""
+    rays are closed. Also (G,) how many rays were seen to pass the gap (known, and ending more
+    than `door_occlusion` beyond its line, or never): a door needs `door_min_free_rays` of
+    them (a bay between two counters seen edge-on, each ray ending on the far counter's side
+    right by the gap line, shows none; a thick wall's cap seen at an angle ends rays a few dm
+    beyond it)."""
     g = len(segs)
     if g == 0:
-        return np.zeros(0, dtype=bool)
+        return np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int64)
     face_end = np.zeros(g, dtype=bool) if face_end is None else face_end
     # the loop and its maths: identify_kernels.backed
     has_view, ranges, valid, pose, a0, inc = False, np.zeros(0), np.zeros(0, dtype=bool), (0.0, 0.0, 0.0), 0.0, 0.0

@@ -181,8 +181,10 @@ def _example_backed() -> tuple:
 def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, rx: float, ry: float,
            has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
            inc: float, face_end: np.ndarray, occlusion: float, depth: float, jamb_cap_max: float,
-           backed_share: float) -> np.ndarray:
-    """(G,) bool: is there no seeing through gap g? (identify._backed says what and why.)
+           backed_share: float) -> tuple[np.ndarray, np.ndarray]:
+    """((G,) bool: is there no seeing through gap g?, (G,) int64: how many of its rays were
+    seen to pass it: known, and ending more than `occlusion` beyond the gap's line or never)
+    (identify._backed says what and why.)
 
     Five samples q = p + f (p' - p), f in 0.2 .. 0.8, of each gap (p, p'); the ray from the
     robot R through q has direction r = (q - R) / |q - R|. How far it reaches: the current
@@ -193,10 +195,11 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     Where the others end, in the gap's frame (s along from p, n across): a ray ending within
     `occlusion` of a jamb's normal (|s| or |s - L|) says nothing unless deeper than
     `jamb_cap_max` behind a jamb that is a wall's end; a ray is closed when it ends within
-    `depth` of the gap line between the jambs (or deep beside one). Backed when some rays
-    say something and at least `backed_share` of them are closed."""
+    `depth` of the gap line between the jambs (or deep beside one). Backed when some rays say
+    something and at least `backed_share` of them are closed."""
     g, n_walls, n_beams = segs.shape[0], walls.shape[0], ranges.shape[0]
     out = np.zeros(g, dtype=np.bool_)
+    free = np.zeros(g, dtype=np.int64)
     c, sn = math.cos(va), math.sin(va)
     wrap = 2 * math.pi / abs(inc) if has_view else 0.0
     for m in range(g):
@@ -263,8 +266,10 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
                 inf_n += 1
             if closed:
                 closed_n += 1
+            if known and reach > dist and (not finite or n_ > occlusion):
+                free[m] += 1  # seen to pass the gap: it ended `occlusion` beyond its line, or never
         out[m] = inf_n > 0 and closed_n >= backed_share * inf_n
-    return out
+    return out, free
 
 
 def _example_groups() -> tuple:
