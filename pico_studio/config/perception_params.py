@@ -326,6 +326,11 @@ class IdentifyParams:
         help="...when the wall whose end it is is at least this long: a building's wall, not the side of a "
         "table or a cabinet (a passage between furniture and a wall is no door)",
     )
+    end_face_reach: float = param(
+        0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
+        help="...also onto a building's wall seen in part: its line, up to this past its floating end (it runs "
+        "on out of view), unless the scan looks past that point (0: off)",
+    )
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="Connected local walls spanning at most this (bounding-box diagonal) are an object (a cabinet, "

@@ -24,7 +24,9 @@ one): a box's or a person's lone face is not. A T-opening (a convex end facing a
 wall — one at least `end_face_min_length` long, or a door frame's length ending in a whole
 cap (a thick wall's end; a table's end is as wide as the table) — and never ends on a
 block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
-cabinet's front). A door between two jambs is a gap some ray was seen to pass
+cabinet's front). The face may be a building's wall seen in part, its floating end within
+`end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
+A door between two jambs is a gap some ray was seen to pass
 through (`door_min_free_rays`): a bay seen edge-on is none.
 """
 
@@ -40,6 +42,7 @@ from pico_studio.core.perception.identify_kernels import (
     backed,
     blocked_many,
     door_pairs,
+    extended_hits,
     jamb_candidates,
     object_groups,
     ray_hits,
@@ -231,6 +234,19 @@ def _doors(
         face = np.flatnonzero(is_convex & building)
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
+            # the face may be seen in part: a building's wall whose floating end stops short of
+            # the ray (it runs on out of view, e.g. past the laser's field of view), within
+            # end_face_reach of it — unless the scan looks past where it would be
+            miss = (hit_k < 0) | (hit_t > params.door_max_width)
+            if params.end_face_reach > 0 and miss.any():
+                eligible = (lengths >= params.end_face_min_length) & ~objects
+                ext_t, ext_k = extended_hits(
+                    np.ascontiguousarray(pts[face][miss]), np.ascontiguousarray(out_dir[face][miss]),
+                    np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(prop == FLOATING),
+                    np.ascontiguousarray(eligible), float(params.end_face_reach))
+                for r, m in enumerate(np.flatnonzero(miss).tolist()):
+                    if ext_k[r] >= 0 and not _seen_past(pts[face[m]] + ext_t[r] * out_dir[face[m]], view, params):
+                        hit_t[m], hit_k[m] = ext_t[r], ext_k[r]
             gaps, own, other_k = [], [], []
             # the face it meets is a building's too: not a small object, nor a block's face (both
             # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
@@ -279,6 +295,24 @@ def _doors(
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
     return d, door_kinds, p, kinds
+
+
+def _seen_past(point: np.ndarray, view: View | None, params: IdentifyParams) -> bool:
+    """Did the current scan's beam towards `point` (zero frame) reach more than
+    `door_occlusion` beyond it? (Then nothing stands there.)"""
+    if view is None or len(view.ranges) < 2:
+        return False
+    a0 = float(view.angles[0])
+    inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
+    if inc == 0 or not math.isfinite(inc):
+        return False
+    px, py, pa = view.pose
+    dx, dy = float(point[0]) - px, float(point[1]) - py
+    bearing = math.atan2(-math.sin(pa) * dx + math.cos(pa) * dy, math.cos(pa) * dx + math.sin(pa) * dy)
+    beam = round((bearing - a0) / inc)
+    if not 0 <= beam < len(view.ranges) or not view.valid[beam]:
+        return False
+    return float(view.ranges[beam]) > math.hypot(dx, dy) + params.door_occlusion
 
 
 def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:
