@@ -120,3 +120,20 @@ def test_a_t_opening_onto_a_wall_seen_in_part():
     view = View(ranges, angles, ranges > 0, (robot[0], robot[1], 0.0))
     out = identify(np.array([side, [2.8, 0.2, 4.5, 0.2]]), np.array(free), np.array(seen), robot, PARAMS, view)
     assert len(out.doors) == 0
+
+
+def test_a_t_opening_from_a_room_walls_corner():
+    """restaurant_2024 seed 1's miss: a block's side seen 0.8 m from its end (seen) up to where
+    another wall joins it in a corner the robot looks into, facing the floor wall 1 m below: a
+    room's wall, a T-opening though shorter than end_face_min_length. Facing a short wall (a
+    table's front) it is none; nor without the corner (a table's side, seen in part)."""
+    robot = (4.09, 1.33)
+    side, joined = [4.6, 2.0, 4.6, 1.2], [3.5, 2.0, 4.6, 2.0]
+    corner = [[1, -1], [-1, 0], [-1, -1]]
+    seen = [[False, True], [False, False], [False, False]]
+    doors, kind = _doors([side, joined, [2.8, 0.2, 6.0, 0.2]], corner, seen, robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [4.6, 1.2, 4.6, 0.2], atol=1e-6)
+    doors, _ = _doors([side, joined, [4.2, 0.2, 5.0, 0.2]], corner, seen, robot)
+    assert len(doors) == 0
+    doors, _ = _doors([side, joined, [2.8, 0.2, 6.0, 0.2]], [[-1, -1]] * 3, seen, robot)
+    assert len(doors) == 0

@@ -22,7 +22,9 @@ wall standing across a door's line is a jamb only as a cap (seen whole, or in pa
 long wall's line) or a door frame's wall (at least `door_wall_min_length`, or a stub on
 one): a box's or a person's lone face is not. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
 wall — one at least `end_face_min_length` long, or a door frame's length ending in a whole
-cap (a thick wall's end; a table's end is as wide as the table) — and never ends on a
+cap (a thick wall's end; a table's end is as wide as the table), or a door frame's length
+whose far end turns into another wall in a concave corner (a room's wall) facing a building
+wall's face (at least `end_face_min_length` long) — and never ends on a
 block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
 cabinet's front). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
@@ -231,7 +233,10 @@ def _doors(
         # end cap of a wall's thickness (a thick wall's end seen with its cap; a table's end is
         # as wide as the table, a person's side too short)
         building = (lengths[wi] >= params.end_face_min_length) | (long & capped)
-        face = np.flatnonzero(is_convex & building)
+        # or a door frame's length whose far end turns into another wall in a concave corner (a
+        # room's wall), when the face it meets is a building wall's (end_face_min_length long)
+        cornered = long & (prop[wi, 1 - we] == CONCAVE) & ~building
+        face = np.flatnonzero(is_convex & (building | cornered))
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
             # the face may be seen in part: a building's wall whose floating end stops short of
@@ -253,6 +258,8 @@ def _doors(
             block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
                 if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
+                    continue
+                if cornered[m] and lengths[k] < params.end_face_min_length:
                     continue
                 if not params.door_min_width <= t <= params.door_max_width:
                     continue
