@@ -239,38 +239,6 @@ def test_raycast_compiled_equals_its_python_and_the_plain_ray_test():
         assert (hits[np.isfinite(ranges)] >= 0).all()
 
 
-def test_scan_match_association_equals_its_python_and_the_broadcast_form():
-    """The nearest local wall of every point, on real local maps: compiled == .py_func ==
-    the (points x walls) numpy form scan_match used before."""
-    from pico_studio.core.geometry import transform_points
-    from pico_studio.core.perception import Perceptor
-    from pico_studio.core.perception.scan_match_kernels import associate
-    from tests.jit_scenes import hospital_frames
-
-    checked = 0
-    for _, laser, odom in hospital_frames(4):
-        p = Perceptor(P)
-        wm = p.step(laser, odom)
-        wm = p.step(laser, odom)  # the second scan has a local map to match against
-        walls = np.asarray(wm.local_map.walls, dtype=float)
-        a, ab = np.ascontiguousarray(walls[:, 0:2]), np.ascontiguousarray(walls[:, 2:4] - walls[:, 0:2])
-        length = np.maximum(np.hypot(ab[:, 0], ab[:, 1]), 1e-12)
-        normal = np.ascontiguousarray(np.column_stack([-ab[:, 1], ab[:, 0]]) / length[:, None])
-        q = np.ascontiguousarray(transform_points(np.asarray(wm.points, dtype=float), (0.02, -0.01, 0.01)))
-        got = associate(q, a, ab, normal, length, 0.3)
-        _same(got, jit.py_func(associate)(q, a, ab, normal, length, 0.3))
-        rel = q[:, None, :] - a[None, :, :]
-        t = (rel * ab[None]).sum(-1) / (length**2)[None]
-        dist = np.hypot(*(q[:, None, :] - (a[None] + np.clip(t, 0.0, 1.0)[..., None] * ab[None])).transpose(2, 0, 1))
-        k = np.argmin(dist, axis=1)
-        rows = np.arange(len(q))
-        np.testing.assert_array_equal(got[0], k)
-        np.testing.assert_array_equal(got[1], (rel[rows, k] * normal[k]).sum(-1))
-        np.testing.assert_array_equal(got[2], (t[rows, k] >= 0) & (t[rows, k] <= 1) & (dist[rows, k] < 0.3))
-        checked += int(got[2].sum() > 50)
-    assert checked >= 3
-
-
 def test_scan_on_line_equals_its_python_and_the_vectorised_form(scans: list):
     from pico_studio.core.perception.scan_kernels import on_line
 

@@ -126,3 +126,23 @@ def test_local_map_is_stable_over_hundreds_of_scans():
             c = _in_world(wm, wm.corners)
             track.append(c[np.argmin(np.hypot(*(c - corner).T))])
         assert np.hypot(*(np.array(track) - corner).T).max() < 0.03
+
+
+def test_a_wall_unseen_for_forget_seconds_is_dropped_at_any_scan_rate():
+    """The square's walls, seen for a second, then a scan of one short wall only: after more
+    than `forget_seconds` the square is forgotten, within it kept, at 1 Hz as at 20 Hz."""
+    from dataclasses import replace
+
+    lone = poly((0.8, -0.3), (0.8, 0.3), closed=False)
+    pose = (0.3, -0.2, 0.0)
+    for rate in (1.0, 20.0):
+        for later, forgotten in ((4.0, False), (7.0, True)):
+            p = Perceptor(replace(P, merge=replace(P.merge, forget_seconds=5.0)))
+            t = 0.0
+            while t <= 1.0:
+                p.step(scan_of(SQUARE, pose, t=t), odom(pose, t))
+                t += 1.0 / rate
+            wm = p.step(scan_of(lone, pose, t=1.0 + later), odom(pose, 1.0 + later))
+            ends = _in_world(wm, wm.local_map.walls.reshape(-1, 2))
+            far = np.hypot(*ends.T).max() if len(ends) else 0.0
+            assert (far < 1.5) == forgotten, (rate, later, far)  # the square's walls reach 2 m out

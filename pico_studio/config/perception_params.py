@@ -251,6 +251,11 @@ class MergeParams:
         help="A wall not seen for this many scans is dropped (0: never): keeps the local map local, so "
         "pose drift over a long run leaves no ghosts",
     )
+    forget_seconds: float = param(
+        20.0, lo=0.0, hi=3600.0, step=1.0, unit="s",
+        help="A wall not seen for this long (scan stamps) is dropped (0: never): as forget_scans, but the "
+        "same at any scan rate (a 1 Hz log and a 20 Hz robot drift alike per second, not per scan)",
+    )
     keep_radius: float = param(
         12.0, lo=0.5, hi=100.0, step=0.5, unit="m",
         help="Walls entirely farther than this from the robot are dropped",
@@ -455,12 +460,13 @@ class ScanMatchParams:
         30, lo=3, hi=1000, step=1, help="Fewer matched points than this: the pose is not corrected",
     )
     min_quality: float = param(
-        0.3, lo=0.0, hi=1.0, step=0.01,
+        0.15, lo=0.0, hi=1.0, step=0.01,
         help="A correction is kept when at least this share of the matched points are inliers after it",
     )
     good_quality: float = param(
         0.8, lo=0.0, hi=1.01, step=0.01,
-        help="When the odometry pose already explains this share of the scan, it is kept without matching",
+        help="When the fit from the odometry pose explains less than this share of the scan, the "
+        "heading is searched and the fit tried again from there",
     )
     min_gain: float = param(
         0.05, lo=0.0, hi=1.0, step=0.01,
@@ -480,14 +486,14 @@ class ScanMatchParams:
         help="Noise of one scan point against its wall: weighs the points against the odometry",
     )
     odometry_sigma: float = param(
-        0.02, lo=0.0001, hi=10.0, step=0.001, unit="m",
+        0.01, lo=0.0001, hi=10.0, step=0.001, unit="m",
         help="Position noise of odometry over one step, plus odometry_sigma_per_m per metre moved",
     )
     odometry_sigma_per_m: float = param(
         0.2, lo=0.0, hi=10.0, step=0.01, unit="m/m", help="Odometry position noise per metre moved",
     )
     odometry_sigma_angle: float = param(
-        0.01, lo=0.0001, hi=3.0, step=0.001, unit="rad",
+        0.005, lo=0.0001, hi=3.0, step=0.001, unit="rad",
         help="Heading noise of odometry over one step, plus odometry_sigma_per_rad per radian turned",
     )
     odometry_sigma_per_rad: float = param(
@@ -497,11 +503,45 @@ class ScanMatchParams:
         0.6, lo=0.0, hi=3.14159, step=0.01, unit="rad",
         help="Before refining, headings within this of the odometry's are tried (the best start wins)",
     )
+    search_points: int = param(
+        50, lo=3, hi=5000, step=1, help="...judged on at most this many of the matched points (evenly spread)",
+    )
     search_step: float = param(
         0.03, lo=0.001, hi=1.0, step=0.001, unit="rad", help="...in steps of this",
     )
     min_wall_hits: int = param(
-        2, lo=1, hi=100, step=1, help="Only local walls seen in at least this many scans are matched against",
+        1, lo=1, hi=100, step=1, help="Only local walls seen in at least this many scans are matched against",
+    )
+    odometry_sigma_angle_per_m: float = param(
+        0.05, lo=0.0, hi=10.0, step=0.01, unit="rad/m", help="Odometry heading noise per metre moved",
+    )
+    neighbour_distance: float = param(
+        0.3, lo=0.01, hi=5.0, step=0.01, unit="m",
+        help="A scan point's direction is taken from its neighbours within this (farther: a break)",
+    )
+    normal_angle: float = param(
+        0.5, lo=0.01, hi=1.5708, step=0.01, unit="rad",
+        help="A point is matched only to walls within this of the scan's direction at the point",
+    )
+    min_information: float = param(
+        5.0, lo=0.0, hi=1e6, step=1.0,
+        help="A direction (of x, y, heading) the walls know less than this many times better than odometry "
+        "(an eigenvalue of the odometry-whitened information) is degenerate, e.g. along a corridor: held to odometry",
+    )
+    min_conditioning: float = param(
+        0.05, lo=0.0, hi=1.0, step=0.005,
+        help="The weaker position direction is degenerate (held to odometry) when its information is below "
+        "this share of the stronger one's: along a corridor, a door jamb's few points must not slide the pose",
+    )
+    min_evidence: float = param(
+        11.3, lo=0.0, hi=1e6, step=0.1,
+        help="A correction is kept only when it lowers the matching objective (walls' robust cost over "
+        "point_sigma^2 plus the odometry prior) by at least this: a likelihood-ratio test (11.3: chi-square, "
+        "3 dof, 1 %); smaller corrections are matching noise, and applying them random-walks pose and map",
+    )
+    max_sigmas: float = param(
+        20.0, lo=0.0, hi=100.0, step=0.1,
+        help="A correction farther than this many odometry noise sigmas (Mahalanobis) is implausible: kept as odometry",
     )
 
 

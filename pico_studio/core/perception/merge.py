@@ -62,6 +62,9 @@ class LocalMapState:
     end_weight: np.ndarray  # (W, 2) consecutive scans the end was connected
     connected: np.ndarray  # (W, 2) int: the wall connected at that end, -1 none
     step: int = 0
+    # (step, stamp) of the steps within the last `forget_seconds` (when set): a wall last seen
+    # before the window's first step was not seen for that long
+    window: tuple[tuple[int, float], ...] = ()
 
     @staticmethod
     def empty() -> LocalMapState:
@@ -82,9 +85,11 @@ class LocalMapState:
 
 
 def merge(
-    state: LocalMapState, segs: Segments, pose: Pose, scan: ScanPoints, params: MergeParams
+    state: LocalMapState, segs: Segments, pose: Pose, scan: ScanPoints, params: MergeParams,
+    stamp: float = math.nan,
 ) -> LocalMapState:
     step = state.step + 1
+    window, forget_scans = _forget_window(state.window, step, stamp, params)
     # 1-3. associate, fuse, add (the current map brought to the zero frame with the pose)
     new = np.ascontiguousarray(transform_segments(segs.segments, pose), dtype=float)
     cos_angle, distance, gap, max_weight = math.cos(params.angle), float(params.distance), float(params.gap), float(params.max_weight)
@@ -103,7 +108,7 @@ def merge(
     # 6. drop
     keep = drop_mask(walls, hits, last_seen, missed, connected, float(pose[0]), float(pose[1]), step,
                      float(params.unconnected_hits), int(params.tentative_life), int(params.miss_limit),
-                     int(params.forget_scans), float(params.keep_radius), float(params.min_length))
+                     forget_scans, float(params.keep_radius), float(params.min_length))
     if keep.sum() > params.max_walls:  # beyond max_walls, the least seen go (numpy's sort: its ties)
         linked = (connected >= 0).any(axis=1)
         order = np.argsort(-(hits + 0.5 * linked))
@@ -113,7 +118,25 @@ def merge(
     if not keep.all():
         walls, hits, last_seen, missed, seen_end, end_weight, connected = compact(
             keep, walls, hits, last_seen, missed, seen_end, end_weight, connected)
-    return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, step)
+    return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, step, window)
+
+
+def _forget_window(window: tuple[tuple[int, float], ...], step: int, stamp: float,
+                   params: MergeParams) -> tuple[tuple[tuple[int, float], ...], int]:
+    """The steps stamped within `forget_seconds` of `stamp`, and the scans a wall may go
+    unseen (-1: for ever): the lesser of `forget_scans` and the steps since the window's first
+    (0 across a gap in a log longer than the window: only what this scan sees stays)."""
+    forget = int(params.forget_scans) if params.forget_scans > 0 else -1
+    if params.forget_seconds <= 0 or not math.isfinite(stamp):
+        return (), forget
+    if window and window[-1][1] > stamp:  # time ran backwards (a log restarted): start over
+        window = ()
+    cutoff, first = stamp - params.forget_seconds, 0
+    while first < len(window) and window[first][1] < cutoff:  # stamps ascend: trim the front
+        first += 1
+    window = window[first:] + ((step, stamp),)
+    span = step - window[0][0]
+    return window, span if forget < 0 else min(forget, span)
 
 
 def _see_through(walls: np.ndarray, last_seen: np.ndarray, step: int, missed: np.ndarray, pose: Pose,
@@ -143,7 +166,7 @@ def drop_near(state: LocalMapState, places: np.ndarray, radius: float) -> LocalM
     s = state
     walls, hits, last_seen, missed, seen_end, end_weight, connected = compact(
         ~gone, s.walls, s.hits, s.last_seen, s.missed, s.seen_end, s.end_weight, s.connected)
-    return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, s.step)
+    return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, s.step, s.window)
 
 
 __all__ = ["END_SEEN", "LocalMapState", "drop_near", "merge"]

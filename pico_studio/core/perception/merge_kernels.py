@@ -477,7 +477,7 @@ def connect(walls: np.ndarray, hits: np.ndarray, end_weight: np.ndarray, seen_en
 def _example_drop() -> tuple:
     walls, hits, last, missed, _, _ = _example_map()
     conn = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
-    return walls, hits, last, missed, conn, 0.0, 0.0, 1, 2, 5, 6, 0, 12.0, 0.06
+    return walls, hits, last, missed, conn, 0.0, 0.0, 1, 2, 5, 6, -1, 12.0, 0.06
 
 
 @kernel(_example_drop)
@@ -487,7 +487,7 @@ def drop_mask(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed
               min_length: float) -> np.ndarray:
     """Step 6 (W,) bool, the walls kept: passed through fewer than `miss_limit` scans in a
     row; a tentative wall (fewer than `unconnected_hits` hits) seen within `tentative_life`
-    scans, or 4x that when connected; seen within `forget_scans` (when set); some point
+    scans, or 4x that when connected; seen within `forget_scans` scans (when >= 0); some point
     a + t (b - a), t = clip((p - a).(b - a) / |b - a|^2, 0, 1), within `keep_radius` of the
     robot p; at least `min_length` long."""
     n = walls.shape[0]
@@ -503,7 +503,7 @@ def drop_mask(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed
         t = ((px - ax) * abx + (py - ay) * aby) / max(abx * abx + aby * aby, 1e-12)
         t = min(max(t, 0.0), 1.0)
         ok = ok and np.hypot(ax + t * abx - px, ay + t * aby - py) <= keep_radius
-        if forget_scans > 0:
+        if forget_scans >= 0:
             ok = ok and age <= forget_scans
         keep[i] = ok and np.hypot(abx, aby) >= min_length
     return keep

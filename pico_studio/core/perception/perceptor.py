@@ -131,7 +131,7 @@ def _perceive(
         kept = ~objs.held[segs.cluster]
         free = Segments(segs.segments[kept], segs.index[kept], segs.cluster[kept], segs.end_kind[kept],
                         segs.rms[kept], segs.covariance[kept])
-    local = merge(local_before, free, loc.pose, scan, params.merge)
+    local = merge(local_before, free, loc.pose, scan, params.merge, stamp)
     lap("merge")
     idx, conn = local.shown_walls(params.merge)
     view = View(scan.ranges, scan.angles, scan.valid, loc.pose)
