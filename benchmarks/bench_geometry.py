@@ -6,7 +6,8 @@
 of one call over repeated runs for the old implementation (reproduced here as the peer) and
 the current one, and their ratio. Also the vectorised forms (wrap of 10 000 angles,
 point-to-segment distances of 1 point x 400 segments) so a scalar fast path never costs the
-array callers.
+array callers, and `transform_points` of 40 points (a local map's corners, about six calls a
+frame): the compiled loop against the matmul it replaced.
 
     python benchmarks/bench_geometry.py
 """
@@ -20,7 +21,15 @@ from collections.abc import Callable
 
 import numpy as np
 
-from pico_studio.core.geometry import compose, invert, point_segment_distance, relative, wrap_angle
+from pico_studio.core.geometry import (
+    compose,
+    invert,
+    point_segment_distance,
+    relative,
+    transform_points,
+    wrap_angle,
+)
+from pico_studio.jit import warm_up
 
 Pose = tuple[float, float, float]
 
@@ -46,6 +55,11 @@ def old_invert(p: Pose) -> Pose:
 
 def old_relative(p: Pose, q: Pose) -> Pose:
     return old_compose(old_invert(p), q)
+
+
+def old_transform_points(points: np.ndarray, pose: Pose) -> np.ndarray:
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return points @ np.array([[c, -s], [s, c]]).T + np.array(pose[:2])
 
 
 def old_segment_distances(xy: tuple[float, float], segments: np.ndarray) -> np.ndarray:
@@ -79,10 +93,13 @@ def main() -> None:
     angles = rng.uniform(-20, 20, 10_000)
     segs = rng.uniform(-10, 10, (400, 4))
     xy = (0.3, -0.7)
+    pts = rng.uniform(-10, 10, (40, 2))
+    warm_up()
     # same answers first: the benchmark compares like with like
     assert np.allclose(compose(p, q), old_compose(p, q)) and np.allclose(relative(p, q), old_relative(p, q))
     assert np.allclose(wrap_angle(angles), old_wrap_angle(angles))
     assert np.allclose(point_segment_distance(xy, segs)[0], old_segment_distances(xy, segs))
+    assert np.allclose(transform_points(pts, p), old_transform_points(pts, p), rtol=0, atol=1e-12)  # (FMA: last bits)
     cases = [
         ("compose (scalar)", lambda: old_compose(p, q), lambda: compose(p, q), 20_000),
         ("relative (scalar)", lambda: old_relative(p, q), lambda: relative(p, q), 20_000),
@@ -91,6 +108,7 @@ def main() -> None:
         ("wrap_angle (10k array)", lambda: old_wrap_angle(angles), lambda: wrap_angle(angles), 300),
         ("point-segment 1x400", lambda: old_segment_distances(xy, segs),
          lambda: point_segment_distance(xy, segs), 2_000),
+        ("transform_points 40", lambda: old_transform_points(pts, p), lambda: transform_points(pts, p), 20_000),
     ]
     print(f"{'helper':<24}{'old us':>10}{'new us':>10}{'old/new':>9}")
     for name, old, new, calls in cases:

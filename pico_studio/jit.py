@@ -41,6 +41,7 @@ PACKAGE_DIR = Path(__file__).resolve().parent
 # modules holding kernels, imported by warm_up (tests/test_jit.py checks the list is whole)
 KERNEL_MODULES = (
     "pico_studio.sim.raycast",  # first: a simulator's first scan needs it (serve starts sooner)
+    "pico_studio.core.geometry",
     "pico_studio.core.perception.scan_kernels",
     "pico_studio.core.perception.segment_refit",
     "pico_studio.core.perception.segment_split_merge",
@@ -57,7 +58,9 @@ KERNEL_MODULES = (
     "pico_studio.core.localisation.match_kernels",
     "pico_studio.core.localisation.combined_kernels",
     "pico_studio.core.behaviours.planner",
+    "pico_studio.core.behaviours.wander",
     "pico_studio.sim.truth_kernels",
+    "pico_studio.sim.base_kernels",
     "pico_studio.evaluation.score_kernels",
 )
 

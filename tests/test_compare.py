@@ -125,3 +125,18 @@ def test_a_scenario_set_compares_every_method_and_a_vs_a_is_zero(capsys) -> None
     assert code == 0 and out["regressed"] == [] and out["frames"] > 0
     assert "localisation.pose_error_m.median" in out["metrics"]  # the localised scenarios
     assert all(m["delta"] == 0 for m in out["metrics"].values())
+
+
+def test_a_and_b_judged_in_worker_processes_give_the_same_report(capsys, maps_dir, coarse) -> None:
+    args = ["compare", "defaults", coarse, "--map", str(maps_dir / "hospital_2019.json"), "--seconds", "2",
+            "--localise", "--json", "--fail-on", "walls.recall", "--tolerance", "0.02"]
+    reports = []
+    for workers in ("1", "4"):  # here one after the other; A and B each in two processes at once
+        code = main([*args, "--workers", workers])
+        reports.append((code, json.loads(capsys.readouterr().out)))
+    (code_1, here), (code_4, workers_4) = reports
+    assert code_1 == code_4 == 1
+    assert "localisation.pose_error_m.median" in here["metrics"]
+    here.pop("ms_per_scan")
+    workers_4.pop("ms_per_scan")
+    assert workers_4 == here

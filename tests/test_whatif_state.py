@@ -77,3 +77,29 @@ def test_a_recording_is_judged_whole_and_says_why_scores_are_absent(recordings_d
         assert w.kept_run() is before
     finally:
         w.close()
+
+
+def test_a_worker_process_killed_is_reported_and_the_next_change_re_judges(studio) -> None:
+    import os
+    import signal
+    import time
+
+    s, w = studio
+    w.changed()
+    assert w.wait(120)
+    before = w.b.judged
+    pids = w._workers["b"].pids
+    assert pids is not None and os.getpid() not in pids  # judged in other processes
+    os.kill(pids[1], signal.SIGKILL)  # the scoring process
+    deadline = time.monotonic() + 30
+    while "stopped" not in w.error and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert "re-judging B failed" in w.error and "exit code -9" in w.error
+    assert w.b.judged is before  # the last whole-run judge stays shown
+    s.set_param("perception.scan.min_length", 1.5)
+    w.changed()
+    assert w.wait(120) and w.error == ""
+    from pico_studio.config import to_dict
+
+    assert w.b.judged is not None and to_dict(w.b.judged.config) == to_dict(s.cfg)
+    assert len(w.b.judged.times) == 50

@@ -49,7 +49,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--fail-on", metavar="METRIC[,...]", default="",
                    help="exit 1 when B is worse than A on any of these (e.g. doors.f1,perception_score)")
     p.add_argument("--tolerance", type=limits.TOLERANCE, default=0.0, help="how much worse still passes (default 0)")
-    p.add_argument("--workers", type=limits.WORKERS, default=2, help="processes: 2 judges A and B at once (default 2)")
+    p.add_argument("--workers", type=limits.WORKERS, default=2,
+                   help="processes: 1 judges A then B here; 2 judges A and B at once (default 2); 4: A and B "
+                        "each perceived in one process and localised + scored in another")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_compare)
 

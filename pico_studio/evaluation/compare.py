@@ -109,7 +109,14 @@ def run_diff(a: Judged, b: Judged, tol: DiffTolerances = SAME) -> tuple[dict[str
     return last, differing
 
 
-def _judge_pair(run: KeptRun, cfg_a: Config, cfg_b: Config, pool: ProcessPoolExecutor | None) -> tuple[Judged, Judged]:
+def _judge_pair(run: KeptRun, cfg_a: Config, cfg_b: Config, pool: ProcessPoolExecutor | None,
+                pipelines: tuple[Any, Any] | None = None) -> tuple[Judged, Judged]:
+    if pipelines is not None:  # A and B each perceived in one process and scored in another
+        wa, wb = pipelines
+        wa.set_run(run)
+        wb.set_run(run)
+        ga, gb = wa.submit(cfg_a), wb.submit(cfg_b)
+        return wa.result(ga), wb.result(gb)
     if pool is None:
         return rejudge(run, cfg_a), rejudge(run, cfg_b)
     fa = pool.submit(rejudge, run, cfg_a)
@@ -119,7 +126,10 @@ def _judge_pair(run: KeptRun, cfg_a: Config, cfg_b: Config, pool: ProcessPoolExe
 
 def compare_runs(runs: list[KeptRun], cfg_a: Config, cfg_b: Config, *, workers: int = 1,
                  extra: list[tuple[dict[str, float], dict[str, float], int]] | None = None) -> Comparison:
-    """A and B re-judged on every kept run (A in a second process when `workers` > 1).
+    """A and B re-judged on every kept run: one after the other here (`workers` 1), A in a
+    second process meanwhile (2, 3), or each in a pair of worker processes, perceiving in one
+    and localising + scoring in the other (4 or more: `rejudge_worker.ProcessRejudger`). The
+    same figures whichever.
 
     `extra`: (metrics of A, metrics of B, frames) of runs judged elsewhere (a scenario set's
     eval-method scenarios, `runner.evaluate_scenario`), averaged in with the rest."""
@@ -131,7 +141,12 @@ def compare_runs(runs: list[KeptRun], cfg_a: Config, cfg_b: Config, *, workers: 
     ms_a: list[float] = []
     ms_b: list[float] = []
     pool = None
-    if workers > 1:
+    pipelines = None
+    if workers >= 4:
+        from pico_studio.evaluation.rejudge_worker import ProcessRejudger
+
+        pipelines = (ProcessRejudger(KeptRun([])), ProcessRejudger(KeptRun([])))
+    elif workers > 1:
         import multiprocessing
 
         from pico_studio import plugins
@@ -141,7 +156,7 @@ def compare_runs(runs: list[KeptRun], cfg_a: Config, cfg_b: Config, *, workers: 
                                    initializer=plugins.load_plugins, initargs=(plugins.specs(),))
     try:
         for run in runs:
-            ja, jb = _judge_pair(run, cfg_a, cfg_b, pool)
+            ja, jb = _judge_pair(run, cfg_a, cfg_b, pool, pipelines)
             last, n_diff = run_diff(ja, jb)
             for k in DIFF_KEYS:
                 diff[k] += last[k]
@@ -156,6 +171,8 @@ def compare_runs(runs: list[KeptRun], cfg_a: Config, cfg_b: Config, *, workers: 
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
+        for w in pipelines or ():
+            w.close()
     for a, b, n in extra or []:
         rows_a.append(_compared(a))
         rows_b.append(_compared(b))

@@ -50,7 +50,12 @@ from pico_studio.core.geometry import (
     transform_segments,
 )
 from pico_studio.core.world_model import FLOATING, WorldModel
-from pico_studio.evaluation.score_kernels import nearest_distances, wall_coverage
+from pico_studio.evaluation.score_kernels import (
+    door_matches,
+    match_nearest,
+    nearest_distances,
+    wall_coverage,
+)
 
 Pose = tuple[float, float, float]
 
@@ -146,33 +151,16 @@ def _dirs(segments: np.ndarray) -> np.ndarray:
 
 
 def match_points(a: np.ndarray, b: np.ndarray, radius: float) -> list[tuple[int, int]]:
-    """One-to-one pairs (i, j), nearest first, with |a_i - b_j| <= radius."""
-    if len(a) == 0 or len(b) == 0:
-        return []
-    d = np.hypot(*(a[:, None, :] - b[None, :, :]).transpose(2, 0, 1))
-    pairs: list[tuple[int, int]] = []
-    used_a, used_b = set(), set()
-    for flat in np.argsort(d, axis=None).tolist():
-        i, j = divmod(flat, len(b))
-        if d[i, j] > radius:
-            break
-        if i in used_a or j in used_b:
-            continue
-        pairs.append((i, j))
-        used_a.add(i)
-        used_b.add(j)
-    return pairs
+    """One-to-one pairs (i, j), nearest first, with |a_i - b_j| <= radius (one compiled loop:
+    `score_kernels.match_nearest`; equal distances are taken in (i, j) order)."""
+    ia, ib = match_nearest(_c2(a), _c2(b), float(radius))
+    return list(zip(ia.tolist(), ib.tolist(), strict=True))
 
 
 def doors_match(found: np.ndarray, truth: np.ndarray, tol: Tolerances) -> np.ndarray:
-    """(F, T) bool: door f matches opening t (middles close, directions parallel)."""
-    if len(found) == 0 or len(truth) == 0:
-        return np.zeros((len(found), len(truth)), dtype=bool)
-    mf = (found[:, 0:2] + found[:, 2:4]) / 2
-    mt = (truth[:, 0:2] + truth[:, 2:4]) / 2
-    close = np.hypot(*(mf[:, None, :] - mt[None, :, :]).transpose(2, 0, 1)) <= tol.door_distance
-    parallel = np.abs(_dirs(found) @ _dirs(truth).T) >= math.cos(tol.door_angle)
-    return close & parallel
+    """(F, T) bool: door f matches opening t (middles close, directions parallel; one compiled
+    loop: `score_kernels.door_matches`)."""
+    return door_matches(_c4(found), _c4(truth), float(tol.door_distance), math.cos(tol.door_angle))
 
 
 # ----- one frame -----------------------------------------------------------------------------
@@ -181,6 +169,11 @@ def doors_match(found: np.ndarray, truth: np.ndarray, tol: Tolerances) -> np.nda
 def _c4(segments: np.ndarray) -> np.ndarray:
     """Segments as a C-contiguous float64 (N, 4): the layout the kernels are built for."""
     return np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4)
+
+
+def _c2(points: np.ndarray) -> np.ndarray:
+    """Points as a C-contiguous float64 (N, 2)."""
+    return np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
 
 
 def score_arrays(
@@ -212,15 +205,16 @@ def score_arrays(
         if len(ends):
             d = nearest_distances(ends, true_vertices)
             s.endpoint_err_sum, s.endpoints = float(d.sum()), len(d)
-    pairs = match_points(corners, visible_corners, tol.corner_distance)
+    corners = _c2(corners)
+    pa, pb = match_nearest(corners, _c2(visible_corners), float(tol.corner_distance))  # `match_points`' pairs
     s.corners, s.truth_corners = len(corners), len(visible_corners)
-    s.corners_ok = s.truth_corners_ok = s.corners_paired = len(pairs)
-    s.convexity_ok = sum(bool(corner_convex[i]) == bool(visible_convex[j]) for i, j in pairs)
+    s.corners_ok = s.truth_corners_ok = s.corners_paired = len(pa)
+    s.convexity_ok = int(np.count_nonzero(np.asarray(corner_convex, dtype=bool)[pa] == np.asarray(visible_convex, dtype=bool)[pb]))
     # a detected corner next to a true corner that is just out of view is still a true corner
-    if len(corners) > len(pairs) and len(true_vertices):
+    if len(corners) > len(pa) and len(true_vertices):
         rest = np.ones(len(corners), dtype=bool)
-        rest[[i for i, _ in pairs]] = False
-        d = nearest_distances(np.ascontiguousarray(corners[rest], dtype=np.float64), true_vertices)
+        rest[pa] = False
+        d = nearest_distances(corners[rest], true_vertices)
         s.corners_ok += int((d <= tol.corner_distance).sum())
     s.doors = len(doors)
     s.doors_ok = int(doors_match(doors, openings, tol).any(axis=1).sum())
@@ -255,8 +249,9 @@ def score_frame(wm: WorldModel, truth: Any, tol: Tolerances = Tolerances(),
     visible_doors = truth.visible_doors()
     vertices = vc.points if true_vertices is None else true_vertices
     dynamic = getattr(truth, "dynamic_vertices", None)
-    if dynamic is not None:
-        vertices = np.concatenate([np.asarray(vertices, dtype=float).reshape(-1, 2), dynamic()])
+    more = dynamic() if dynamic is not None else np.zeros((0, 2))
+    if len(more):  # (none: no door leaves or moving objects, nothing to copy)
+        vertices = np.concatenate([np.asarray(vertices, dtype=float).reshape(-1, 2), more])
     s = score_arrays(
         walls=walls,
         endpoint_property=np.asarray(wm.local_map.endpoint_property),

@@ -10,7 +10,9 @@ exactly as the live run was.
     Session(replay, perceptor=p2, observers=[scorer]).run(math.inf)
 
 A `TruthSnapshot` answers the queries of `sim.truth` (`GroundTruth`) that scoring reads, from
-arrays stored at that frame. When scoring reads a new query of the truth, add it here too.
+arrays stored at that frame. When scoring reads a new query of the truth, add it here too
+(and only then: the what-if sends every frame's snapshot to its scoring process; the scan's
+own ray hits, 16 KB a frame, are not kept).
 """
 
 from __future__ import annotations
@@ -34,7 +36,6 @@ class TruthSnapshot:
         self._door_openings = np.array(truth.door_openings())
         self._visible_doors = np.array(truth.visible_doors())
         self._dynamic_vertices = np.array(truth.dynamic_vertices())
-        self._scan_hits = tuple(np.array(a) for a in truth.scan_hits())
 
     def segments(self) -> np.ndarray:
         return self._segments
@@ -56,9 +57,6 @@ class TruthSnapshot:
 
     def dynamic_vertices(self) -> np.ndarray:
         return self._dynamic_vertices
-
-    def scan_hits(self) -> tuple[np.ndarray, ...]:
-        return self._scan_hits
 
 
 class TruthKeeper:

@@ -9,6 +9,12 @@ and re-scored, frame by frame, through the one loop.
 
     worker = Rejudger(run, on_result=show, on_progress=bar)     # in the background:
     worker.submit(cfg_b)     # cancels a re-judge under way; results carry their generation
+    worker = make_rejudger(run, workers=2, on_result=show)      # ... in two worker processes
+    judged = rejudge(run, cfg, workers=2)                       # one re-judge in two processes
+
+With `workers` > 1 the frames are perceived in one worker process while another localises and
+scores them (`rejudge_worker`: the same answers; this process stays free); `workers=1` is this
+process (the re-judge in the caller's thread, `Rejudger` in a thread of its own).
 
 The sensor data of a `KeptRun` is fixed (the drive was recorded once), so two configs judged
 on it differ only by what the perceptor and localisation make of the same scans. The run goes
@@ -16,14 +22,7 @@ through `Session` over a `sources.frames.FramesReplay` of the kept frames, with 
 each frame (a simulator's `kept_truth.TruthSnapshot`, or a recording's true pose) given to the
 scorers as the frame comes.
 
-**Series** (one value per frame with a new scan, `SERIES` lists them with their meaning):
-wall / corner / door precision and recall of that frame (NaN when the frame has nothing to
-count), the perceptor's pose error (when the simulator's truth is kept), the localised pose
-error against the true pose (when there is one and a map to localise on),
-`local_map.agreement` (recordings with true poses: `evaluation.agreement`),
-counts (local walls, corners, doors, possible doors), per-stage ms, localisation quality and
-lost. **Totals**: the run's figures (`metrics.flatten` names: ratios of sums over the run, as
-`eval` reports them) and the mean counts.
+The series and totals are `judging`'s (`SERIES` lists the series with their meaning).
 
 **Bad input**: a config that fails validation is refused (`ConfigError` naming the field)
 before anything is re-judged. A change arriving mid-re-judge cancels it: the worker checks
@@ -33,122 +32,36 @@ and new results never mix.
 
 from __future__ import annotations
 
-import math
+import logging
 import threading
 import time
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
-
-from pico_studio.config import Config, from_dict, to_dict
+from pico_studio.config import Config
 from pico_studio.core.io import Frame
-from pico_studio.evaluation.agreement import AgreementObserver
-from pico_studio.evaluation.diff import features
-from pico_studio.evaluation.frame_score import FrameScore, Tolerances
-from pico_studio.evaluation.metrics import METRICS, flatten
-from pico_studio.evaluation.run_score import PoseScore, TruthScorer
+from pico_studio.evaluation.frame_score import Tolerances
+from pico_studio.evaluation.judging import (  # noqa: F401  (re-exported: `rejudge` is the module to use)
+    SERIES,
+    Cancelled,
+    Features,
+    Judged,
+    Judging,
+    KeptRun,
+    Pose,
+    Series,
+    _pose,
+    is_localising,
+    judged_here,
+    perceptor_for,
+    validated,
+)
+from pico_studio.evaluation.metrics import METRICS
 from pico_studio.session import Session, SessionFrame
 from pico_studio.sources.frames import FramesReplay
 
-Pose = tuple[float, float, float]
-
-
-
-
-@dataclass(frozen=True)
-class Series:
-    name: str
-    help: str
-    unit: str = ""
-    needs: str = ""  # "truth" (the simulator's), "pose" (a true pose), "map" (localising), "" always
-
-
-SERIES: dict[str, Series] = {s.name: s for s in (
-    Series("walls.precision", "share of this frame's local-map wall length on a true wall", "", "truth"),
-    Series("walls.recall", "share of the wall length in view the local map covers", "", "truth"),
-    Series("corners.precision", "share of this frame's corners at a true corner", "", "truth"),
-    Series("corners.recall", "share of the true corners in view detected", "", "truth"),
-    Series("doors.precision", "share of this frame's doors at a true opening", "", "truth"),
-    Series("doors.recall", "share of the openings in view detected", "", "truth"),
-    Series("pose.error_m", "the perceptor's pose error since its zero frame", "m", "truth"),
-    Series("localisation.error_m", "localised position error against the true pose", "m", "pose"),
-    Series("local_map.agreement", "share of the local map near the reference map of the true poses", "", "pose"),
-    Series("count.walls", "walls in the local map"),
-    Series("count.corners", "corners"),
-    Series("count.doors", "doors"),
-    Series("count.possible_doors", "possible doors"),
-    Series("localisation.quality", "localisation quality (0..1)", "", "map"),
-    Series("localisation.lost", "1 while the localisation is lost", "", "map"),
-    # "ms.<stage>" series are added per stage the perceptor reports (perception.STAGES, total)
-)}
-
-
-@dataclass
-class KeptRun:
-    """A run's sensor stream and truth, kept to be judged again with other configs.
-
-    `frames`: every tick's `Frame` (laser / odometry None when nothing new came that tick);
-    `truth`: per frame index with a scan, the simulator's truth then (`TruthSnapshot`), or
-    None for a recording (its frames carry the true pose, if known, in `frame.truth`);
-    `vertices`: the static corners (end-point error); `global_map` / `initial_pose`: what
-    localisation starts from (None: no localisation)."""
-
-    frames: list[Frame]
-    truth: dict[int, Any] | None = None
-    vertices: np.ndarray | None = None
-    global_map: Any = None
-    initial_pose: Pose | None = None
-    name: str = ""
-    _dfield: Any = field(default=None, repr=False)  # the map's distance field, built once per field params
-    _dfield_key: Any = field(default=None, repr=False)
-
-    @property
-    def scans(self) -> int:
-        return sum(1 for f in self.frames if f.laser is not None)
-
-    @property
-    def has_truth(self) -> bool:
-        return bool(self.truth)
-
-    @property
-    def has_true_pose(self) -> bool:
-        return any((f.truth or {}).get("pose") is not None for f in self.frames)
-
-    def distance_field(self, cfg: Config) -> Any:
-        """The global map's distance field for `cfg.localisation.field` (kept between re-judges)."""
-        from pico_studio.core.localisation import DistanceField
-
-        key = cfg.localisation.field
-        if self._dfield is None or self._dfield_key != key:
-            self._dfield = DistanceField.from_map(self.global_map, cfg.localisation.field)
-            self._dfield_key = key
-        return self._dfield
-
-
-@dataclass
-class Judged:
-    """One config's re-judged run: per-frame series, the run's totals, and why some are absent."""
-
-    generation: int
-    times: np.ndarray  # (N,) s, one per frame with a scan
-    frame_index: np.ndarray  # (N,) the kept frame (tick) each row is
-    series: dict[str, np.ndarray]  # name -> (N,)
-    totals: dict[str, float]
-    features: list[dict[str, np.ndarray]]  # per row: walls, corners, doors (zero frame) and pose, for diffs
-    notes: list[str]  # e.g. "no truth: scores absent"
-    seconds: float  # wall time the re-judge took
-    config: Config | None = None
-    complete: bool = True  # False: the frames judged so far of a re-judge under way (no totals)
-
-
-def validated(cfg: Config) -> Config:
-    """`cfg` checked as a whole file would be (ranges, choices, cross-field rules): a tree
-    built in code (`dataclasses.replace`) has had no checks. ConfigError names the field."""
-    return from_dict(Config, to_dict(cfg))
-
+log = logging.getLogger(__name__)
 
 # ----- keeping a run ---------------------------------------------------------------------------
 
@@ -171,22 +84,26 @@ class RunKeeper:
         self.vertices = static_vertices(sim) if sim is not None else None
         self._form = sim.params.odometry.form if sim is not None else ""
         self._kept: deque[tuple[Frame, Any]] = deque(maxlen=max_frames)
+        self.seen = 0  # frames kept since the start (the index of the next one in the keeper's stream)
 
     def on_frame(self, sf: SessionFrame) -> None:
         from pico_studio.evaluation.kept_truth import TruthSnapshot
 
         truth = TruthSnapshot(self.sim.truth, self._form) if self.sim is not None and sf.frame.laser is not None else None
         self._kept.append((sf.frame, truth))
+        self.seen += 1
 
     def __len__(self) -> int:
         return len(self._kept)
 
     def clear(self) -> None:
+        self.seen += len(self._kept) + 1  # a later run shares no frames with an earlier one
         self._kept.clear()
 
     def kept(self, global_map: Any = None, initial_pose: Pose | None = None, name: str = "") -> KeptRun:
         """The frames kept now as a `KeptRun` (localised on `global_map` from `initial_pose`,
-        default the first kept true pose, when a map is given)."""
+        default the first kept true pose, when a map is given). Its `origin` places its frames
+        in this keeper's stream, so a worker holding an earlier snapshot needs only the new ones."""
         kept = list(self._kept)
         frames = [f for f, _ in kept]
         truth = {i: t for i, (_, t) in enumerate(kept) if t is not None} if self.sim is not None else None
@@ -194,7 +111,7 @@ class RunKeeper:
             initial_pose = next((_pose(f.truth["pose"]) for f in frames if (f.truth or {}).get("pose") is not None),
                                 None)
         return KeptRun(frames, truth, self.vertices, global_map, initial_pose if global_map is not None else None,
-                       name=name)
+                       name=name, origin=(id(self), self.seen - len(kept)))
 
     def summary(self) -> dict[str, Any]:
         return {"frames": len(self._kept)}
@@ -232,118 +149,34 @@ def record_replay(replay: Any, *, seconds: float | None = None, global_map: Any 
                    start if global_map is not None else None, name=name)
 
 
-def _pose(v: Any) -> Pose:
-    return (float(v[0]), float(v[1]), float(v[2]))
-
-
 # ----- judging ----------------------------------------------------------------------------------
-
-
-class Cancelled(Exception):
-    """The re-judge was overtaken by a newer change."""
-
-
-class _Series:
-    """The session observer filling one row of every series per frame with a new scan."""
-
-    name = "series"
-
-    def __init__(self, run: KeptRun, replay: FramesReplay, scorer: TruthScorer | None,
-                 localising: bool, agreement: Any) -> None:
-        self.run, self.replay, self.scorer = run, replay, scorer
-        self.localising, self.agreement = localising, agreement
-        self.rows: dict[str, list[float]] = {}
-        self.times: list[float] = []
-        self.index: list[int] = []
-        self.features: list[dict[str, np.ndarray]] = []
-        self.pose = PoseScore()
-        self._last: Any = None
-
-    def _put(self, name: str, value: float) -> None:
-        col = self.rows.setdefault(name, [math.nan] * (len(self.times) - 1))
-        col.append(value)
-
-    def on_frame(self, sf: SessionFrame) -> None:
-        wm = sf.world_model
-        if sf.frame.laser is None or wm is None or wm is self._last:
-            return
-        self._last = wm
-        self.times.append(sf.frame.time)
-        self.index.append(self.replay.index)
-        feats = features(wm)
-        feats["pose"] = np.asarray(wm.pose, dtype=float)  # to place the zero frame on the map
-        self.features.append(feats)
-        if self.scorer is not None and self.replay.index in (self.run.truth or {}):
-            n = self.scorer.run.count
-            self.scorer.on_frame(sf)
-            if self.scorer.run.count != n and self.scorer.run.last is not None:
-                self._scores(self.scorer.run.last)
-        lm = wm.local_map
-        self._put("count.walls", float(len(lm.walls)))
-        self._put("count.corners", float(len(wm.corners)))
-        self._put("count.doors", float(len(wm.doors)))
-        self._put("count.possible_doors", float(len(wm.possible_doors)))
-        for stage, ms in (wm.timings_ms or {}).items():
-            self._put(f"ms.{stage}", float(ms))
-        if self.localising:
-            self._put("localisation.quality", float(wm.localisation_quality))
-            self._put("localisation.lost", float(bool(wm.lost) or wm.global_pose is None))
-            true = (sf.frame.truth or {}).get("pose")
-            if true is not None:
-                n = len(self.pose.position)
-                self.pose.add(wm.global_pose, _pose(true), wm.lost)
-                if len(self.pose.position) > n:
-                    self._put("localisation.error_m", self.pose.position[-1])
-        if self.agreement is not None:
-            self.agreement.on_frame(sf)
-        self._pad()
-
-    def _scores(self, s: FrameScore) -> None:
-        for name, num, den in (("walls.precision", s.wall_len_ok, s.wall_len),
-                               ("walls.recall", s.truth_len_ok, s.truth_len),
-                               ("corners.precision", s.corners_ok, s.corners),
-                               ("corners.recall", s.truth_corners_ok, s.truth_corners),
-                               ("doors.precision", s.doors_ok, s.doors),
-                               ("doors.recall", s.truth_doors_ok, s.truth_doors)):
-            self._put(name, num / den if den > 0 else math.nan)
-        self._put("pose.error_m", s.pose_err_m)
-
-    def _pad(self) -> None:
-        """Every series as long as the rows so far (NaN where this frame gave it nothing)."""
-        n = len(self.times)
-        for col in self.rows.values():
-            if len(col) < n:
-                col.append(math.nan)
-
-    def summary(self) -> dict[str, Any]:
-        return {"frames": len(self.times)}
 
 
 def rejudge(run: KeptRun, cfg: Config, *, generation: int = 0, tol: Tolerances | None = None,
             cancelled: Callable[[], bool] | None = None,
             progress: Callable[[int, int], None] | None = None, progress_every: int = 100,
-            partial: Callable[[Judged], None] | None = None, partial_seconds: float = 1.0) -> Judged:
+            partial: Callable[[Judged], None] | None = None, partial_seconds: float = 1.0,
+            workers: int = 1) -> Judged:
     """Re-perceive, re-localise and re-score every frame of `run` with `cfg` (validated first).
 
     `cancelled()` is asked between frames; when true the judge stops with `Cancelled`.
     `progress(done, total)` is called every `progress_every` frames (ticks) and at the end;
     `partial(judged)` every `partial_seconds` with the series of the frames judged so far
-    (`complete` False, no totals), so a long run's plots fill in as it goes."""
-    from pico_studio.evaluation.runner import make_perceptor
+    (`complete` False, no totals), so a long run's plots fill in as it goes.
 
+    `workers` > 1: perceived in one worker process and scored in another at the same time
+    (`rejudge_worker`; the same answers, the processes started for this call and stopped
+    after it: to judge one run many times keep a `rejudge_worker.ProcessRejudger`)."""
     cfg = validated(cfg)
-    t0 = time.perf_counter()
+    if workers > 1:
+        from pico_studio.evaluation.rejudge_worker import rejudge_in_workers
+
+        return rejudge_in_workers(run, cfg, generation=generation, tol=tol, cancelled=cancelled, progress=progress,
+                                  partial=partial, partial_seconds=partial_seconds)
+    t0, c0 = time.perf_counter(), time.thread_time()
     replay = FramesReplay(run.frames)
-    localising = run.global_map is not None and cfg.localisation.enabled and len(run.global_map.walls) > 0
-    perceptor = make_perceptor(cfg, run.global_map, run.initial_pose, localise=localising,
-                               field=run.distance_field(cfg) if localising else None)
-    truth = run.truth or {}
-    scorer = TruthScorer(lambda: truth[replay.index], tol=tol, vertices=run.vertices) if truth else None
-    # with the simulator's truth the walls are scored against the true geometry; agreement with
-    # a reference map cast from the true poses is the figure for recordings that know only those
-    agreement = AgreementObserver(every=1) if run.has_true_pose and not truth else None
-    rows = _Series(run, replay, scorer, localising, agreement)
-    session = Session(replay, perceptor=perceptor, observers=[rows])
+    judging = Judging(run, cfg, tol, cursor=replay)
+    session = Session(replay, perceptor=perceptor_for(run, cfg), observers=[judging.rows])
     total = len(run.frames)
     next_partial = t0 + partial_seconds
     for k, _ in enumerate(session.frames()):
@@ -352,62 +185,11 @@ def rejudge(run: KeptRun, cfg: Config, *, generation: int = 0, tol: Tolerances |
         if progress is not None and (k + 1) % progress_every == 0:
             progress(k + 1, total)
         if partial is not None and time.perf_counter() >= next_partial:
-            partial(Judged(generation, np.asarray(rows.times, dtype=float), np.asarray(rows.index, dtype=np.int64),
-                           {n: np.asarray(c, dtype=float) for n, c in rows.rows.items()}, {}, list(rows.features),
-                           [], time.perf_counter() - t0, cfg, complete=False))
+            partial(judging.partial(generation, time.perf_counter() - t0))
             next_partial = time.perf_counter() + partial_seconds
     if progress is not None:
         progress(total, total)
-    series = {name: np.asarray(col, dtype=float) for name, col in rows.rows.items()}
-    totals, notes = _totals(run, rows, scorer, agreement, series, localising)
-    if agreement is not None:
-        per = _agreement_per_frame(agreement, len(rows.times))
-        if per is not None:
-            series["local_map.agreement"] = per
-    return Judged(generation, np.asarray(rows.times, dtype=float), np.asarray(rows.index, dtype=np.int64),
-                  series, totals, rows.features, notes, time.perf_counter() - t0, cfg)
-
-
-def _totals(run: KeptRun, rows: _Series, scorer: TruthScorer | None, agreement: Any,
-            series: dict[str, np.ndarray], localising: bool) -> tuple[dict[str, float], list[str]]:
-    notes: list[str] = []
-    summary: dict[str, Any] = {}
-    if scorer is not None:
-        summary["perceptor"] = scorer.run.summary()
-    else:
-        notes.append("no simulator truth: wall, corner and door scores are absent (counts and stability shown)")
-    if localising and rows.pose.lost:
-        summary["localisation"] = rows.pose.summary()
-    elif run.global_map is None:
-        notes.append("no map to localise on: localisation figures are absent")
-    elif not run.has_true_pose:
-        notes.append("no true pose: localisation error is absent")
-    totals = flatten(summary)
-    if scorer is None:
-        ms = series.get("ms.total")
-        if ms is not None and len(ms):
-            totals["perceptor.ms_per_scan"] = float(np.nanmedian(ms))
-    if agreement is not None:
-        totals["local_map.agreement"] = float(agreement.summary()["agreement"])
-    for name in ("count.walls", "count.corners", "count.doors", "count.possible_doors"):
-        col = series.get(name)
-        if col is not None and len(col):
-            totals[name] = float(np.nanmean(col))
-    return totals, notes
-
-
-def _agreement_per_frame(agreement: Any, n: int) -> np.ndarray | None:
-    """Per frame agreement from the observer's kept samples (judged against the finished
-    reference map), when it keeps them per frame; None otherwise."""
-    per_frame = getattr(agreement, "_per_frame", None)
-    samples = getattr(agreement, "_samples", None)
-    if per_frame is None or samples is None or len(per_frame) != n:
-        return None
-    pts = np.vstack(samples) if samples else np.zeros((0, 2))
-    if not len(pts):
-        return np.full(n, math.nan)
-    ok = agreement.reference.distance(pts) <= agreement.distance
-    return np.array([float(ok[s:s + k].mean()) if k else math.nan for s, k in per_frame])
+    return judging.finish(generation, time.perf_counter() - t0, time.thread_time() - c0)
 
 
 def higher_is_better(name: str) -> bool:
@@ -509,8 +291,7 @@ class Rejudger:
             except Exception as e:  # a bug in one config's run must not stop the worker
                 with self._cond:
                     self.running = False
-                if self.on_error is not None:
-                    self.on_error(gen, e)
+                _call(self.on_error, gen, e)
                 continue
             finally:
                 with self._cond:
@@ -520,8 +301,7 @@ class Rejudger:
                     continue
                 self.latest = judged
                 self._cond.notify_all()
-            if self.on_result is not None:
-                self.on_result(judged)
+            _call(self.on_result, judged)
 
     def _partial(self, judged: Judged) -> None:
         if self.on_partial is not None and judged.generation == self.generation:
@@ -530,3 +310,25 @@ class Rejudger:
     def _progress(self, gen: int, done: int, total: int) -> None:
         if self.on_progress is not None and gen == self.generation:
             self.on_progress(gen, done, total)
+
+
+def _call(callback: Callable[..., None] | None, *args: Any) -> None:
+    """A re-judger's callback, whose failure is logged and never ends the re-judger's thread
+    (a thread that died would leave every later change unjudged)."""
+    if callback is None:
+        return
+    try:
+        callback(*args)
+    except Exception:
+        log.exception("a re-judge callback failed")
+
+
+def make_rejudger(run: KeptRun, *, workers: int = 2, **kw: Any) -> Any:
+    """A background re-judger of `run`: in worker processes (`ProcessRejudger`) when `workers`
+    > 1, else a thread in this process (`rejudge.Rejudger`, as before)."""
+    if workers > 1:
+        from pico_studio.evaluation.rejudge_worker import ProcessRejudger
+
+        return ProcessRejudger(run, **kw)
+    kw.pop("partial_seconds", None)
+    return Rejudger(run, **kw)

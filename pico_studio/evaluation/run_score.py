@@ -49,8 +49,9 @@ class RunScore:
             self.add(f)
 
     def add(self, frame: FrameScore) -> None:
+        total, more = vars(self.total), vars(frame)  # field by field (its __dict__: no getattr/setattr per field)
         for name in _FIELDS:
-            setattr(self.total, name, getattr(self.total, name) + getattr(frame, name))
+            total[name] += more[name]
         self.count += 1
         self.last = frame
 

@@ -1,4 +1,5 @@
-"""Truth scoring's compiled loops: length-weighted wall coverage and nearest-vertex distances.
+"""Truth scoring's compiled loops: length-weighted wall coverage, nearest-vertex distances,
+corners paired one to one and doors matched to openings (`frame_score.score_arrays`).
 
 Wall coverage (a wall score's precision or recall): every segment of `segments` is sampled
 about `step` apart — n = max(ceil(L / step), 1) samples at t = (k + 1/2) / n, each weighing
@@ -10,7 +11,13 @@ L / n metres — and a sample counts as covered when some segment of `targets` l
 
 (the point-to-segment distance, tested only inside the target's box grown by the distance).
 Returned: the total sampled length and the covered length. One loop over samples and
-targets, no (samples x targets) arrays.
+targets, no (samples x targets) arrays: the targets a segment's samples can match (parallel
+enough, their grown box meeting the segment's) are picked once per segment, and for each of
+them only the run of samples that can lie in its box is tested.
+
+Pairing (`match_nearest`): greedy, nearest first — of all pairs within the radius, sorted by
+distance, a pair is taken unless one of its points is taken already. Door matches
+(`door_matches`): middles within a distance and directions within an angle.
 """
 
 from __future__ import annotations
@@ -19,7 +26,7 @@ import math
 
 import numpy as np
 
-from pico_studio.jit import kernel
+from pico_studio.jit import kernel, njit
 
 
 def _coverage_example() -> tuple:
@@ -49,6 +56,9 @@ def wall_coverage(segments: np.ndarray, step: float, targets: np.ndarray, wall_d
         len2[j] = max(abx * abx + aby * aby, 1e-18)
         norm = math.sqrt(len2[j])
         tx[j], ty[j] = abx / norm, aby / norm
+    near = np.empty(m, dtype=np.int64)  # the targets a segment's samples can match
+    hair = 1e-9  # a sample lies in its segment's box up to rounding
+    r2_in, r2_out = r * r * (1 - 1e-9), r * r * (1 + 1e-9)
     total = 0.0
     ok = 0.0
     for i in range(segments.shape[0]):
@@ -59,22 +69,60 @@ def wall_coverage(segments: np.ndarray, step: float, targets: np.ndarray, wall_d
         w = length / n
         unorm = max(length, 1e-12)
         ux, uy = dx / unorm, dy / unorm
-        for k in range(n):
-            t = (k + 0.5) / n
-            px, py = ax + t * dx, ay + t * dy
-            total += w
-            for j in range(m):
-                if px < lo_x[j] or px > hi_x[j] or py < lo_y[j] or py > hi_y[j]:
+        # broad phase, once per segment: targets parallel enough whose grown box meets the
+        # segment's box (a sample outside it cannot be inside theirs)
+        s_lo_x, s_hi_x = min(ax, segments[i, 2]) - hair, max(ax, segments[i, 2]) + hair
+        s_lo_y, s_hi_y = min(ay, segments[i, 3]) - hair, max(ay, segments[i, 3]) + hair
+        n_near = 0
+        for j in range(m):
+            if s_hi_x < lo_x[j] or s_lo_x > hi_x[j] or s_hi_y < lo_y[j] or s_lo_y > hi_y[j]:
+                continue
+            if abs(ux * tx[j] + uy * ty[j]) < cos_angle:
+                continue
+            near[n_near] = j
+            n_near += 1
+        # narrow phase, per near target: only the run of samples that can lie in its box
+        covered = np.zeros(n, dtype=np.bool_)
+        for q in range(n_near):
+            j = near[q]
+            x_first, x_last = _samples_within(ax, dx, lo_x[j], hi_x[j], n)
+            y_first, y_last = _samples_within(ay, dy, lo_y[j], hi_y[j], n)
+            for k in range(max(x_first, y_first), min(x_last, y_last) + 1):
+                if covered[k]:
                     continue
-                if abs(ux * tx[j] + uy * ty[j]) < cos_angle:
+                t = (k + 0.5) / n
+                px, py = ax + t * dx, ay + t * dy
+                if px < lo_x[j] or px > hi_x[j] or py < lo_y[j] or py > hi_y[j]:
                     continue
                 qx, qy = px - targets[j, 0], py - targets[j, 1]
                 abx, aby = targets[j, 2] - targets[j, 0], targets[j, 3] - targets[j, 1]
                 s = min(max((qx * abx + qy * aby) / len2[j], 0.0), 1.0)
-                if math.hypot(qx - s * abx, qy - s * aby) <= r:
-                    ok += w
-                    break
+                ex, ey = qx - s * abx, qy - s * aby
+                e2 = ex * ex + ey * ey
+                # the squared distance settles all but a hair around r, where the rounding of
+                # either could differ: only there the exact |e| <= r (math.hypot is slow)
+                covered[k] = e2 < r2_in or (e2 <= r2_out and math.hypot(ex, ey) <= r)
+        for k in range(n):  # summed sample by sample, in order
+            total += w
+            if covered[k]:
+                ok += w
     return total, ok
+
+
+@njit
+def _samples_within(a: float, d: float, lo: float, hi: float, n: int) -> tuple[int, int]:
+    """(first, last) sample k of n whose coordinate a + (k + 1/2) / n d can lie in [lo, hi]:
+    k + 1/2 = n (c - a) / d solved at c = lo and c = hi, two samples wider each side for the
+    rounding of both (a coordinate's rounding, ~1e-13 m, moves k by 1e-13 n / |d|); every
+    sample when |d| < 1 mm (then the other coordinate narrows the run)."""
+    if abs(d) < 1e-3:
+        return 0, n - 1
+    u0, u1 = (lo - a) / d * n - 0.5, (hi - a) / d * n - 0.5
+    if d < 0:
+        u0, u1 = u1, u0
+    first = max(min(math.floor(u0) - 2.0, float(n)), -1.0)
+    last = max(min(math.ceil(u1) + 2.0, float(n)), -1.0)
+    return max(int(first), 0), min(int(last), n - 1)
 
 
 def _nearest_example() -> tuple:
@@ -83,11 +131,86 @@ def _nearest_example() -> tuple:
 
 @kernel(_nearest_example)
 def nearest_distances(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """(N,) distance from every point (N, 2) to the nearest of `vertices` (V, 2), V >= 1."""
+    """(N,) distance from every point (N, 2) to the nearest of `vertices` (V, 2), V >= 1: the
+    nearest by squared distance first (no square root), then np.hypot of the vertices within
+    a hair of it (rounding can reorder only those), so the answer is the minimum of np.hypot."""
     out = np.empty(points.shape[0])
+    d2 = np.empty(vertices.shape[0])
     for i in range(points.shape[0]):
+        px, py = points[i, 0], points[i, 1]
+        least = np.inf
+        for j in range(vertices.shape[0]):
+            dx, dy = px - vertices[j, 0], py - vertices[j, 1]
+            d2[j] = dx * dx + dy * dy
+            least = min(least, d2[j])
         best = np.inf
         for j in range(vertices.shape[0]):
-            best = min(best, math.hypot(points[i, 0] - vertices[j, 0], points[i, 1] - vertices[j, 1]))
+            if d2[j] <= least * (1 + 1e-9):
+                best = min(best, np.hypot(px - vertices[j, 0], py - vertices[j, 1]))
         out[i] = best
+    return out
+
+
+def _match_example() -> tuple:
+    return np.array([[0.0, 0.0], [1.0, 1.0]]), np.array([[0.1, 0.0], [2.0, 2.0], [1.0, 0.9]]), 0.15
+
+
+@kernel(_match_example)
+def match_nearest(a: np.ndarray, b: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """One-to-one pairs (ia[k], ib[k]) of points a (A, 2) and b (B, 2), nearest first, with
+    |a_i - b_j| <= radius: every pair within the radius, sorted by distance (stably: equal
+    distances in (i, j) order), taken unless i or j is already paired."""
+    nb = b.shape[0]
+    dist = np.empty(a.shape[0] * nb)
+    flat = np.empty(a.shape[0] * nb, dtype=np.int64)
+    n = 0
+    beyond = radius * radius * (1 + 1e-9)  # surely farther than the radius (np.hypot is slow)
+    for i in range(a.shape[0]):
+        for j in range(nb):
+            dx, dy = a[i, 0] - b[j, 0], a[i, 1] - b[j, 1]
+            if dx * dx + dy * dy > beyond:
+                continue
+            d = np.hypot(dx, dy)
+            if d <= radius:
+                dist[n] = d
+                flat[n] = i * nb + j
+                n += 1
+    order = np.argsort(dist[:n], kind="mergesort")
+    used_a = np.zeros(a.shape[0], dtype=np.bool_)
+    used_b = np.zeros(nb, dtype=np.bool_)
+    ia = np.empty(min(a.shape[0], nb), dtype=np.int64)
+    ib = np.empty(min(a.shape[0], nb), dtype=np.int64)
+    pairs = 0
+    for k in order:
+        i, j = flat[k] // nb, flat[k] % nb
+        if used_a[i] or used_b[j]:
+            continue
+        used_a[i] = used_b[j] = True
+        ia[pairs], ib[pairs] = i, j
+        pairs += 1
+    return ia[:pairs], ib[:pairs]
+
+
+def _door_example() -> tuple:
+    doors = np.array([[0.0, 0.0, 0.9, 0.0], [5.0, 5.0, 5.0, 6.0]])
+    return doors, doors[:1] + 0.05, 0.3, math.cos(0.3)
+
+
+@kernel(_door_example)
+def door_matches(found: np.ndarray, truth: np.ndarray, distance: float, cos_angle: float) -> np.ndarray:
+    """(F, T) bool: door f (F, 4) matches opening t (T, 4): their middles within `distance`
+    and their directions within the angle, |u_f . u_t| >= cos_angle (u = (b - a) / |b - a|)."""
+    out = np.zeros((found.shape[0], truth.shape[0]), dtype=np.bool_)
+    for f in range(found.shape[0]):
+        fx, fy = (found[f, 0] + found[f, 2]) / 2, (found[f, 1] + found[f, 3]) / 2
+        ux, uy = found[f, 2] - found[f, 0], found[f, 3] - found[f, 1]
+        norm = max(np.hypot(ux, uy), 1e-12)
+        ux, uy = ux / norm, uy / norm
+        for t in range(truth.shape[0]):
+            mx, my = (truth[t, 0] + truth[t, 2]) / 2, (truth[t, 1] + truth[t, 3]) / 2
+            if np.hypot(fx - mx, fy - my) > distance:
+                continue
+            vx, vy = truth[t, 2] - truth[t, 0], truth[t, 3] - truth[t, 1]
+            norm_t = max(np.hypot(vx, vy), 1e-12)
+            out[f, t] = abs(ux * (vx / norm_t) + uy * (vy / norm_t)) >= cos_angle
     return out

@@ -26,7 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from pico_studio.config.sim_params import BaseParams
-from pico_studio.core.geometry import Pose, compose, point_segment_distance, relative
+from pico_studio.core.geometry import Pose, compose, relative
+from pico_studio.sim.base_kernels import box_first_hit, segment_distances
 from pico_studio.sim.world import KIND_NAMES
 
 
@@ -97,8 +98,10 @@ class Base:
             return (0.0, 0.0, 0.0)
         speed = math.hypot(vx, vy)
         travel = speed * h + abs(va) * h * self.radius  # bound on any box point's path
+        segments = np.ascontiguousarray(segments, dtype=np.float64)
         if world_version != self._budget_world or self._budget < travel:
-            dist = point_segment_distance(self.pose[:2], segments)[0]
+            # `point_segment_distance` of the centre, as one compiled loop
+            dist = segment_distances(float(self.pose[0]), float(self.pose[1]), segments)
             self._budget = float(dist.min()) - self.radius
             self._budget_world = world_version
         if self._budget >= travel:
@@ -114,10 +117,11 @@ class Base:
         done = 0
         for _ in range(n):
             candidate = compose(pose, sub)
-            hits = self.collides(candidate, segments)
-            if hits.any():
+            # `collides(candidate, segments)`'s first touching segment (a compiled loop)
+            hit = box_first_hit(candidate[0], candidate[1], candidate[2], self.half_length, self.half_width, segments)
+            if hit >= 0:
                 if not self.in_contact:
-                    kind = int(kinds[np.flatnonzero(hits)[0]])
+                    kind = int(kinds[hit])
                     self.collisions.append(CollisionEvent(time, pose, KIND_NAMES[kind]))
                 self.in_contact = True
                 self.reference = (0.0, 0.0, 0.0)

@@ -47,7 +47,13 @@ from pico_studio.sim.base import Base, CollisionEvent
 from pico_studio.sim.laser import Laser
 from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
 from pico_studio.sim.odometry import Odometry
-from pico_studio.sim.truth_kernels import free_lengths, jamb_seen_lengths
+from pico_studio.sim.truth_kernels import (
+    beam_ends,
+    corners_in_view,
+    hit_runs,
+    in_view,
+    jamb_seen_lengths,
+)
 from pico_studio.sim.world import KIND_DOOR, World
 
 Pose = tuple[float, float, float]
@@ -123,9 +129,10 @@ class GroundTruth:
     def visible_corners(self) -> Corners:
         """Corners of the static geometry *in view* from the robot, convex/concave from there."""
         idx, convex, loose = classify_corners(self._graph, self.pose[:2], self._params.straight_tolerance)
-        pts = self._graph.points[idx]
-        seen = self._in_view(pts, self._world.segments())
-        return Corners(pts[seen], convex[seen], loose[seen])
+        # `_in_view` of `_graph.points[idx]` and the selection, as one compiled call
+        pts, convex, loose = corners_in_view(np.ascontiguousarray(self._graph.points, dtype=np.float64), idx, convex, loose,
+                                             *self._view(), self._c4(self._world.segments()), float(self._params.visible_tolerance))
+        return Corners(pts, convex, loose)
 
     def door_openings(self) -> np.ndarray:
         """(D, 4) every door opening of the map, jamb to jamb (see `map_features.door_openings`)."""
@@ -137,12 +144,16 @@ class GroundTruth:
         o = self._openings
         if len(o) == 0:
             return o.copy()
-        segs = self._world.segments()
-        not_doors = segs[self._world.kinds() != KIND_DOOR]
-        seen = self._in_view((o[:, :2] + o[:, 2:]) / 2, not_doors)
-        seen_length = self.jamb_seen_length(np.concatenate([o[:, :2], o[:, 2:]]))
+        middles, jambs, not_door = self._opening_points
+        seen = self._in_view(middles, self._world.segments()[not_door])
+        if not seen.any():  # (then neither their jambs nor the door leaves matter)
+            return o[seen]
+        # the jambs of openings whose middle is out of view cannot make them visible
+        both = np.concatenate([seen, seen])
+        seen_length = np.zeros(len(jambs))
+        seen_length[both] = self.jamb_seen_length(jambs[both])
         seen &= (seen_length[: len(o)] >= self._params.jamb_min_seen) & (seen_length[len(o):] >= self._params.jamb_min_seen)
-        seen &= ~self._shut((o[:, :2] + o[:, 2:]) / 2)
+        seen &= ~self._shut(middles)
         return o[seen]
 
     def _shut(self, points: np.ndarray) -> np.ndarray:
@@ -166,14 +177,20 @@ class GroundTruth:
         segment from its first to its last hit point, summed over the segments (one compiled
         loop: `truth_kernels.jamb_seen_lengths`; walls come first in `world.segments()`)."""
         t = self._params
-        xy, hits = self._hit_points()
         jambs = np.ascontiguousarray(jambs, dtype=np.float64).reshape(-1, 2)
-        return jamb_seen_lengths(jambs, xy, np.ascontiguousarray(hits, dtype=np.int64), self._walls,
-                                 t.max_wall_thickness / 2 + 1e-3, float(t.jamb_reach))
+        return jamb_seen_lengths(jambs, *self._scan(), self._walls, t.max_wall_thickness / 2 + 1e-3, float(t.jamb_reach))
 
     @cached_property
     def _walls(self) -> np.ndarray:
         return np.ascontiguousarray(self._world.walls, dtype=np.float64).reshape(-1, 4)
+
+    @cached_property
+    def _opening_points(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The openings' middles (D, 2) and jambs (2 D, 2: first ends, then second ends), and
+        which rows of `world.segments()` are not doors (fixed per world): per map, not per frame."""
+        o = self._openings
+        middles = np.ascontiguousarray((o[:, :2] + o[:, 2:]) / 2)
+        return middles, np.ascontiguousarray(np.concatenate([o[:, :2], o[:, 2:]])), self._world.kinds() != KIND_DOOR
 
     @cached_property
     def _graph(self) -> Vertices:
@@ -191,7 +208,8 @@ class GroundTruth:
         )
 
     def _in_fov(self, points: np.ndarray) -> np.ndarray:
-        """Within the laser's range and angular field of view from the current pose."""
+        """Within the laser's range and angular field of view from the current pose (the numpy
+        form of `truth_kernels.in_view`'s first test; the tests compare the two)."""
         x, y, a = self.pose
         p = self._laser.profile
         d = points - (x, y)
@@ -200,18 +218,20 @@ class GroundTruth:
         return (dist <= p.range_max) & (bearing >= p.angle_min) & (bearing <= p.angle_max)
 
     def _in_view(self, points: np.ndarray, segments: np.ndarray) -> np.ndarray:
-        """In the field of view and not occluded by `segments`."""
-        seen = self._in_fov(points)
-        if not seen.any():
-            return seen
-        x, y, _ = self.pose
-        d = points[seen] - (x, y)
-        dist = np.hypot(d[:, 0], d[:, 1])
-        angles = np.arctan2(d[:, 1], d[:, 0])
-        free = free_lengths(float(x), float(y), np.cos(angles), np.sin(angles),
-                            np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4))
-        seen[seen] = free >= dist - self._params.visible_tolerance
-        return seen
+        """In the field of view and not occluded by `segments`: `_in_fov` and the rays cast
+        towards the points in it as one compiled loop (`truth_kernels.in_view`)."""
+        return in_view(np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2), *self._view(),
+                       self._c4(segments), float(self._params.visible_tolerance))
+
+    def _view(self) -> tuple[float, float, float, float, float, float]:
+        """The laser's view now, as the kernels take it: x, y, a, range_max, angle_min, angle_max."""
+        x, y, a = self.pose
+        p = self._laser.profile
+        return float(x), float(y), float(a), float(p.range_max), float(p.angle_min), float(p.angle_max)
+
+    @staticmethod
+    def _c4(segments: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(segments, dtype=np.float64).reshape(-1, 4)
 
     def _hit_points(self) -> tuple[np.ndarray, np.ndarray]:
         """(B, 2) map-frame noise-free end points of the latest scan's beams and (B,) the
@@ -229,27 +249,28 @@ class GroundTruth:
         return cast(T, kept[1])
 
     def _compute_hit_points(self) -> tuple[np.ndarray, np.ndarray]:
+        scan = self._scan()
+        return beam_ends(*scan[:6]), scan[6]
+
+    def _scan(self) -> tuple[float, float, float, float, float, np.ndarray, np.ndarray]:
+        """The latest scan as the kernels take it: (x, y, a) where it was taken, angle_min,
+        increment, its noise-free ranges (B,) and the segment each beam hit (B,) (-1: none),
+        once per scan; the kernels compute the beams' end points they need from it."""
+        return self._per_scan("scan", self._compute_scan)
+
+    def _compute_scan(self) -> tuple[float, float, float, float, float, np.ndarray, np.ndarray]:
         laser = self._laser
-        pose = laser.last_pose
-        n = len(laser.true_hits)
-        angles = laser.fan.angle_min + np.arange(n) * laser.fan.increment + pose[2]
-        r = laser.true_ranges
-        return np.column_stack([pose[0] + r * np.cos(angles), pose[1] + r * np.sin(angles)]), laser.true_hits
+        x, y, a = laser.last_pose
+        return (float(x), float(y), float(a), float(laser.fan.angle_min), float(laser.fan.increment),
+                np.ascontiguousarray(laser.true_ranges, dtype=np.float64),
+                np.ascontiguousarray(laser.true_hits, dtype=np.int64))
 
     def _visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
         return self._per_scan("visible pieces", self._compute_visible_pieces)
 
     def _compute_visible_pieces(self) -> tuple[np.ndarray, np.ndarray]:
-        xy, hits = self._hit_points()
-        n = len(hits)
-        # runs of consecutive beams on the same segment
-        change = np.flatnonzero(np.diff(hits) != 0) + 1
-        starts = np.concatenate([[0], change])
-        stops = np.concatenate([change, [n]]) - 1
-        keep = (hits[starts] >= 0) & (stops - starts + 1 >= self._params.min_wall_beams)
-        starts, stops = starts[keep], stops[keep]
-        pieces = np.column_stack([xy[starts], xy[stops]])
-        return pieces, hits[starts]
+        # runs of consecutive beams on the same segment (one compiled loop)
+        return hit_runs(*self._scan(), int(self._params.min_wall_beams))
 
     def as_dict(self) -> dict[str, object]:
         """The small per-frame truth the session records (JSON-friendly)."""

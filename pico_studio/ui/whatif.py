@@ -13,8 +13,13 @@
 The run judged is the studio's *kept run*: the whole recording for a replay (read once), the
 frames the simulator's timeline keeps (with their truth) for a simulation — snapshotted when
 a change arrives, so A and B are judged on exactly the same frames. Re-judging runs in the
-background (`rejudge.Rejudger`, one for B and one for A); a newer change cancels an older
-one, and results of an older run snapshot are dropped, so nothing old and new is ever mixed.
+background, one re-judger for B and one for A: with `workers` > 1 (the default) each is a pair
+of worker processes (`rejudge_worker.ProcessRejudger`: perceiving in one, localising and
+scoring in the other), so the page's process (viser, the live loop) keeps its core and A and B
+are judged at once; `workers=1` judges in threads of this process (`rejudge.Rejudger`). A
+newer change cancels an older one, and results of an older run snapshot are dropped, so
+nothing old and new is ever mixed. A worker process that dies is reported (`error`) and the
+next change starts a new one.
 """
 
 from __future__ import annotations
@@ -30,7 +35,7 @@ import numpy as np
 from pico_studio.config import Config, dump_yaml
 from pico_studio.core.geometry import compose, invert, transform_points, transform_segments
 from pico_studio.evaluation.diff import WorldDiff, diff_arrays
-from pico_studio.evaluation.rejudge import Judged, KeptRun, Rejudger, RunKeeper, record_replay
+from pico_studio.evaluation.rejudge import Judged, KeptRun, RunKeeper, make_rejudger, record_replay
 
 log = logging.getLogger(__name__)
 Pose = tuple[float, float, float]
@@ -53,8 +58,9 @@ class Side:
 
 
 class WhatIf:
-    def __init__(self, studio: Any, on_update: Callable[[], None] | None = None):
+    def __init__(self, studio: Any, on_update: Callable[[], None] | None = None, workers: int = 2):
         self.studio = studio
+        self.workers = workers  # > 1: each side judged in worker processes; 1: in this process
         self.on_update = on_update or (lambda: None)
         self.a: Side | None = None
         self.b = Side(studio.cfg)
@@ -64,7 +70,7 @@ class WhatIf:
         self._run: KeptRun | None = None
         self._run_id = 0
         self._run_key: Any = None
-        self._workers: dict[str, Rejudger] = {}
+        self._workers: dict[str, Any] = {}  # side -> Rejudger or ProcessRejudger
         self._pending: dict[str, tuple[int, int]] = {}  # side -> (generation, run id) asked for
         self.keeper: RunKeeper | None = None
 
@@ -76,6 +82,7 @@ class WhatIf:
         keeper = self._make_keeper(s)
         if keeper is not None:
             s.session.observers.append(keeper)
+        self._worker("b")  # started (and its compiled kernels loaded) before the first change
 
     def _make_keeper(self, s: Any) -> Any:
         """A fresh `RunKeeper` for the studio's new source (none for a replay: it is read whole)."""
@@ -99,7 +106,7 @@ class WhatIf:
                 if self._run_key != key:
                     self._new_run(record_replay(s.source, global_map=self._localising_map(), name=s.map_name), key)
             else:
-                n = len(self.keeper) if self.keeper is not None else 0
+                n = self.keeper.seen if self.keeper is not None else 0  # grown, or slid on once full
                 key = ("live", id(self.keeper), n, id(s.global_map), self._localising_map() is not None)
                 if self._run_key != key:
                     run = self.keeper.kept(self._localising_map()) if self.keeper is not None else KeptRun([])
@@ -187,13 +194,14 @@ class WhatIf:
         if side == "b" and self.a is not None and self.a.run_id != run_id:
             self._judge("a", self.a.config)  # A on the same frames as B
 
-    def _worker(self, side: str) -> Rejudger:
+    def _worker(self, side: str) -> Any:
         w = self._workers.get(side)
         if w is None:
-            w = Rejudger(KeptRun([]), on_result=lambda j, s=side: self._on_result(s, j),  # type: ignore[misc]
-                         on_progress=lambda g, d, t, s=side: self._on_progress(s, g, d, t),  # type: ignore[misc]
-                         on_error=lambda g, e, s=side: self._on_error(s, e),  # type: ignore[misc]
-                         on_partial=(lambda j: self._on_partial(j)) if side == "b" else None)
+            w = make_rejudger(KeptRun([]), workers=self.workers,
+                              on_result=lambda j, s=side: self._on_result(s, j),  # type: ignore[misc]
+                              on_progress=lambda g, d, t, s=side: self._on_progress(s, g, d, t),  # type: ignore[misc]
+                              on_error=lambda g, e, s=side: self._on_error(s, g, e),  # type: ignore[misc]
+                              on_partial=(lambda j: self._on_partial(j)) if side == "b" else None)
             self._workers[side] = w
         return w
 
@@ -223,9 +231,13 @@ class WhatIf:
         if side == "b":
             self.progress = (done, total)
 
-    def _on_error(self, side: str, e: Exception) -> None:
+    def _on_error(self, side: str, gen: int, e: Exception) -> None:
         log.warning("re-judging %s failed: %s", side, e)
-        self.error = f"re-judging {side.upper()} failed: {type(e).__name__}: {e}"
+        with self._lock:
+            self.error = f"re-judging {side.upper()} failed: {type(e).__name__}: {e}"
+            target = self.b if side == "b" else self.a
+            if target is not None and self._pending.get(side, (-1, -1))[0] == gen:
+                target.waiting, target.partial = False, None  # the last complete judge stays shown
         self.on_update()
 
     def wait(self, timeout: float = 60.0) -> bool:
@@ -247,9 +259,21 @@ class WhatIf:
             return all(s.judged is not None and not s.waiting and s.run_id == self._run_id for s in sides)
 
     def close(self) -> None:
-        for w in self._workers.values():
+        with self._lock:
+            workers = list(self._workers.values())
+            self._workers.clear()
+            self._pending.clear()
+        for w in workers:
             w.close()
-        self._workers.clear()
+
+    def set_workers(self, workers: int) -> None:
+        """Judge in `workers` processes (1: threads of this process) from the next change on."""
+        self.close()
+        with self._lock:
+            self.workers = workers
+            for side in (self.a, self.b):
+                if side is not None:
+                    side.waiting, side.partial = False, None
 
     # ----- what the page shows ------------------------------------------------------------------
     @property

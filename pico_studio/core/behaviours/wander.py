@@ -21,6 +21,7 @@ import numpy as np
 
 from pico_studio.config.ui_params import WanderParams
 from pico_studio.core.io import STOP, Command, LaserData, OdometryData
+from pico_studio.jit import kernel, njit
 
 DRIVE = "drive"
 TURN = "turn"
@@ -34,7 +35,16 @@ class Clearance:
 
 
 def clearance(laser: LaserData, front_half_angle: float) -> Clearance:
-    """The laser summarised as front / left / right clearance (see module docstring)."""
+    """The laser summarised as front / left / right clearance (see module docstring): one
+    compiled pass over the beams, `_clearance` (`clearance_numpy` is its numpy form)."""
+    r = np.ascontiguousarray(laser.ranges, dtype=np.float64)
+    front, left, right = _clearance(r, float(laser.angle_min), float(laser.angle_increment),
+                                    float(laser.range_min), float(laser.range_max), float(front_half_angle))
+    return Clearance(front=front, left=left, right=right)
+
+
+def clearance_numpy(laser: LaserData, front_half_angle: float) -> Clearance:
+    """`clearance` in numpy (the reference the tests compare the compiled loop with)."""
     r = np.asarray(laser.ranges, dtype=float)
     bad = ~np.isfinite(r) | (r < laser.range_min) | (r > laser.range_max)
     r = np.where(bad, laser.range_max, r)
@@ -48,6 +58,52 @@ def clearance(laser: LaserData, front_half_angle: float) -> Clearance:
         left=float(np.median(left)) if len(left) else laser.range_max,
         right=float(np.median(right)) if len(right) else laser.range_max,
     )
+
+
+def _clearance_example() -> tuple:
+    return np.array([1.0, np.inf, 2.0, 0.01, 3.0]), -1.5, 0.75, 0.05, 10.0, 0.4
+
+
+@kernel(_clearance_example)
+def _clearance(ranges: np.ndarray, angle_min: float, increment: float, range_min: float, range_max: float,
+               front_half_angle: float) -> tuple[float, float, float]:
+    """(front, left, right): the closest range with |angle| <= front_half_angle and the
+    median ranges with front_half_angle < +-angle <= pi/2 (a beam with no valid return counts
+    as range_max; no beam in a sector: range_max). Beam i looks at angle_min + i increment."""
+    n = ranges.shape[0]
+    left = np.empty(n)
+    right = np.empty(n)
+    n_left = n_right = 0
+    front = np.inf
+    for i in range(n):
+        r = ranges[i]
+        if not np.isfinite(r) or r < range_min or r > range_max:
+            r = range_max
+        a = angle_min + i * increment
+        if abs(a) <= front_half_angle:
+            front = min(front, r)
+        if abs(a) <= np.pi / 2:
+            if a > front_half_angle:
+                left[n_left] = r
+                n_left += 1
+            elif a < -front_half_angle:
+                right[n_right] = r
+                n_right += 1
+    return (front if front < np.inf else range_max, _median(left[:n_left], range_max),
+            _median(right[:n_right], range_max))
+
+
+@njit
+def _median(values: np.ndarray, empty: float) -> float:
+    """np.median: the middle value once sorted, the mean of the two middle ones for an even
+    count (`empty` for none)."""
+    n = values.shape[0]
+    if n == 0:
+        return empty
+    v = np.sort(values)
+    if n % 2:
+        return v[n // 2]
+    return (v[n // 2 - 1] + v[n // 2]) / 2
 
 
 class Wander:
@@ -90,5 +146,5 @@ class Wander:
             return Command(0.0, 0.0, self._turn_sign * p.turn_rate)
         balance = (c.left - c.right) / max(c.left + c.right, 1e-6)
         # Slow down in proportion to how close the front gets to the stop distance.
-        slow = np.clip((c.front - p.stop_distance) / max(p.clear_distance, 1e-6), 0.2, 1.0)
+        slow = min(max((c.front - p.stop_distance) / max(p.clear_distance, 1e-6), 0.2), 1.0)  # a clip
         return Command(float(p.speed * slow), 0.0, float(p.steer_gain * balance))
