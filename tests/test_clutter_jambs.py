@@ -95,3 +95,45 @@ def test_a_person_seen_in_part_is_no_cap_across_a_door():
     assert len(doors) == 0
     doors, kind = _doors(wall + [person], connected, [[True, False], [False, False], [True, True]], robot)
     assert kind == ["jambs"] and np.allclose(doors[0], [5.72, 2.89, 5.61, 1.98])
+
+
+def test_a_t_opening_onto_a_wall_seen_in_part():
+    """restaurant_2024's recurring miss: a block's side (1.6 m, its end seen) points at the floor
+    wall 1 m below, of which the laser saw only up to 0.3 m short of where the gap meets it (the
+    rest beyond its field of view): the floor runs on there, a T-opening. Seen 0.8 m short it
+    may end anywhere; and where the scan looks past the meeting point nothing stands there."""
+    from pico_studio.core.perception.identify import View
+
+    robot = (5.64, 1.28)
+    side = [4.8, 2.8, 4.8, 1.2]
+    free = [[-1, -1], [-1, -1]]
+    seen = [[False, True], [False, False]]
+    doors, kind = _doors([side, [2.8, 0.2, 4.5, 0.2]], free, seen, robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [4.8, 1.2, 4.8, 0.2], atol=1e-6)
+    doors, _ = _doors([side, [2.8, 0.2, 4.0, 0.2]], free, seen, robot)
+    assert len(doors) == 0
+    # a scan whose beam towards (4.8, 0.2) reaches 2 m beyond it
+    bearing = float(np.arctan2(0.2 - robot[1], 4.8 - robot[0]))
+    angles = np.linspace(-np.pi, np.pi, 721)
+    ranges = np.full(721, 0.0)
+    ranges[int(np.argmin(np.abs(angles - bearing)))] = float(np.hypot(4.8 - robot[0], 0.2 - robot[1])) + 2.0
+    view = View(ranges, angles, ranges > 0, (robot[0], robot[1], 0.0))
+    out = identify(np.array([side, [2.8, 0.2, 4.5, 0.2]]), np.array(free), np.array(seen), robot, PARAMS, view)
+    assert len(out.doors) == 0
+
+
+def test_a_t_opening_from_a_room_walls_corner():
+    """restaurant_2024 seed 1's miss: a block's side seen 0.8 m from its end (seen) up to where
+    another wall joins it in a corner the robot looks into, facing the floor wall 1 m below: a
+    room's wall, a T-opening though shorter than end_face_min_length. Facing a short wall (a
+    table's front) it is none; nor without the corner (a table's side, seen in part)."""
+    robot = (4.09, 1.33)
+    side, joined = [4.6, 2.0, 4.6, 1.2], [3.5, 2.0, 4.6, 2.0]
+    corner = [[1, -1], [-1, 0], [-1, -1]]
+    seen = [[False, True], [False, False], [False, False]]
+    doors, kind = _doors([side, joined, [2.8, 0.2, 6.0, 0.2]], corner, seen, robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [4.6, 1.2, 4.6, 0.2], atol=1e-6)
+    doors, _ = _doors([side, joined, [4.2, 0.2, 5.0, 0.2]], corner, seen, robot)
+    assert len(doors) == 0
+    doors, _ = _doors([side, joined, [2.8, 0.2, 6.0, 0.2]], [[-1, -1]] * 3, seen, robot)
+    assert len(doors) == 0

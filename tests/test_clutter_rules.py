@@ -54,6 +54,28 @@ def test_a_bay_seen_by_the_scan_is_no_door():
     assert len(identify(FRONTS, conn, FRONTS_SEEN, (0.0, -2.0), PARAMS.identify, view).doors) == 1
 
 
+def test_a_bay_seen_edge_on_is_no_door():
+    """Two counters' fronts in a line, 0.6 m apart, seen along that line: every ray through the
+    gap ends on the far counter's side right by it and says nothing (restaurant_2024 seed 2's
+    false door). A door is an opening a ray was seen to pass: none did. The same gap with
+    nothing behind it, seen from the same place, is a door."""
+    from pico_studio.core.perception.identify import View
+
+    robot = (-2.5, -0.15, 0.0)
+    side, back = np.array([[0.3, 0.0, 0.3, 0.7]]), np.array([[-3.0, 0.7, 3.0, 0.7]])
+    conn = np.full((2, 2), -1, dtype=np.int64)
+
+    def doors(world: np.ndarray, params=PARAMS.identify) -> int:
+        scan, _ = process_scan(cast(world, robot), PARAMS.scan, PARAMS.proximity)
+        view = View(scan.ranges, scan.angles, scan.valid, robot)
+        return len(identify(FRONTS, conn, FRONTS_SEEN, robot[:2], params, view).doors)
+
+    bay = np.vstack([FRONTS, side, back])
+    assert doors(bay) == 0
+    assert doors(bay, dataclasses.replace(PARAMS.identify, door_min_free_rays=0)) == 1  # the rule decides
+    assert doors(FRONTS) == 1
+
+
 def test_a_t_opening_is_a_door():
     """A wall's seen end facing the face of a wall across it, a door's width away."""
     walls = np.array([[-3.0, 0.0, 0.0, 0.0], [0.9, -2.5, 0.9, 2.5]])

@@ -142,7 +142,8 @@ def test_small_stages_equal_their_python_on_real_scans():
     for _, laser, _ in hospital_frames(6):
         scan, _ = process_scan(laser, cfg.scan, cfg.proximity)
         segs = segment_scan(scan, cfg)
-        args = (scan.points, scan.clusters, scan.end_seen, cfg.objects.min_points, cfg.objects.max_size, 0.3, -0.2, 0.7)
+        args = (scan.points, scan.clusters, scan.end_seen, cfg.objects.min_points, cfg.objects.max_size, 0.3, -0.2, 0.7,
+                cfg.objects.partly_hidden)
         _same(objects.candidate_boxes(*args), jit.py_func(objects.candidate_boxes)(*args))
         seen["objects"] += len(objects.candidate_boxes(*args)[0])
         e = cfg.entrance

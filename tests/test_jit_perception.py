@@ -34,7 +34,8 @@ from pico_studio.sim import Simulator
 from tests.conftest import MAPS
 from tests.jit_scenes import hospital_frames, recorded_calls
 
-KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "object_groups", "jamb_candidates")}
+KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "object_groups", "jamb_candidates",
+                      "extended_hits")}
 
 
 @pytest.fixture(scope="module")

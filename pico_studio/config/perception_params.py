@@ -313,6 +313,12 @@ class IdentifyParams:
         help="A gap is backed (no door) when at least this share of the informative rays through it end "
         "in its shadow (within door_depth behind it, between its jambs)",
     )
+    door_min_free_rays: int = param(
+        1, lo=0, hi=5, step=1,
+        help="A door between two jambs is an opening you were seen to look through: at least this many of the "
+        "five rays through the gap end more than door_occlusion beyond its line, or never (a bay seen edge-on, "
+        "its rays all ending on a side right by the line, is no door)",
+    )
     door_occlusion: float = param(
         0.1, lo=0.0, hi=2.0, step=0.01, unit="m",
         help="A ray stopping this far before the gap was blocked in front of it: it says nothing about the gap",
@@ -324,6 +330,11 @@ class IdentifyParams:
         1.5, lo=0.0, hi=20.0, step=0.05, unit="m",
         help="...when the wall whose end it is is at least this long: a building's wall, not the side of a "
         "table or a cabinet (a passage between furniture and a wall is no door)",
+    )
+    end_face_reach: float = param(
+        0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
+        help="...also onto a building's wall seen in part: its line, up to this past its floating end (it runs "
+        "on out of view), unless the scan looks past that point (0: off)",
     )
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
@@ -406,6 +417,9 @@ class ObjectParams:
         help="A cluster whose points span at most this, with both ends seen past, is an object candidate",
     )
     min_points: int = param(3, lo=1, hi=100, step=1, help="...with at least this many points")
+    partly_hidden: bool = param(
+        True, help="...or seen past at one end only (a box coming out from behind a table), tracked by that end",
+    )
     match_radius: float = param(
         0.4, lo=0.01, hi=5.0, step=0.01, unit="m",
         help="A candidate within this of a track's last centroid is that track again",

@@ -22,9 +22,14 @@ wall standing across a door's line is a jamb only as a cap (seen whole, or in pa
 long wall's line) or a door frame's wall (at least `door_wall_min_length`, or a stub on
 one): a box's or a person's lone face is not. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
 wall — one at least `end_face_min_length` long, or a door frame's length ending in a whole
-cap (a thick wall's end; a table's end is as wide as the table) — and never ends on a
+cap (a thick wall's end; a table's end is as wide as the table), or a door frame's length
+whose far end turns into another wall in a concave corner (a room's wall) facing a building
+wall's face (at least `end_face_min_length` long) — and never ends on a
 block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
-cabinet's front).
+cabinet's front). The face may be a building's wall seen in part, its floating end within
+`end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
+A door between two jambs is a gap some ray was seen to pass
+through (`door_min_free_rays`): a bay seen edge-on is none.
 """
 
 from __future__ import annotations
@@ -39,6 +44,7 @@ from pico_studio.core.perception.identify_kernels import (
     backed,
     blocked_many,
     door_pairs,
+    extended_hits,
     jamb_candidates,
     object_groups,
     ray_hits,
@@ -203,10 +209,14 @@ def _doors(
         segs = np.concatenate([pts[ia], pts[ja]], axis=1)
         blocked = _blocked_many(segs, walls, wi[ia], wi[ja])
         some = np.flatnonzero(~blocked)
-        blocked[some] = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
+        backed_some, free_some = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
+        blocked[some] = backed_some
+        # a door is an opening some ray was seen to pass (a possible door is the unknown case)
+        unseen = np.ones(len(segs), dtype=bool)
+        unseen[some] = free_some < params.door_min_free_rays
         # best aligned first; a later door from the same point in about the same direction is
         # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
-        cand = np.flatnonzero(is_door & ~blocked)
+        cand = np.flatnonzero(is_door & ~blocked & ~unseen)
         seg_list = segs.tolist()
         for m in cand[np.argsort(np.minimum(off_ij[cand], off_ji[cand]))].tolist():
             if not any(_same_opening(seg_list[m], d) for d in doors):
@@ -223,15 +233,33 @@ def _doors(
         # end cap of a wall's thickness (a thick wall's end seen with its cap; a table's end is
         # as wide as the table, a person's side too short)
         building = (lengths[wi] >= params.end_face_min_length) | (long & capped)
-        face = np.flatnonzero(is_convex & building)
+        # or a door frame's length whose far end turns into another wall in a concave corner (a
+        # room's wall), when the face it meets is a building wall's (end_face_min_length long)
+        cornered = long & (prop[wi, 1 - we] == CONCAVE) & ~building
+        face = np.flatnonzero(is_convex & (building | cornered))
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
+            # the face may be seen in part: a building's wall whose floating end stops short of
+            # the ray (it runs on out of view, e.g. past the laser's field of view), within
+            # end_face_reach of it — unless the scan looks past where it would be
+            miss = (hit_k < 0) | (hit_t > params.door_max_width)
+            if params.end_face_reach > 0 and miss.any():
+                eligible = (lengths >= params.end_face_min_length) & ~objects
+                ext_t, ext_k = extended_hits(
+                    np.ascontiguousarray(pts[face][miss]), np.ascontiguousarray(out_dir[face][miss]),
+                    np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(prop == FLOATING),
+                    np.ascontiguousarray(eligible), float(params.end_face_reach))
+                for r, m in enumerate(np.flatnonzero(miss).tolist()):
+                    if ext_k[r] >= 0 and not _seen_past(pts[face[m]] + ext_t[r] * out_dir[face[m]], view, params):
+                        hit_t[m], hit_k[m] = ext_t[r], ext_k[r]
             gaps, own, other_k = [], [], []
             # the face it meets is a building's too: not a small object, nor a block's face (both
             # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
             block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
                 if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
+                    continue
+                if cornered[m] and lengths[k] < params.end_face_min_length:
                     continue
                 if not params.door_min_width <= t <= params.door_max_width:
                     continue
@@ -246,7 +274,9 @@ def _doors(
                 g = np.array(gaps)
                 oa, ob = np.array(own), np.array(other_k)
                 bad = _blocked_many(g, walls, oa, ob)
-                bad |= _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))
+                # seen edge-on a T-opening's rays end by its face and say nothing; its jamb (a
+                # building's wall end) and face were tested above, so no free ray is asked for
+                bad |= _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))[0]
                 for m in np.flatnonzero(~bad).tolist():
                     gl = g[m].tolist()
                     if not any(_same_place(gl, d, params) for d in doors):
@@ -274,6 +304,24 @@ def _doors(
     return d, door_kinds, p, kinds
 
 
+def _seen_past(point: np.ndarray, view: View | None, params: IdentifyParams) -> bool:
+    """Did the current scan's beam towards `point` (zero frame) reach more than
+    `door_occlusion` beyond it? (Then nothing stands there.)"""
+    if view is None or len(view.ranges) < 2:
+        return False
+    a0 = float(view.angles[0])
+    inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
+    if inc == 0 or not math.isfinite(inc):
+        return False
+    px, py, pa = view.pose
+    dx, dy = float(point[0]) - px, float(point[1]) - py
+    bearing = math.atan2(-math.sin(pa) * dx + math.cos(pa) * dy, math.cos(pa) * dx + math.sin(pa) * dy)
+    beam = round((bearing - a0) / inc)
+    if not 0 <= beam < len(view.ranges) or not view.valid[beam]:
+        return False
+    return float(view.ranges[beam]) > math.hypot(dx, dy) + params.door_occlusion
+
+
 def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:
     """Two gaps about parallel whose middles lie within half a door's minimum width: one
     opening (e.g. found from both corners of a thick wall's end cap)."""
@@ -289,7 +337,7 @@ def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:
 def _backed(
     segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, robot: tuple[float, float],
     view: View | None, params: IdentifyParams, face_end: np.ndarray | None = None,
-) -> np.ndarray:
+) -> tuple[np.ndarray, np.ndarray]:
     """(G,) bool: is there no seeing through the gap? Rays from the robot through five points of
     the middle of each gap: the current scan's beam when the point is in view, else the local
     map's first wall along the ray (the gap's own two walls left out). A ray stopping more
@@ -301,10 +349,14 @@ def _backed(
     wall's end (`face_end` (G,): the gap's second point lies on a wall's face instead). A ray that goes on, returns nothing, or ends beside the gap
     (the free space behind a door opens sideways, e.g. a corridor seen through a door at an
     angle) is free. Backed when at least `door_backed_share` of the informative
-    rays are closed."""
+    rays are closed. Also (G,) how many rays were seen to pass the gap (known, and ending more
+    than `door_occlusion` beyond its line, or never): a door needs `door_min_free_rays` of
+    them (a bay between two counters seen edge-on, each ray ending on the far counter's side
+    right by the gap line, shows none; a thick wall's cap seen at an angle ends rays a few dm
+    beyond it)."""
     g = len(segs)
     if g == 0:
-        return np.zeros(0, dtype=bool)
+        return np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int64)
     face_end = np.zeros(g, dtype=bool) if face_end is None else face_end
     # the loop and its maths: identify_kernels.backed
     has_view, ranges, valid, pose, a0, inc = False, np.zeros(0), np.zeros(0, dtype=bool), (0.0, 0.0, 0.0), 0.0, 0.0

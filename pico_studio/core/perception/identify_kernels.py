@@ -24,7 +24,20 @@ import math
 
 import numpy as np
 
-from pico_studio.jit import kernel
+from pico_studio.jit import kernel, njit
+
+
+@njit
+def _line_hit(ox: float, oy: float, rx: float, ry: float, walls: np.ndarray, k: int) -> tuple[float, float]:
+    """(t, u) where the ray o + t r meets wall k's line a_k + u e_k; (-inf, nan) when parallel
+    (|den| <= 1e-12: never a hit)."""
+    ax, ay = walls[k, 0], walls[k, 1]
+    ex, ey = walls[k, 2] - ax, walls[k, 3] - ay
+    den = rx * ey - ry * ex
+    if not abs(den) > 1e-12:
+        return -np.inf, np.nan
+    aox, aoy = ax - ox, ay - oy
+    return (aox * ey - aoy * ex) / den, (aox * ry - aoy * rx) / den
 
 
 def _example_rays() -> tuple:
@@ -47,14 +60,7 @@ def ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray, ex_a:
         for k in range(n_walls):
             if k == ex_a[i] or k == ex_b[i]:
                 continue
-            ax, ay = walls[k, 0], walls[k, 1]
-            ex, ey = walls[k, 2] - ax, walls[k, 3] - ay
-            den = rx * ey - ry * ex
-            if not abs(den) > 1e-12:
-                continue
-            aox, aoy = ax - ox, ay - oy
-            t = (aox * ey - aoy * ex) / den
-            u = (aox * ry - aoy * rx) / den
+            t, u = _line_hit(ox, oy, rx, ry, walls, k)
             if t > 1e-6 and u >= 0 and u <= 1 and t < best[i]:  # strict: the first smallest
                 best[i] = t
                 best_k[i] = k
@@ -181,8 +187,10 @@ def _example_backed() -> tuple:
 def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, rx: float, ry: float,
            has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
            inc: float, face_end: np.ndarray, occlusion: float, depth: float, jamb_cap_max: float,
-           backed_share: float) -> np.ndarray:
-    """(G,) bool: is there no seeing through gap g? (identify._backed says what and why.)
+           backed_share: float) -> tuple[np.ndarray, np.ndarray]:
+    """((G,) bool: is there no seeing through gap g?, (G,) int64: how many of its rays were
+    seen to pass it: known, and ending more than `occlusion` beyond the gap's line or never)
+    (identify._backed says what and why.)
 
     Five samples q = p + f (p' - p), f in 0.2 .. 0.8, of each gap (p, p'); the ray from the
     robot R through q has direction r = (q - R) / |q - R|. How far it reaches: the current
@@ -193,10 +201,11 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     Where the others end, in the gap's frame (s along from p, n across): a ray ending within
     `occlusion` of a jamb's normal (|s| or |s - L|) says nothing unless deeper than
     `jamb_cap_max` behind a jamb that is a wall's end; a ray is closed when it ends within
-    `depth` of the gap line between the jambs (or deep beside one). Backed when some rays
-    say something and at least `backed_share` of them are closed."""
+    `depth` of the gap line between the jambs (or deep beside one). Backed when some rays say
+    something and at least `backed_share` of them are closed."""
     g, n_walls, n_beams = segs.shape[0], walls.shape[0], ranges.shape[0]
     out = np.zeros(g, dtype=np.bool_)
+    free = np.zeros(g, dtype=np.int64)
     c, sn = math.cos(va), math.sin(va)
     wrap = 2 * math.pi / abs(inc) if has_view else 0.0
     for m in range(g):
@@ -263,8 +272,10 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
                 inf_n += 1
             if closed:
                 closed_n += 1
+            if known and reach > dist and (not finite or n_ > occlusion):
+                free[m] += 1  # seen to pass the gap: it ended `occlusion` beyond its line, or never
         out[m] = inf_n > 0 and closed_n >= backed_share * inf_n
-    return out
+    return out, free
 
 
 def _example_groups() -> tuple:
@@ -370,3 +381,36 @@ def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, 
             m += 1
     return (wi[:m].copy(), we[:m].copy(), capped[:m].copy(), long[:m].copy(), stub[:m].copy(), cap_sized[:m].copy(),
             cap_seen[:m].copy(), lengths)
+
+
+def _example_extended() -> tuple:
+    walls = np.array([[0.0, -1.0, 2.0, -1.0], [3.0, 2.0, 3.0, 4.0]])
+    origin = np.array([[2.3, 0.0]])
+    direction = np.array([[0.0, -1.0]])
+    return origin, direction, walls, np.array([[False, True], [False, False]]), np.array([True, True]), 0.5
+
+
+@kernel(_example_extended)
+def extended_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray, floating: np.ndarray,
+                  eligible: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]:
+    """Where rays o + t r meet an `eligible` wall's line just past one of its floating ends (the
+    wall seen in part, running on out of view there): ray_hits' maths with u (along the wall,
+    0 .. 1 between its ends) beyond the floating end by at most `reach` / |e| — u in
+    (1, 1 + reach / |e|] past end 1, [-reach / |e|, 0) before end 0. (nearest t (R,), wall
+    (R,) int64; inf / -1 for none.)"""
+    n_rays, n_walls = origin.shape[0], walls.shape[0]
+    best = np.full(n_rays, np.inf)
+    best_k = np.full(n_rays, -1, dtype=np.int64)
+    for i in range(n_rays):
+        ox, oy = origin[i, 0], origin[i, 1]
+        rx, ry = direction[i, 0], direction[i, 1]
+        for k in range(n_walls):
+            if not eligible[k] or not (floating[k, 0] or floating[k, 1]):
+                continue
+            t, u = _line_hit(ox, oy, rx, ry, walls, k)
+            extra = reach / max(np.hypot(walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]), 1e-12)
+            past = (floating[k, 1] and u > 1 and u <= 1 + extra) or (floating[k, 0] and u < 0 and u >= -extra)
+            if t > 1e-6 and past and t < best[i]:
+                best[i] = t
+                best_k[i] = k
+    return best, best_k
