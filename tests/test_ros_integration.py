@@ -178,6 +178,16 @@ def _collect(source: object, count: int, timeout: float = DEADLINE) -> list[Lase
     return scans
 
 
+def _drain(source: object, quiet: float = 0.5, timeout: float = DEADLINE) -> None:
+    """Read and drop scans until none has arrived for `quiet` seconds."""
+    deadline = time.monotonic() + timeout
+    last = time.monotonic()
+    while time.monotonic() - last < quiet and time.monotonic() < deadline:
+        source.advance(0.02)
+        if source.read_laser() is not None:
+            last = time.monotonic()
+
+
 def _echo_one(rig: RosRig, topic: str, send: Callable[[], None]) -> str:
     """What `rostopic echo -n 1 TOPIC` prints of the first message, while `send()` repeats."""
     echo = rig.start("rostopic", "echo", "-n", "1", topic, capture=True)
@@ -225,6 +235,7 @@ def test_a_recorded_simulation_plays_into_ros(ros: RosRig, tmp_path: Path) -> No
     assert main(["run", "--map", str(BAG.parents[3] / "pico_studio" / "data" / "maps" / "hospital_2019.json"),
                  "--behaviour", "drive:0.2,0,0.1", "--seconds", "3", "--record", str(out)]) == 0
     known = {f.laser.ranges.astype(np.float32).tobytes() for f in map(open_bag(out).frame, range(60))}
+    _drain(ros.source)  # scans of an earlier test's player still queued or in flight
     player = ros.start("rosbag", "play", "-q", "-d", "1", str(out))
     try:
         scans = _collect(ros.source, 10)
