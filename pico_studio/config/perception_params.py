@@ -336,6 +336,20 @@ class IdentifyParams:
         help="...also onto a building's wall seen in part: its line, up to this past its floating end (it runs "
         "on out of view), unless the scan looks past that point (0: off)",
     )
+    end_face_evidence_scans: int = param(
+        3, lo=0, hi=50, step=1,
+        help="...also from a door frame's length seen shorter than end_face_min_length (its far end running on "
+        "out of view), facing a building wall's face, once this many scans saw free rays through the gap "
+        "(a scan that finds it blocked or backed, or looks past the wall's far end, bans it; 0: off)",
+    )
+    end_face_continuation: float = param(
+        0.3, lo=0.0, hi=5.0, step=0.05, unit="m",
+        help="...a scan looks past that wall's far end when its beam reaches beyond the point this far on "
+        "along the wall's line: the wall ends there (a table's side)",
+    )
+    end_face_evidence_max: int = param(
+        32, lo=1, hi=1000, step=1, help="...remembering at most this many such gaps",
+    )
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="Connected local walls spanning at most this (bounding-box diagonal) are an object (a cabinet, "

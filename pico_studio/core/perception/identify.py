@@ -30,12 +30,21 @@ cabinet's front). The face may be a building's wall seen in part, its floating e
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
 A door between two jambs is a gap some ray was seen to pass
 through (`door_min_free_rays`): a bay seen edge-on is none.
+
+Evidence over scans (`Identified.evidence`, handed back in by the perceptor): a T-opening
+from a door frame's length seen shorter than `end_face_min_length`, its far end floating,
+facing a building wall's face, is from one scan a partition hidden in part or a table's side
+seen in part. A scan supports it when rays pass the gap and the beam in line with the wall,
+`end_face_continuation` past its far end, ends before that point (something in front hides
+the wall: it may run on); it becomes a door after `end_face_evidence_scans` such scans. A scan
+that finds the gap blocked or backed, or looks past that point (the wall ends there: a
+table's side), bans the place; a far end cut by the field of view says nothing.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -65,6 +74,7 @@ class Identified:
     possible_door_kind: list[str]
     door_kind: list[str]  # (D,) one of DOOR_KINDS
     object_wall: np.ndarray  # (W,) bool: the wall belongs to a small object (no building)
+    evidence: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))  # (E, 5) short-wall T-openings: middle, unit gap direction, scans for
 
 
 @dataclass(frozen=True)
@@ -79,10 +89,12 @@ class View:
 
 def identify(
     walls: np.ndarray, connected: np.ndarray, seen_end: np.ndarray, robot_xy: tuple[float, float],
-    params: IdentifyParams, view: View | None = None,
+    params: IdentifyParams, view: View | None = None, evidence: np.ndarray | None = None,
 ) -> Identified:
     """walls (W, 4) zero frame, connected (W, 2) wall index or -1, seen_end (W, 2) bool;
-    `view`: the current scan and the robot's pose (zero frame), for looking through gaps."""
+    `view`: the current scan and the robot's pose (zero frame), for looking through gaps;
+    `evidence`: the previous scan's `Identified.evidence` (T-openings on a short wall, counted
+    over scans)."""
     n = len(walls)
     prop = np.full((n, 2), FLOATING, dtype=np.int64)
     prop[seen_end] = CONVEX
@@ -116,7 +128,8 @@ def identify(
         corners.append((wl[i][2 * a], wl[i][2 * a + 1]))
         convex.append(True)
     objects = object_walls(walls, connected, prop, params.object_max_size, params.object_min_depth)
-    doors, door_kinds, possible, kinds = _doors(walls, prop, connected, objects, (rx, ry), view, params)
+    ev = np.zeros((0, 5)) if evidence is None else evidence
+    doors, door_kinds, possible, kinds, ev = _doors(walls, prop, connected, objects, (rx, ry), view, params, ev)
     return Identified(
         prop,
         np.array(corners, dtype=float).reshape(-1, 2),
@@ -126,6 +139,7 @@ def identify(
         kinds,
         door_kinds,
         objects,
+        ev,
     )
 
 
@@ -164,11 +178,11 @@ def object_walls(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max
 
 def _doors(
     walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np.ndarray, robot: tuple[float, float],
-    view: View | None, params: IdentifyParams,
-) -> tuple[np.ndarray, list[str], np.ndarray, list[str]]:
+    view: View | None, params: IdentifyParams, evidence: np.ndarray,
+) -> tuple[np.ndarray, list[str], np.ndarray, list[str], np.ndarray]:
     empty = np.zeros((0, 4))
     if len(walls) < 2:
-        return empty, [], empty, []
+        return empty, [], empty, [], evidence
     # door-point candidates: (wall, end) with a convex or floating property, not on an object.
     # A jamb is a wall's end: joined to nothing there, or to an end cap no longer than a wall's
     # thickness (`jamb_cap_max`; a longer wall there makes a block's corner, a table against a
@@ -182,7 +196,7 @@ def _doors(
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
         float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX)
     if len(wi) < 1:
-        return empty, [], empty, []
+        return empty, [], empty, [], evidence
     ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i
     pts = ends[2 * wi + we]
     other = ends[2 * wi + 1 - we]
@@ -236,7 +250,12 @@ def _doors(
         # or a door frame's length whose far end turns into another wall in a concave corner (a
         # room's wall), when the face it meets is a building wall's (end_face_min_length long)
         cornered = long & (prop[wi, 1 - we] == CONCAVE) & ~building
-        face = np.flatnonzero(is_convex & (building | cornered))
+        # or a door frame's length seen short, its far end floating (it runs on out of view; a
+        # table's side ends in a seen corner or a seen end), facing a building wall's face: from
+        # one scan as likely a table's side, so a door only after `end_face_evidence_scans` scans
+        # saw free rays through the gap
+        weak = long & ~building & (prop[wi, 1 - we] == FLOATING) & (params.end_face_evidence_scans > 0)
+        face = np.flatnonzero(is_convex & (building | cornered | weak))
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
             # the face may be seen in part: a building's wall whose floating end stops short of
@@ -252,14 +271,14 @@ def _doors(
                 for r, m in enumerate(np.flatnonzero(miss).tolist()):
                     if ext_k[r] >= 0 and not _seen_past(pts[face[m]] + ext_t[r] * out_dir[face[m]], view, params):
                         hit_t[m], hit_k[m] = ext_t[r], ext_k[r]
-            gaps, own, other_k = [], [], []
+            gaps, own, other_k, is_weak, ends_short = [], [], [], [], []
             # the face it meets is a building's too: not a small object, nor a block's face (both
             # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
             block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
                 if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
                     continue
-                if cornered[m] and lengths[k] < params.end_face_min_length:
+                if (cornered[m] or weak[m]) and lengths[k] < params.end_face_min_length:
                     continue
                 if not params.door_min_width <= t <= params.door_max_width:
                     continue
@@ -270,13 +289,28 @@ def _doors(
                 gaps.append(np.concatenate([pts[m], pts[m] + t * out_dir[m]]))
                 own.append(wi[m])
                 other_k.append(k)
+                # a short wall's far end that the scan looks past, in line with the wall, ends
+                # there: the wall is a block's side (a table's), however its end was cut
+                is_weak.append(bool(weak[m]))
+                if weak[m]:
+                    ends_short.append(_beam_at(other[m] - params.end_face_continuation * out_dir[m], view, params))
             if gaps:
                 g = np.array(gaps)
                 oa, ob = np.array(own), np.array(other_k)
                 bad = _blocked_many(g, walls, oa, ob)
                 # seen edge-on a T-opening's rays end by its face and say nothing; its jamb (a
                 # building's wall end) and face were tested above, so no free ray is asked for
-                bad |= _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))[0]
+                backed_g, free_g = _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))
+                bad |= backed_g
+                wk = np.array(is_weak, dtype=bool)
+                if wk.any():
+                    sure = ~bad & (free_g >= max(params.door_min_free_rays, 1))
+                    beyond = np.array(ends_short, dtype=np.int64)
+                    against = bad[wk] | (beyond > 0)
+                    # support: free rays through the gap, and the wall's far end hidden behind
+                    # something nearer (it may run on); one cut by the field of view says nothing
+                    evidence, count = _tally(evidence, g[wk], sure[wk] & (beyond < 0) & ~against, against, params)
+                    bad[np.flatnonzero(wk)[count < params.end_face_evidence_scans]] = True
                 for m in np.flatnonzero(~bad).tolist():
                     gl = g[m].tolist()
                     if not any(_same_place(gl, d, params) for d in doors):
@@ -301,25 +335,78 @@ def _doors(
         keep = near > params.door_min_width / 2
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
-    return d, door_kinds, p, kinds
+    return d, door_kinds, p, kinds, evidence
+
+
+_BANNED = -1e6  # a contradicted gap's count: never promoted
+
+
+def _tally(evidence: np.ndarray, gaps: np.ndarray, support: np.ndarray, against: np.ndarray,
+           params: IdentifyParams) -> tuple[np.ndarray, np.ndarray]:
+    """Count scans for the T-openings on a short wall: `evidence` (E, 5) rows (middle x, y, unit
+    gap direction x, y, supporting scans); `gaps` (G, 4) this scan's candidates, `support` (G,)
+    free rays seen through the gap, `against` (G,) blocked or backed now. A gap is the record
+    whose middle lies within half a door's minimum width, about parallel (`_same_place`); a
+    supporting scan adds one, a contradicting one bans the place for good (a table's side seen
+    once to end short stays a table's). Returns the new records (at most
+    `end_face_evidence_max`, the surest kept) and each gap's count."""
+    rows = evidence.tolist()
+    counts = np.zeros(len(gaps), dtype=np.int64)
+    for m, gap in enumerate(gaps.tolist()):
+        mx, my = (gap[0] + gap[2]) / 2, (gap[1] + gap[3]) / 2
+        ln = max(math.hypot(gap[2] - gap[0], gap[3] - gap[1]), 1e-12)
+        ux, uy = (gap[2] - gap[0]) / ln, (gap[3] - gap[1]) / ln
+        hit = -1
+        for r, row in enumerate(rows):
+            if math.hypot(row[0] - mx, row[1] - my) <= params.door_min_width / 2 and \
+                    abs(row[2] * ux + row[3] * uy) > math.cos(params.door_angle):
+                hit = r
+                break
+        if against[m]:
+            if hit < 0:
+                rows.append([])
+                hit = len(rows) - 1
+            rows[hit] = [mx, my, ux, uy, _BANNED]
+            counts[m] = int(_BANNED)
+            continue
+        if not support[m]:
+            counts[m] = int(rows[hit][4]) if hit >= 0 else 0
+            continue
+        if hit < 0:
+            rows.append([mx, my, ux, uy, 0.0])
+            hit = len(rows) - 1
+        rows[hit] = [mx, my, ux, uy, rows[hit][4] + 1.0]  # follow the latest view of the gap
+        counts[m] = int(rows[hit][4])
+    out = np.array(rows, dtype=float).reshape(-1, 5)
+    if len(out) > params.end_face_evidence_max:
+        out = out[np.argsort(-np.abs(out[:, 4]), kind="stable")[: params.end_face_evidence_max]]
+    return out, counts
 
 
 def _seen_past(point: np.ndarray, view: View | None, params: IdentifyParams) -> bool:
     """Did the current scan's beam towards `point` (zero frame) reach more than
     `door_occlusion` beyond it? (Then nothing stands there.)"""
+    return _beam_at(point, view, params) > 0
+
+
+def _beam_at(point: np.ndarray, view: View | None, params: IdentifyParams) -> int:
+    """The current scan's beam towards `point` (zero frame): 1 reaching more than
+    `door_occlusion` beyond it (nothing stands there), -1 ending more than that before it
+    (something in front hides it), 0 neither or out of view."""
     if view is None or len(view.ranges) < 2:
-        return False
+        return 0
     a0 = float(view.angles[0])
     inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
     if inc == 0 or not math.isfinite(inc):
-        return False
+        return 0
     px, py, pa = view.pose
     dx, dy = float(point[0]) - px, float(point[1]) - py
     bearing = math.atan2(-math.sin(pa) * dx + math.cos(pa) * dy, math.cos(pa) * dx + math.sin(pa) * dy)
     beam = round((bearing - a0) / inc)
     if not 0 <= beam < len(view.ranges) or not view.valid[beam]:
-        return False
-    return float(view.ranges[beam]) > math.hypot(dx, dy) + params.door_occlusion
+        return 0
+    r, dist = float(view.ranges[beam]), math.hypot(dx, dy)
+    return 1 if r > dist + params.door_occlusion else -1 if r < dist - params.door_occlusion else 0
 
 
 def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:

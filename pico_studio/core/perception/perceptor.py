@@ -53,6 +53,7 @@ class PerceptorState:
     corners: np.ndarray | None = None  # the previous scan's corners, robot frame then
     time: float = 0.0
     objects: ObjectsState = ObjectsState()
+    door_evidence: np.ndarray | None = None  # identify's T-openings on short walls, counted over scans
 
     @staticmethod
     def initial() -> PerceptorState:
@@ -135,7 +136,8 @@ def _perceive(
     lap("merge")
     idx, conn = local.shown_walls(params.merge)
     view = View(scan.ranges, scan.angles, scan.valid, loc.pose)
-    ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view)
+    ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view,
+                     state.door_evidence)
     lap("identify")
     est = entrance_in_scan(segs.segments, params.entrance)
     history = state.entrance_history
@@ -146,7 +148,7 @@ def _perceive(
     room, side = rooms(scan.ranges, scan.angles, scan.valid, state.side_range, params.rooms)
     lap("rooms")
 
-    new_state = PerceptorState(loc, local, history, side, corners_now, stamp, objects_state)
+    new_state = PerceptorState(loc, local, history, side, corners_now, stamp, objects_state, ident.evidence)
     dynamic_points = scan.points[np.repeat(objs.dynamic, scan.clusters[:, 1] - scan.clusters[:, 0])] \
         if objs.dynamic.any() else np.zeros((0, 2))
     wm = WorldModel(  # every field given: no default made only to be replaced

@@ -1,0 +1,85 @@
+"""Evidence over scans for a T-opening on a wall seen short: a wall's end (seen) facing a
+building wall's face a door's width on, the wall seen only 0.8 m (shorter than
+end_face_min_length), its far end floating. From one scan that is a partition hidden in part
+or a table's side; it becomes a door once `end_face_evidence_scans` scans saw free rays
+through the gap *and* the wall's far end hidden behind something nearer (it may run on). A
+scan looking past the far end, in line with the wall, shows the wall ends there: a table's
+side, banned for good. A far end cut by the field of view says nothing."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pico_studio.config import load_config
+from pico_studio.core.perception.identify import View, identify
+
+PARAMS = load_config(None).perception.identify
+ROBOT = (5.64, 1.28)
+SIDE = [4.8, 2.0, 4.8, 1.2]  # its lower end seen, its upper end floating
+FLOOR = [2.8, 0.2, 6.0, 0.2]
+WALLS = np.array([SIDE, FLOOR])
+FREE = np.full((2, 2), -1, dtype=np.int64)
+SEEN = np.array([[False, True], [False, False]])
+GAP = [4.8, 1.2, 4.8, 0.2]
+
+
+def _view(beyond_far_end: float | None, fov: float = np.pi) -> View:
+    """A scan reaching 8 m everywhere (free through the gap), except the beams towards the
+    point on along the wall past its far end: they end `beyond_far_end` from it (negative:
+    before it, something in front hides it; positive: past it, nothing there; None: as the
+    rest). `fov`: half the field of view, about the robot's heading towards the gap."""
+    heading = float(np.arctan2(0.7 - ROBOT[1], 4.8 - ROBOT[0]))
+    angles = np.linspace(-fov, fov, 721)
+    ranges = np.full(721, 8.0)
+    if beyond_far_end is not None:
+        target = np.array([4.8, 2.0 + PARAMS.end_face_continuation])
+        bearing = float(np.arctan2(target[1] - ROBOT[1], target[0] - ROBOT[0])) - heading
+        bearing = float(np.angle(np.exp(1j * bearing)))  # in (-pi, pi]
+        near = np.abs(angles - bearing) < 0.05
+        ranges[near] = float(np.hypot(*(target - ROBOT))) + beyond_far_end
+    return View(ranges, angles, np.ones(721, dtype=bool), (ROBOT[0], ROBOT[1], heading))
+
+
+def _scans(view: View, n: int) -> list[int]:
+    """Doors found after each of `n` scans, the evidence handed from one to the next."""
+    evidence, found = None, []
+    for _ in range(n):
+        out = identify(WALLS, FREE, SEEN, ROBOT, PARAMS, view, evidence)
+        evidence = out.evidence
+        found.append(len(out.doors))
+        if len(out.doors):
+            assert out.door_kind == ["end_face"] and np.allclose(out.doors[0], GAP, atol=1e-6)
+    return found
+
+
+def test_a_t_opening_on_a_hidden_wall_becomes_a_door_after_enough_scans():
+    k = PARAMS.end_face_evidence_scans
+    assert k > 1
+    assert _scans(_view(-1.0), k + 2) == [0] * (k - 1) + [1] * 3
+
+
+def test_a_tables_side_seen_to_end_is_no_door():
+    """The beam in line with the wall goes on 1 m past its far end: a table's side."""
+    assert _scans(_view(1.0), 10) == [0] * 10
+
+
+def test_a_far_end_out_of_view_says_nothing():
+    """The wall runs out of the field of view (a table's front cut there looks the same)."""
+    assert _scans(_view(None, fov=0.3), 10) == [0] * 10
+
+
+def test_one_scan_past_the_far_end_bans_the_gap():
+    """Promoted, then a scan looks past the far end: no door again, however many scans hide it."""
+    k = PARAMS.end_face_evidence_scans
+    evidence = None
+    for view in [_view(-1.0)] * k + [_view(1.0)] + [_view(-1.0)] * (k + 2):
+        out = identify(WALLS, FREE, SEEN, ROBOT, PARAMS, view, evidence)
+        evidence = out.evidence
+    assert len(out.doors) == 0
+
+
+def test_a_long_wall_needs_no_evidence():
+    """The same wall seen 1.6 m (a building's, end_face_min_length): a door from the first scan."""
+    walls = np.array([[4.8, 2.8, 4.8, 1.2], FLOOR])
+    out = identify(walls, FREE, SEEN, ROBOT, PARAMS, _view(None))
+    assert out.door_kind == ["end_face"]
