@@ -12,14 +12,11 @@ import pytest
 from pico_studio.config import load_config
 from pico_studio.core.geometry import invert, transform_points
 from pico_studio.core.io import OdometryData
-from pico_studio.core.perception import Perceptor
 from pico_studio.core.perception.locate import LocateState, locate
 from pico_studio.core.perception.scan_match import match_scan
-from pico_studio.evaluation.agreement import AgreementObserver, sample_segments
+from pico_studio.evaluation.agreement import sample_segments
 from pico_studio.evaluation.reference_map import ReferenceMap
-from pico_studio.session import Session
-from pico_studio.sources.carmen import open_carmen
-from pico_studio.sources.replay_run import frame_steps
+from tests.recording_helpers import intel_agreement
 
 PARAMS = load_config(None).perception
 ROOM = np.array([[0, 0, 6, 0], [6, 0, 6, 4], [6, 4, 0, 4], [0, 4, 0, 0], [2, 0, 2, 1.5]], dtype=float)
@@ -93,19 +90,6 @@ def test_reference_map_and_agreement_on_a_built_room():
     assert (ref.distance(on_wall + [0.5, 0.5]) <= 0.1).mean() < 0.2  # a ghost half a metre off
 
 
-def _intel_agreement(params, scans: int) -> float:
-    rep = open_carmen("tests/data/recordings/intel-corrected.log.gz")
-    session = Session(rep, perceptor=Perceptor(params), history=1)
-    obs = AgreementObserver(every=1)
-    for i, dt in enumerate(frame_steps(rep)):
-        if i >= scans:
-            break
-        obs.on_frame(session.tick(dt))
-    s = obs.summary()
-    assert s["scans"] == scans
-    return s["agreement"]
-
-
 def test_intel_stretch_agreement_rises(recordings_dir):
     """The first 100 scans (about 5 minutes) of the Intel corrected log: with the old fixed
     1 m / 1 rad jump limits, no laser correction and walls kept for ever the local map is
@@ -114,7 +98,7 @@ def test_intel_stretch_agreement_rises(recordings_dir):
         PARAMS, locate=dataclasses.replace(PARAMS.locate, jump_speed=0.0, jump_turn_rate=0.0),
         scan_match=dataclasses.replace(PARAMS.scan_match, enabled=False),
         merge=dataclasses.replace(PARAMS.merge, forget_seconds=0.0))
-    before, after = _intel_agreement(old, 100), _intel_agreement(PARAMS, 100)
+    before, after = intel_agreement(old, 100), intel_agreement(PARAMS, 100)
     assert before < 0.2 and after > before + 0.2
 
 
@@ -122,4 +106,4 @@ def test_the_whole_intel_log_agrees_once_unseen_walls_are_forgotten_in_time():
     """All 910 scans (one every 2.9 s): walls kept for ever drift with the pose into ghosts;
     forgotten after `forget_seconds` of not being seen, the local map stays true."""
     never = dataclasses.replace(PARAMS, merge=dataclasses.replace(PARAMS.merge, forget_seconds=0.0))
-    assert _intel_agreement(never, 910) < 0.7 < 0.8 <= _intel_agreement(PARAMS, 910)
+    assert intel_agreement(never, 910) < 0.7 < 0.8 <= intel_agreement(PARAMS, 910)

@@ -17,10 +17,7 @@ from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.perception import Perceptor
 from pico_studio.core.perception import scan_match_kernels as kn
 from pico_studio.core.perception.scan_match import _settings, match_scan
-from pico_studio.evaluation.agreement import AgreementObserver
-from pico_studio.session import Session
-from pico_studio.sources.carmen import open_carmen
-from pico_studio.sources.replay_run import frame_steps
+from tests.recording_helpers import intel_agreement
 
 PARAMS = load_config(None).perception
 SM = PARAMS.scan_match
@@ -133,20 +130,9 @@ def test_fit_kernel_compiled_equals_its_python():
     assert info[0] > 0.95
 
 
-def _intel_agreement(params, scans: int) -> float:
-    rep = open_carmen("tests/data/recordings/intel-corrected.log.gz")
-    session = Session(rep, perceptor=Perceptor(params), history=1)
-    obs = AgreementObserver(every=1)
-    for i, dt in enumerate(frame_steps(rep)):
-        if i >= scans:
-            break
-        obs.on_frame(session.tick(dt))
-    return obs.summary()["agreement"]
-
-
 def test_intel_stretch_agreement_rises_with_the_correction(recordings_dir):
     """The first 120 scans (about 6 minutes, a 180-degree laser, a scan every ~3 s) of the Intel
     corrected log: with the correction the local map lies where the building is."""
     off = dataclasses.replace(PARAMS, scan_match=dataclasses.replace(SM, enabled=False))
-    before, after = _intel_agreement(off, 120), _intel_agreement(PARAMS, 120)
+    before, after = intel_agreement(off, 120), intel_agreement(PARAMS, 120)
     assert after > before + 0.2 and after > 0.45

@@ -17,6 +17,8 @@ lost. **Totals**: the run's figures (`metrics.flatten` names: ratios of sums ove
 from __future__ import annotations
 
 import math
+import threading
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, overload
@@ -360,3 +362,25 @@ def _agreement_per_frame(agreement: Any, n: int) -> np.ndarray | None:
         return np.full(n, math.nan)
     ok = agreement.reference.distance(pts) <= agreement.distance
     return np.array([float(ok[s:s + k].mean()) if k else math.nan for s, k in per_frame])
+
+
+class NewestResult:
+    """What both re-judgers share: `generation` (the newest asked for), `latest` (the newest
+    `Judged` delivered) and the condition `_cond` guarding them, set by the subclass."""
+
+    generation: int
+    latest: Judged | None
+    _cond: threading.Condition
+
+    def wait(self, generation: int | None = None, timeout: float = 60.0) -> Judged | None:
+        """Block until the result of `generation` (default the newest) is in, or `timeout`."""
+        end = time.monotonic() + timeout
+        with self._cond:
+            while True:
+                want = self.generation if generation is None else generation
+                if self.latest is not None and self.latest.generation >= want:
+                    return self.latest
+                left = end - time.monotonic()
+                if left <= 0:
+                    return None
+                self._cond.wait(left)

@@ -49,6 +49,7 @@ from pico_studio.evaluation.judging import (  # noqa: F401  (re-exported: `rejud
     Judged,
     Judging,
     KeptRun,
+    NewestResult,
     Pose,
     Series,
     _pose,
@@ -204,7 +205,7 @@ def higher_is_better(name: str) -> bool:
 # ----- in the background -----------------------------------------------------------------------
 
 
-class Rejudger:
+class Rejudger(NewestResult):
     """Re-judges a kept run in a background thread whenever `submit(cfg)` is called.
 
     A submit while a re-judge is under way cancels it (it stops at the next frame) and starts
@@ -248,19 +249,6 @@ class Rejudger:
             self._pending = None
             self.latest = None
             self._cond.notify_all()
-
-    def wait(self, generation: int | None = None, timeout: float = 60.0) -> Judged | None:
-        """Block until the result of `generation` (default the newest) is in, or `timeout`."""
-        end = time.monotonic() + timeout
-        with self._cond:
-            while True:
-                want = self.generation if generation is None else generation
-                if self.latest is not None and self.latest.generation >= want:
-                    return self.latest
-                left = end - time.monotonic()
-                if left <= 0:
-                    return None
-                self._cond.wait(left)
 
     def close(self) -> None:
         with self._cond:

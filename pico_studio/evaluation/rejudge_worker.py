@@ -57,6 +57,7 @@ from pico_studio.evaluation.judging import (
     Judged,
     Judging,
     KeptRun,
+    NewestResult,
     is_localising,
     validated,
 )
@@ -341,7 +342,7 @@ class _Job:
 # ----- the page's side ---------------------------------------------------------------------------
 
 
-class ProcessRejudger:
+class ProcessRejudger(NewestResult):
     """`rejudge.Rejudger`'s interface (`submit`, `set_run`, `wait`, `close`, `latest`,
     `generation`, `running`, `progress_every`), judging in two worker processes (see the module
     doc). The callbacks are called from this side's reader thread."""
@@ -436,19 +437,6 @@ class ProcessRejudger:
             self.latest = None
             self.running = False
             self._cond.notify_all()
-
-    def wait(self, generation: int | None = None, timeout: float = 60.0) -> Judged | None:
-        """Block until the result of `generation` (default the newest) is in, or `timeout`."""
-        end = time.monotonic() + timeout
-        with self._cond:
-            while True:
-                want = self.generation if generation is None else generation
-                if self.latest is not None and self.latest.generation >= want:
-                    return self.latest
-                left = end - time.monotonic()
-                if left <= 0:
-                    return None
-                self._cond.wait(left)
 
     def close(self) -> None:
         with self._cond:
