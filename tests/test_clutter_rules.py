@@ -87,6 +87,26 @@ def test_a_t_opening_is_a_door():
     assert len(identify(walls, np.full((2, 2), -1), seen, (-0.5, -1.5), off).doors) == 0
 
 
+def test_a_t_opening_hidden_behind_a_box_is_no_door():
+    """The T-opening above, seen by the scan: a door when its gap is in plain view, none when a
+    box stands between the robot and the gap (every beam towards it ends on the box: the local
+    map's walls alone say nothing of what is there now; restaurant_2024's resting box)."""
+    from pico_studio.core.perception.identify import View
+
+    walls = np.array([[-3.0, 0.0, 0.0, 0.0], [0.9, -2.5, 0.9, 2.5]])
+    seen = np.array([[False, True], [False, False]])
+    robot = (0.45, -1.5, 1.57)
+    conn = np.full((2, 2), -1, dtype=np.int64)
+
+    def doors(world: np.ndarray) -> int:
+        scan, _ = process_scan(cast(world, robot), PARAMS.scan, PARAMS.proximity)
+        view = View(scan.ranges, scan.angles, scan.valid, robot)
+        return len(identify(walls, conn, seen, robot[:2], PARAMS.identify, view).doors)
+
+    assert doors(walls) == 1
+    assert doors(np.vstack([walls, box(0.45, -0.8, 0.8, 0.3)])) == 0
+
+
 def test_a_small_object_gives_no_jamb():
     """A wall end 0.8 m from the corner of a box standing free: no door between them."""
     cab = box(1.55, 0.3, 0.5)[[0, 3]]  # its front and left side, connected at the corner

@@ -28,7 +28,9 @@ wall's face (at least `end_face_min_length` long) — and never ends on a
 block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
 cabinet's front). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
-A door between two jambs is a gap some ray was seen to pass
+A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
+quarters of it, ending more than `door_occlusion` before it: a box standing in front) is none:
+the local map's walls alone say nothing of what stands there now. A door between two jambs is a gap some ray was seen to pass
 through (`door_min_free_rays`): a bay seen edge-on is none.
 
 Evidence over scans (`Identified.evidence`, handed back in by the perceptor): a T-opening
@@ -313,6 +315,8 @@ def _doors(
                     bad[np.flatnonzero(wk)[count < params.end_face_evidence_scans]] = True
                 for m in np.flatnonzero(~bad).tolist():
                     gl = g[m].tolist()
+                    if _hidden(g[m], view, params):
+                        continue
                     if not any(_same_place(gl, d, params) for d in doors):
                         doors.append(gl)
                         door_kinds.append("end_face")
@@ -387,6 +391,15 @@ def _seen_past(point: np.ndarray, view: View | None, params: IdentifyParams) -> 
     """Did the current scan's beam towards `point` (zero frame) reach more than
     `door_occlusion` beyond it? (Then nothing stands there.)"""
     return _beam_at(point, view, params) > 0
+
+
+def _hidden(gap: np.ndarray, view: View | None, params: IdentifyParams) -> bool:
+    """Is the gap (4,) hidden from the current scan: do the beams towards two of its points at
+    a quarter, half and three quarters end more than `door_occlusion` before them (something
+    stands in front: a box before a wall's face, not a T-opening seen edge-on, whose beams
+    reach its face)?"""
+    a, b = gap[:2], gap[2:]
+    return sum(_beam_at(a + f * (b - a), view, params) < 0 for f in (0.25, 0.5, 0.75)) >= 2
 
 
 def _beam_at(point: np.ndarray, view: View | None, params: IdentifyParams) -> int:
