@@ -44,7 +44,7 @@ def test_the_tree_keeps_every_contract(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(("module", "line", "contract"), [
-    ("pico_studio.core.geometry", "import pico_studio.sim.world  # noqa", "core never knows"),
+    ("pico_studio.core.geometry", "import pico_studio.sim.world  # noqa", "core knows neither"),
     ("pico_studio.json_map.model", "import pico_studio.core.io  # noqa", "maps are read"),
     ("pico_studio.config.spec", "import pico_studio.json_map  # noqa", "the ground floor"),
     ("pico_studio.sim.laser", "import viser  # noqa", "only ui imports viser"),
