@@ -39,26 +39,11 @@ from pico_studio.evaluation.kept_truth import TruthKeeper, TruthSnapshot
 from pico_studio.evaluation.run_score import TruthScorer
 from pico_studio.jit import uncompiled, warm_up
 from pico_studio.json_map import load_map
-from pico_studio.session import Session, SessionFrame
+from pico_studio.session import FrameKeeper, Session, SessionFrame
 from pico_studio.sim import Simulator
 from pico_studio.sources.frames import FramesReplay
 
 MAP = Path(__file__).resolve().parents[1] / "pico_studio" / "data" / "maps" / "hospital_2019.json"
-
-
-class Keep:
-    """Keeps every frame of a session (what the page's timeline does)."""
-
-    name = "keep"
-
-    def __init__(self) -> None:
-        self.frames: list[SessionFrame] = []
-
-    def on_frame(self, sf: SessionFrame) -> None:
-        self.frames.append(sf)
-
-    def summary(self) -> dict[str, Any]:
-        return {"frames": len(self.frames)}
 
 
 class TimedKeeper(TruthKeeper):
@@ -89,17 +74,17 @@ class TimedKeeper(TruthKeeper):
             self.same &= all(np.array_equal(a, b) for a, b in zip(fast.visible_corners(), slow.visible_corners(), strict=True))
 
 
-def record(seconds: float, seed: int = 0, python_frames: int = 0) -> tuple[Keep, TimedKeeper]:
+def record(seconds: float, seed: int = 0, python_frames: int = 0) -> tuple[FrameKeeper, TimedKeeper]:
     cfg = Config()
     gmap = load_map(MAP)
     sim = Simulator(gmap, cfg.sim, seed=seed)
-    keep, keeper = Keep(), TimedKeeper(sim, python_frames)
+    keep, keeper = FrameKeeper(), TimedKeeper(sim, python_frames)
     behaviour = make_behaviour("wander", cfg.behaviour, gmap, initial_pose=sim.truth.pose)
     Session(sim, perceptor=Perceptor(cfg.perception), behaviour=behaviour, observers=[keep, keeper]).run(seconds, 0.05)
     return keep, keeper
 
 
-def rejudge(keep: Keep, keeper: TruthKeeper, limit: int | None = None) -> tuple[float, dict[str, Any]]:
+def rejudge(keep: FrameKeeper, keeper: TruthKeeper, limit: int | None = None) -> tuple[float, dict[str, Any]]:
     """(CPU s, summary without timings) of perceiving and scoring the kept frames afresh."""
     frames = [sf.frame for sf in keep.frames][:limit]
     replay = FramesReplay(frames)

@@ -95,6 +95,22 @@ class RecorderObserver:
         return {"file": str(path) if path is not None else None, "messages": dict(sorted(counts.items()))}
 
 
+class FrameKeeper:
+    """Keeps every frame of a session (what the page's timeline does), to replay or score
+    again later (`sources.frames.FramesReplay([sf.frame for sf in keeper.frames])`)."""
+
+    name = "keep"
+
+    def __init__(self) -> None:
+        self.frames: list[SessionFrame] = []
+
+    def on_frame(self, sf: SessionFrame) -> None:
+        self.frames.append(sf)
+
+    def summary(self) -> dict[str, Any]:
+        return {"frames": len(self.frames)}
+
+
 class Session:
     def __init__(
         self,

@@ -22,7 +22,7 @@ from pico_studio.evaluation.run_score import PoseErrorScorer, RunScore, TruthSco
 from pico_studio.evaluation.worlds import escape_world
 from pico_studio.json_map import load_json_map
 from pico_studio.progress import Progress, ProgressObserver
-from pico_studio.session import RecorderObserver, Session, SessionFrame
+from pico_studio.session import FrameKeeper, RecorderObserver, Session, SessionFrame
 from pico_studio.sim import Simulator
 from pico_studio.sources.frames import FramesReplay
 
@@ -37,21 +37,6 @@ class ListRecorder:
     def record(self, frame: Frame, command: Command | None) -> None:
         self.rows.append((frame, command))
         self.counts["rows"] += 1
-
-
-class Keep:
-    """An observer that keeps every frame (what the page's timeline does)."""
-
-    name = "keep"
-
-    def __init__(self) -> None:
-        self.frames: list[SessionFrame] = []
-
-    def on_frame(self, sf: SessionFrame) -> None:
-        self.frames.append(sf)
-
-    def summary(self) -> dict[str, int]:
-        return {"frames": len(self.frames)}
 
 
 def test_frames_stop_at_until_with_the_last_tick_shortened() -> None:
@@ -75,7 +60,7 @@ def test_frames_stop_when_the_source_is_no_longer_ok() -> None:
 
 def test_recorder_is_an_observer_and_can_be_switched_on_and_off() -> None:
     sim = Simulator(box_map(), initial_pose=(5, 5, 0))
-    rec, keep = ListRecorder(), Keep()
+    rec, keep = ListRecorder(), FrameKeeper()
     session = Session(sim, behaviour=Drive(0.1, 0, 0), recorder=rec, observers=[keep])
     session.run(0.5, 0.05)
     assert len(rec.rows) == len(keep.frames) == 10 and rec.rows[0][1] == Command(0.1, 0.0, 0.0)
@@ -100,7 +85,7 @@ def test_progress_observer_follows_the_source_clock() -> None:
 
 def test_truth_scorer_scores_every_new_world_model_like_score_frame() -> None:
     sim = Simulator(box_map(), initial_pose=(3, 4, 0.3))
-    keep = Keep()
+    keep = FrameKeeper()
     scorer = TruthScorer(sim)
     halves = TruthScorer(sim, every=2)
 
@@ -138,7 +123,7 @@ def test_pose_error_scorer_and_re_judging_the_kept_frames_gives_the_same_figures
     gmap = load_json_map(maps_dir / "hospital_2019.json")
     start = (3.5, 0.6, math.pi / 2)
     sim = Simulator(gmap, CFG.sim, seed=0, initial_pose=start)
-    keep, live_error = Keep(), PoseErrorScorer()
+    keep, live_error = FrameKeeper(), PoseErrorScorer()
     live = Session(sim, perceptor=_localising(gmap, start), behaviour=Drive(0.1, 0.0, 0.3),
                    observers=[keep, live_error])
     live.run(2.0, 0.05)
@@ -146,7 +131,7 @@ def test_pose_error_scorer_and_re_judging_the_kept_frames_gives_the_same_figures
     assert s["frames"] == 40 and s["pose_error_m"]["max"] < 0.05
     # the same sensor stream, judged again through the same loop with the same config
     replay = FramesReplay([sf.frame for sf in keep.frames])
-    again_keep, again_error = Keep(), PoseErrorScorer()
+    again_keep, again_error = FrameKeeper(), PoseErrorScorer()
     again = Session(replay, perceptor=_localising(gmap, start), behaviour=Drive(0.1, 0.0, 0.3),
                     observers=[again_keep, again_error])
     assert again.run(math.inf) == len(keep.frames) and not replay.ok()
@@ -196,7 +181,7 @@ def test_kept_truth_scores_the_replayed_frames_as_the_live_run_was_scored(maps_d
 
     gmap = load_json_map(maps_dir / "hospital_2019.json")
     sim = Simulator(gmap, CFG.sim, seed=2, initial_pose=(3.5, 0.6, math.pi / 2))
-    keep, keeper, live_score = Keep(), TruthKeeper(sim), TruthScorer(sim)
+    keep, keeper, live_score = FrameKeeper(), TruthKeeper(sim), TruthScorer(sim)
     Session(sim, perceptor=Perceptor(CFG.perception), behaviour=Drive(0.15, 0.0, 0.25),
             observers=[keep, keeper, live_score]).run(2.0, 0.05)
 
