@@ -6,7 +6,6 @@ shows the map alone) and one browser for the module; the tests run in file order
 
 from __future__ import annotations
 
-import argparse
 import json
 import re
 import subprocess
@@ -27,10 +26,10 @@ from tests.ui_browser_helpers import (
     VIEWPORT,
     colour_near,
     count_colour,
-    free_port,
     input_of,
     open_folder,
     screenshot,
+    served_app,
     set_number,
     visible_on_screen,
     wait_until,
@@ -45,16 +44,8 @@ if not CHROMIUM.exists():
 
 @pytest.fixture(scope="module")
 def app(tmp_path_factory: pytest.TempPathFactory):
-    from pico_studio.cli.serve_cmd import build_app
-
-    args = argparse.Namespace(
-        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1",
-        port=free_port(), seed=3, export_dir=str(tmp_path_factory.mktemp("exports")), paused=True,
-    )
-    app = build_app(args, verbose=False)
-    app.start()
-    yield app
-    app.stop()
+    with served_app(tmp_path_factory, seed=3) as app:
+        yield app
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,6 @@ another tab is unaffected.
 
 from __future__ import annotations
 
-import argparse
 import asyncio
 import json
 import math
@@ -22,8 +21,8 @@ from tests.ui_browser_helpers import (
     CHROMIUM,
     CHROMIUM_ARGS,
     VIEWPORT,
-    free_port,
     open_folder,
+    served_app,
     wait_until,
 )
 
@@ -38,18 +37,10 @@ UPLOAD_CAP_MB = "1"
 
 @pytest.fixture(scope="module")
 def app(tmp_path_factory: pytest.TempPathFactory):
-    from pico_studio.cli.serve_cmd import build_app
-
     mp = pytest.MonkeyPatch()
     mp.setenv("PICO_STUDIO_MAX_UPLOAD_MB", UPLOAD_CAP_MB)  # read at each upload: 1 MB, so "huge" is quick
-    args = argparse.Namespace(
-        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1",
-        port=free_port(), seed=3, export_dir=str(tmp_path_factory.mktemp("exports")), paused=False,
-    )
-    app = build_app(args, verbose=False)
-    app.start()
-    yield app
-    app.stop()
+    with served_app(tmp_path_factory, seed=3, paused=False) as app:
+        yield app
     mp.undo()
 
 
