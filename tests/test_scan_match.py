@@ -17,6 +17,7 @@ from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.perception import Perceptor
 from pico_studio.core.perception import scan_match_kernels as kn
 from pico_studio.core.perception.scan_match import _settings, match_scan
+from tests.clutter_scenes import cast
 from tests.recording_helpers import intel_agreement
 
 PARAMS = load_config(None).perception
@@ -25,18 +26,10 @@ CORRIDOR = np.array([[-30, 0, 30, 0], [-30, 1.6, 30, 1.6]], dtype=float)
 ROOM = np.array([[0, 0, 6, 0], [6, 0, 6, 4], [6, 4, 0, 4], [0, 4, 0, 0], [2, 0, 2, 1.5]], dtype=float)
 
 
-def _cast(walls: np.ndarray, pose: tuple[float, float, float], n: int = 360,
-          fov: float = 2 * math.pi) -> np.ndarray:
-    """Ranges (n,) of beams from `pose` over `fov` (centred ahead) onto `walls`; inf: no hit."""
-    ang = np.linspace(-fov / 2, fov / 2, n, endpoint=fov < 2 * math.pi) + pose[2]
-    d = np.column_stack([np.cos(ang), np.sin(ang)])
-    a, e = walls[:, 0:2], walls[:, 2:4] - walls[:, 0:2]
-    ao = a[None] - np.array(pose[:2])
-    den = d[:, None, 0] * e[None, :, 1] - d[:, None, 1] * e[None, :, 0]
-    safe = np.where(np.abs(den) > 1e-12, den, 1.0)
-    t = (ao[..., 0] * e[None, :, 1] - ao[..., 1] * e[None, :, 0]) / safe
-    u = (ao[..., 0] * d[:, None, 1] - ao[..., 1] * d[:, None, 0]) / safe
-    return np.where((np.abs(den) > 1e-12) & (t > 0) & (u >= 0) & (u <= 1), t, np.inf).min(axis=1)
+def _cast(walls: np.ndarray, pose: tuple[float, float, float], n: int = 360) -> np.ndarray:
+    """Ranges (n,) of beams all round from `pose` onto `walls` (beam i at -pi + 2 pi i / n);
+    inf: no hit within 30 m."""
+    return cast(walls, pose, n, max_range=30.0).ranges
 
 
 def _points(walls: np.ndarray, pose: tuple[float, float, float], n: int = 360) -> np.ndarray:
@@ -111,8 +104,8 @@ def test_perceptor_walking_a_corridor_with_drifting_odometry_holds_the_cross_tra
         true = (0.3 * i, 0.8, 0.0)
         if i:
             odo = (odo[0] + 0.33, odo[1] + 0.08, 0.0)
-        ranges = _cast(CORRIDOR, true, n, fov)
-        wm = p.step(_laser(ranges, -fov / 2, fov / (n - 1), float(i)), OdometryData(*odo, float(i)))
+        laser = dataclasses.replace(cast(CORRIDOR, true, n, fov, max_range=30.0), timestamp=float(i))
+        wm = p.step(laser, OdometryData(*odo, float(i)))
         assert abs(wm.pose[1] - 0.0) < 0.01  # the zero frame starts at the first pose
         assert wm.pose[0] == pytest.approx(odo[0], abs=1e-3)  # 3 cm a step over-read, not slid
         if i >= 2:
