@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from pico_studio.config import load_config
-from pico_studio.core.localisation import build_localisation_map
+from pico_studio.core.localisation import build_localisation_map, combine
 from pico_studio.core.localisation.combined import confirmed_by_map, map_door_lines
 from pico_studio.json_map import load_map
 
@@ -42,3 +42,22 @@ def test_candidates_across_a_map_door_are_confirmed_others_not():
     walls = lmap.field.segments[: lmap.n_walls]
     got = confirmed_by_map(np.vstack([on, turned, tables]), lmap.door_lines, walls, PARAMS.combined)
     assert got.tolist() == [True, False, False]
+
+
+def test_a_t_opening_waiting_for_evidence_becomes_a_door_where_the_map_has_one():
+    """Possible doors of kind "end_face" (a T-opening on a wall seen short, not yet proven over
+    scans) that the map confirms are promoted to doors of the combined map; one the map does not
+    confirm, and other possible kinds, stay possible doors."""
+    lmap = build_localisation_map(load_map(str(RESTAURANT)), PARAMS)
+    pose = (1.0, 1.0, 0.0)  # zero frame = global frame
+    tee = [4.6, 1.2, 4.6, 0.2]  # the block's end (4.6..4.8, 1.2) to the floor wall's face
+    tables = [3.41, 4.1, 2.25, 4.25]
+    possible = np.array([tee, tables, tee])
+    cm = combine(pose, pose, np.zeros((0, 4)), lmap.field, np.zeros(len(lmap.field.segments), dtype=np.int64),
+                 lmap.n_walls, PARAMS.combined, doors=np.array([[3.62, 1.95, 4.58, 1.9]]),
+                 possible_doors=possible, possible_door_kind=["end_face", "end_face", "loose_wall"],
+                 map_doors=lmap.door_lines)
+    assert np.allclose(cm.doors, [[3.62, 1.95, 4.58, 1.9], tee])
+    assert cm.door_confirmed.tolist() == [True, True] and cm.door_promoted.tolist() == [False, True]
+    assert np.allclose(cm.possible_doors, [tables, tee]) and list(cm.possible_door_kind) == ["end_face", "loose_wall"]
+    assert cm.possible_door_confirmed.tolist() == [False, True]

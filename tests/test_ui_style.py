@@ -33,6 +33,7 @@ def test_the_pairs_that_used_to_clash_differ() -> None:
         (style.DOOR, style.COMBINED_MATCHED),
         (style.ENDPOINT[2], style.MAP_OBJECT_FRONT, kinds["convex_loose"], kinds["loose_loose"]),
         (style.COMBINED_UNSEEN, kinds["loose_wall"], style.SIM_WORLD),
+        (kinds["end_face"], style.DOOR, style.BEHAVIOUR_TARGET, style.LASER, style.ROBOT_ESTIMATE, kinds["loose_wall"]),
         (style.ENDPOINT[0], style.ROOM_SIDE, style.TRAIL),
         (style.LASER, style.PROXIMITY_FLAGGED),
     ]

@@ -42,11 +42,13 @@ POSSIBLE_DOOR_KIND: dict[str, RGB] = {  # core.perception.identify.POSSIBLE_DOOR
     "convex_loose": POSSIBLE_DOOR,
     "loose_loose": (170, 29, 3),  # dark vermillion
     "loose_wall": (236, 157, 226),  # pink
+    "end_face": (60, 0, 120),  # deep indigo
 }
 POSSIBLE_DOOR_KIND_NAMES = {
     "convex_loose": "possible door: convex corner - loose end",
     "loose_loose": "possible door: loose end - loose end",
     "loose_wall": "possible door: loose end - wall",
+    "end_face": "possible door: wall end - wall face, not yet seen through over enough scans",
 }
 SPIKE_CORNER: RGB = (90, 50, 0)  # dark brown
 VECTOR_CORNER_INNER: RGB = (0, 200, 200)  # cyan

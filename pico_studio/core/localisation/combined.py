@@ -11,7 +11,9 @@ carried into the global frame and *confirmed* by the map when their middle lies 
 line across the passage, `map_door_lines`) and their direction is within `door_confirm_angle`
 of it, or when they span an opening between the map's walls (one end within
 `jamb_confirm_distance` of a wall corner, the other of a wall); the rest are unconfirmed (a gap
-between two tables, a person beside a wall).
+between two tables, a person beside a wall). A possible door of kind "end_face" (a T-opening
+still waiting for the evidence of several scans) that the map confirms is *promoted* to a door
+(`door_promoted`): the map is that evidence.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ class CombinedMap:
     possible_door_kind: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=object))
     door_confirmed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (D,) by a map door
     possible_door_confirmed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (E,)
+    door_promoted: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (D,) a possible door the map made one
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -50,6 +53,7 @@ class CombinedMap:
             "possible_door_kind": [str(k) for k in self.possible_door_kind],
             "door_confirmed": self.door_confirmed.tolist(),
             "possible_door_confirmed": self.possible_door_confirmed.tolist(),
+            "door_promoted": self.door_promoted.tolist(),
         }
 
 
@@ -119,15 +123,21 @@ def combine(
     found, possible = _carry(doors, t), _carry(possible_doors, t)
     lines = np.zeros((0, 4)) if map_doors is None else np.asarray(map_doors, dtype=float).reshape(-1, 4)
     map_walls = np.asarray(dfield.segments[:n_map_walls], dtype=float).reshape(-1, 4)
+    door_ok = confirmed_by_map(found, lines, map_walls, params)
+    possible_ok = confirmed_by_map(possible, lines, map_walls, params)
+    # a T-opening that passed every test but the evidence over scans (possible kind "end_face")
+    # is a door once the map has an opening there: the map is the evidence
+    promote = possible_ok & (kinds == "end_face") if len(kinds) == len(possible) else np.zeros(len(possible), dtype=bool)
     return CombinedMap(
         walls=walls,
         wall_matched=walls_on_map(walls, dfield, params),
         map_wall_seen=np.asarray(seen_hits[:n_map_walls] >= params.seen_hits, dtype=bool),
-        doors=found,
-        possible_doors=possible,
-        possible_door_kind=kinds,
-        door_confirmed=confirmed_by_map(found, lines, map_walls, params),
-        possible_door_confirmed=confirmed_by_map(possible, lines, map_walls, params),
+        doors=np.concatenate([found, possible[promote]]),
+        possible_doors=possible[~promote],
+        possible_door_kind=kinds[~promote] if len(kinds) == len(possible) else kinds,
+        door_confirmed=np.concatenate([door_ok, np.ones(int(promote.sum()), dtype=bool)]),
+        possible_door_confirmed=possible_ok[~promote],
+        door_promoted=np.concatenate([np.zeros(len(found), dtype=bool), np.ones(int(promote.sum()), dtype=bool)]),
     )
 
 

@@ -36,11 +36,15 @@ through (`door_min_free_rays`): a bay seen edge-on is none.
 Evidence over scans (`Identified.evidence`, handed back in by the perceptor): a T-opening
 from a door frame's length seen shorter than `end_face_min_length`, its far end floating,
 facing a building wall's face, is from one scan a partition hidden in part or a table's side
-seen in part. A scan supports it when rays pass the gap and the beam in line with the wall,
-`end_face_continuation` past its far end, ends before that point (something in front hides
-the wall: it may run on); it becomes a door after `end_face_evidence_scans` such scans. A scan
-that finds the gap blocked or backed, or looks past that point (the wall ends there: a
-table's side), bans the place; a far end cut by the field of view says nothing.
+seen in part. A scan supports it when a ray through the gap reaches free space, `door_depth`
+past its line or never ending (rays grazing past onto the face a few cm on show a pocket by a
+wall as well as an opening), and the beam in line with the wall, `end_face_continuation` past
+its far end, does not look past that point (something in front hides the wall, the field of
+view cuts it, or it is the wall itself: it may run on); it becomes a door after
+`end_face_evidence_scans` such scans, and until then is a possible door of kind "end_face"
+(once localised, the combined map promotes it where the map has an opening). A scan that
+finds the gap blocked or backed, or looks past that point (the wall ends there: a table's
+side), bans the place.
 """
 
 from __future__ import annotations
@@ -62,7 +66,7 @@ from pico_studio.core.perception.identify_kernels import (
 )
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
-POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall")
+POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall", "end_face")
 DOOR_KINDS = ("jambs", "end_face")
 
 
@@ -225,7 +229,7 @@ def _doors(
         segs = np.concatenate([pts[ia], pts[ja]], axis=1)
         blocked = _blocked_many(segs, walls, wi[ia], wi[ja])
         some = np.flatnonzero(~blocked)
-        backed_some, free_some = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
+        backed_some, free_some, _ = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
         blocked[some] = backed_some
         # a door is an opening some ray was seen to pass (a possible door is the unknown case)
         unseen = np.ones(len(segs), dtype=bool)
@@ -302,17 +306,23 @@ def _doors(
                 bad = _blocked_many(g, walls, oa, ob)
                 # seen edge-on a T-opening's rays end by its face and say nothing; its jamb (a
                 # building's wall end) and face were tested above, so no free ray is asked for
-                backed_g, free_g = _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))
+                backed_g, _, deep_g = _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))
                 bad |= backed_g
                 wk = np.array(is_weak, dtype=bool)
                 if wk.any():
-                    sure = ~bad & (free_g >= max(params.door_min_free_rays, 1))
+                    sure = ~bad & (deep_g >= max(params.door_min_free_rays, 1))
                     beyond = np.array(ends_short, dtype=np.int64)
                     against = bad[wk] | (beyond > 0)
-                    # support: free rays through the gap, and the wall's far end hidden behind
-                    # something nearer (it may run on); one cut by the field of view says nothing
-                    evidence, count = _tally(evidence, g[wk], sure[wk] & (beyond < 0) & ~against, against, params)
-                    bad[np.flatnonzero(wk)[count < params.end_face_evidence_scans]] = True
+                    # support: rays through the gap into free space behind it, and no beam past
+                    # the wall's far end (hidden, cut by the field of view, or on the wall: it may
+                    # run on)
+                    evidence, count = _tally(evidence, g[wk], sure[wk] & (beyond <= 0) & ~against, against, params)
+                    waiting = np.flatnonzero(wk)[count < params.end_face_evidence_scans]
+                    # not proven yet (nor banned): a possible door, for the map to confirm once localised
+                    for m in waiting[(count[count < params.end_face_evidence_scans] >= 0) & ~bad[waiting]].tolist():
+                        possible.append(g[m])
+                        kinds.append("end_face")
+                    bad[waiting] = True
                 for m in np.flatnonzero(~bad).tolist():
                     gl = g[m].tolist()
                     if _hidden(g[m], view, params):
@@ -437,7 +447,7 @@ def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:
 def _backed(
     segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, robot: tuple[float, float],
     view: View | None, params: IdentifyParams, face_end: np.ndarray | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(G,) bool: is there no seeing through the gap? Rays from the robot through five points of
     the middle of each gap: the current scan's beam when the point is in view, else the local
     map's first wall along the ray (the gap's own two walls left out). A ray stopping more
@@ -453,10 +463,11 @@ def _backed(
     than `door_occlusion` beyond its line, or never): a door needs `door_min_free_rays` of
     them (a bay between two counters seen edge-on, each ray ending on the far counter's side
     right by the gap line, shows none; a thick wall's cap seen at an angle ends rays a few dm
-    beyond it)."""
+    beyond it); and (G,) how many of those reached free space, `door_depth` beyond the line or
+    never ending (what a T-opening on a short wall needs as evidence)."""
     g = len(segs)
     if g == 0:
-        return np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int64)
+        return np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     face_end = np.zeros(g, dtype=bool) if face_end is None else face_end
     # the loop and its maths: identify_kernels.backed
     has_view, ranges, valid, pose, a0, inc = False, np.zeros(0), np.zeros(0, dtype=bool), (0.0, 0.0, 0.0), 0.0, 0.0

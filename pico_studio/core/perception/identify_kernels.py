@@ -187,9 +187,10 @@ def _example_backed() -> tuple:
 def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, rx: float, ry: float,
            has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
            inc: float, face_end: np.ndarray, occlusion: float, depth: float, jamb_cap_max: float,
-           backed_share: float) -> tuple[np.ndarray, np.ndarray]:
+           backed_share: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """((G,) bool: is there no seeing through gap g?, (G,) int64: how many of its rays were
-    seen to pass it: known, and ending more than `occlusion` beyond the gap's line or never)
+    seen to pass it: known, and ending more than `occlusion` beyond the gap's line or never,
+    (G,) int64: how many of those ended more than `depth` beyond it or never: free space)
     (identify._backed says what and why.)
 
     Five samples q = p + f (p' - p), f in 0.2 .. 0.8, of each gap (p, p'); the ray from the
@@ -206,6 +207,7 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     g, n_walls, n_beams = segs.shape[0], walls.shape[0], ranges.shape[0]
     out = np.zeros(g, dtype=np.bool_)
     free = np.zeros(g, dtype=np.int64)
+    deep = np.zeros(g, dtype=np.int64)
     c, sn = math.cos(va), math.sin(va)
     wrap = 2 * math.pi / abs(inc) if has_view else 0.0
     for m in range(g):
@@ -274,8 +276,10 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
                 closed_n += 1
             if known and reach > dist and (not finite or n_ > occlusion):
                 free[m] += 1  # seen to pass the gap: it ended `occlusion` beyond its line, or never
+                if not finite or n_ > depth:
+                    deep[m] += 1  # ...and reached `depth` beyond it: free space behind, not a pocket
         out[m] = inf_n > 0 and closed_n >= backed_share * inf_n
-    return out, free
+    return out, free, deep
 
 
 def _example_groups() -> tuple:
