@@ -137,3 +137,23 @@ def test_a_t_opening_from_a_room_walls_corner():
     assert len(doors) == 0
     doors, _ = _doors([side, joined, [2.8, 0.2, 6.0, 0.2]], [[-1, -1]] * 3, seen, robot)
     assert len(doors) == 0
+
+
+def test_a_wall_end_facing_a_table_against_a_wall_is_no_door():
+    """restaurant_2024 seed 3's false door: a block's side (1.6 m, a building's) points at a
+    table's front 1.3 m on, seen 1.2 m (its left end out of view) and turning at its right end,
+    in a convex corner, into the table's side, which runs back to the top wall in a concave
+    corner: a block standing against a wall, no face for a T-opening. A 0.2 m piece there (a
+    thick wall's end cap turning into a piece T-joined to the wall) is no table's front: a door."""
+    robot = (5.71, 1.82)
+    side = [4.8, 1.2, 4.8, 2.8]
+    front, table_side, top = [3.6, 4.1, 4.81, 4.1], [4.81, 4.1, 4.81, 4.8], [6.8, 4.8, 4.81, 4.8]
+    # side 0; front 1 (left end floating, right end joined to 2); table side 2 (joined to the top
+    # wall 3 in a T: its end on the wall's inside)
+    connected = [[-1, -1], [-1, 2], [1, 3], [-1, -1]]
+    seen = [[False, True], [False, False], [False, False], [False, False]]
+    doors, _ = _doors([side, front, table_side, top], connected, seen, robot)
+    assert len(doors) == 0
+    cap = [4.6, 4.1, 4.81, 4.1]
+    doors, kind = _doors([side, cap, table_side, top], connected, seen, robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [4.8, 2.8, 4.8, 4.1], atol=1e-6)

@@ -26,7 +26,8 @@ cap (a thick wall's end; a table's end is as wide as the table), or a door frame
 whose far end turns into another wall in a concave corner (a room's wall) facing a building
 wall's face (at least `end_face_min_length` long) — and never ends on a
 block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
-cabinet's front). The face may be a building's wall seen in part, its floating end within
+cabinet's front; or, longer than an end cap, turning in a convex corner into a short wall that
+runs back to a wall in a concave corner: a table standing against a wall, `_against_a_wall`). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
 A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
 quarters of it, ending more than `door_occlusion` before it: a box standing in front) is none:
@@ -281,6 +282,7 @@ def _doors(
             # the face it meets is a building's too: not a small object, nor a block's face (both
             # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
             block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
+            block_face |= _against_a_wall(connected, prop, lengths, params.jamb_cap_max, params.end_face_min_length)
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
                 if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
                     continue
@@ -350,6 +352,24 @@ def _doors(
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
     return d, door_kinds, p, kinds, evidence
+
+
+def _against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, cap: float,
+                    short: float) -> np.ndarray:
+    """(W,) bool: a wall longer than an end cap (`cap`) and shorter than a building's (`short`)
+    that turns at a convex corner into a wall shorter than `short` ending in a concave corner:
+    the front of a block standing against a wall (a table's front, its side running back to
+    the wall). A thick wall's end cap turning into a short piece T-joined to a wall is none."""
+    out = np.zeros(len(connected), dtype=bool)
+    for k in np.flatnonzero((lengths > cap) & (lengths < short)).tolist():
+        for e in (0, 1):
+            j = int(connected[k, e])
+            if j < 0 or prop[k, e] != CONVEX or lengths[j] >= short:
+                continue
+            back = connected[j].tolist()
+            if k in back and prop[j, 1 - back.index(k)] == CONCAVE:
+                out[k] = True
+    return out
 
 
 _BANNED = -1e6  # a contradicted gap's count: never promoted
