@@ -144,7 +144,8 @@ def test_a_wall_end_facing_a_table_against_a_wall_is_no_door():
     table's front 1.3 m on, seen 1.2 m (its left end out of view) and turning at its right end,
     in a convex corner, into the table's side, which runs back to the top wall in a concave
     corner: a block standing against a wall, no face for a T-opening. A 0.2 m piece there (a
-    thick wall's end cap turning into a piece T-joined to the wall) is no table's front: a door."""
+    thick wall's end cap turning into a piece T-joined to the wall) is no table's front: a door;
+    nor is a front whose side runs back deeper than an object (`object_max_size`): a room's."""
     robot = (5.71, 1.82)
     side = [4.8, 1.2, 4.8, 2.8]
     front, table_side, top = [3.6, 4.1, 4.81, 4.1], [4.81, 4.1, 4.81, 4.8], [6.8, 4.8, 4.81, 4.8]
@@ -156,4 +157,8 @@ def test_a_wall_end_facing_a_table_against_a_wall_is_no_door():
     assert len(doors) == 0
     cap = [4.6, 4.1, 4.81, 4.1]
     doors, kind = _doors([side, cap, table_side, top], connected, seen, robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [4.8, 2.8, 4.8, 4.1], atol=1e-6)
+    # a room's side, deeper than an object (1.3 m back to its wall): a corridor wall, a door
+    room_side, back = [4.81, 4.1, 4.81, 5.4], [6.8, 5.4, 4.81, 5.4]
+    doors, kind = _doors([side, front, room_side, back], connected, seen, robot)
     assert kind == ["end_face"] and np.allclose(doors[0], [4.8, 2.8, 4.8, 4.1], atol=1e-6)

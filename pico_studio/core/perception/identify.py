@@ -282,7 +282,8 @@ def _doors(
             # the face it meets is a building's too: not a small object, nor a block's face (both
             # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
             block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
-            block_face |= _against_a_wall(connected, prop, lengths, params.jamb_cap_max, params.end_face_min_length)
+            block_face |= _against_a_wall(connected, prop, lengths, params.jamb_cap_max, params.end_face_min_length,
+                                          params.object_max_size)
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
                 if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
                     continue
@@ -355,16 +356,17 @@ def _doors(
 
 
 def _against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, cap: float,
-                    short: float) -> np.ndarray:
+                    short: float, depth: float) -> np.ndarray:
     """(W,) bool: a wall longer than an end cap (`cap`) and shorter than a building's (`short`)
-    that turns at a convex corner into a wall shorter than `short` ending in a concave corner:
-    the front of a block standing against a wall (a table's front, its side running back to
-    the wall). A thick wall's end cap turning into a short piece T-joined to a wall is none."""
+    that turns at a convex corner into a wall at most an object's size (`depth`) long ending in
+    a concave corner: the front of a block standing against a wall (a table's front, its side
+    running back to the wall). A thick wall's end cap turning into a short piece T-joined to a
+    wall is none; nor a corridor's wall turning into a room's side (a room is deeper)."""
     out = np.zeros(len(connected), dtype=bool)
     for k in np.flatnonzero((lengths > cap) & (lengths < short)).tolist():
         for e in (0, 1):
             j = int(connected[k, e])
-            if j < 0 or prop[k, e] != CONVEX or lengths[j] >= short:
+            if j < 0 or prop[k, e] != CONVEX or lengths[j] > depth:
                 continue
             back = connected[j].tolist()
             if k in back and prop[j, 1 - back.index(k)] == CONCAVE:
