@@ -162,3 +162,41 @@ def test_a_wall_end_facing_a_table_against_a_wall_is_no_door():
     room_side, back = [4.81, 4.1, 4.81, 5.4], [6.8, 5.4, 4.81, 5.4]
     doors, kind = _doors([side, front, room_side, back], connected, seen, robot)
     assert kind == ["end_face"] and np.allclose(doors[0], [4.8, 2.8, 4.8, 4.1], atol=1e-6)
+
+
+def _mouth(left: float, left_side: float) -> tuple[list[list[float]], list[list[int]], list[list[bool]]]:
+    """A thin wall (y = 0) with a 1 m gap: on the left a piece `left` m long turning at the gap
+    into a wall `left_side` m long running down, on the right a 2 m piece turning into a 1.5 m
+    wall down (the far ends of both down walls floating: they run on out of view)."""
+    walls = [[-left, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -left_side], [1.0, -1.5, 1.0, 0.0], [1.0, 0.0, 3.0, 0.0]]
+    connected = [[-1, 1], [0, -1], [-1, 3], [2, -1]]
+    seen = [[False, False]] * 4
+    return walls, connected, seen
+
+
+def test_a_thin_walls_corner_is_a_jamb_a_tables_corner_not():
+    """A building's wall (at least end_face_min_length) turning at a convex corner into a
+    side room's wall is a door jamb: a room's mouth between two such corners is a door. A
+    wall shorter than that (1.2 m) turning into a 0.7 m side is a table's corner, no jamb."""
+    robot = (0.5, 2.0)
+    doors, kind = _doors(*_mouth(2.0, 1.5), robot)
+    assert kind == ["jambs"] and np.allclose(sorted(doors[0][[0, 2]]), [0.0, 1.0], atol=1e-6)
+    _, kind = _doors(*_mouth(1.2, 0.7), robot)
+    assert "jambs" not in kind
+
+
+def test_a_mouth_into_a_hallway_seen_at_an_angle_is_a_door():
+    """escape:5's exit: a room's wall (x = 0) with a 0.8 m mouth into a hallway 1.4 m long, open
+    at its far end. Seen from the side most rays through the mouth end on the hallway's walls
+    within door_depth — the shape of a bay — but one reaches the free space past its end, so
+    it is a passage, not a bay's back. Closed 0.8 m in, it is a bay."""
+    robot = (2.73, 2.95)
+    walls = [[0.0, 0.0, 0.0, 2.78], [0.0, 2.78, -1.43, 2.78], [0.0, 3.58, -1.43, 3.58], [0.0, 5.43, 0.0, 3.58]]
+    connected = [[-1, 1], [0, -1], [3, -1], [-1, 2]]
+    seen = [[False, False], [False, True], [False, True], [False, False]]
+    doors, kind = _doors(walls, connected, seen, robot)
+    assert kind == ["jambs"] and np.allclose(sorted(doors[0][[1, 3]]), [2.78, 3.58], atol=1e-6)
+    back = [[-0.8, 2.78, -0.8, 3.58]]
+    walls[1][2], walls[2][2] = -0.8, -0.8
+    doors, _ = _doors(walls + back, [[-1, 1], [0, 4], [3, 4], [-1, 2], [1, 2]], seen + [[False, False]], robot)
+    assert len(doors) == 0

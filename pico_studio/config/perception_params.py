@@ -329,7 +329,8 @@ class IdentifyParams:
     end_face_min_length: float = param(
         1.5, lo=0.0, hi=20.0, step=0.05, unit="m",
         help="...when the wall whose end it is is at least this long: a building's wall, not the side of a "
-        "table or a cabinet (a passage between furniture and a wall is no door)",
+        "table or a cabinet (a passage between furniture and a wall is no door); such a wall turning at a "
+        "convex corner is a door jamb too (a thin wall's corner; a table's front is shorter)",
     )
     end_face_reach: float = param(
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",

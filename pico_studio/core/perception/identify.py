@@ -17,7 +17,9 @@ within `facing_distance`.
 
 Jambs among furniture (restaurant_2024's false doors, `tests/test_clutter_jambs.py`): a
 jamb is a wall's end joined to nothing or to a *whole* end cap (no longer than
-`jamb_cap_max`, its far end seen or joined: a side seen in part may run a table deep); a
+`jamb_cap_max`, its far end seen or joined: a side seen in part may run a table deep), or a
+building's wall (at least `end_face_min_length`) turning at a convex corner (a thin-walled
+room's mouth; a table's front is shorter); a
 wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a
 long wall's line) or a door frame's wall (at least `door_wall_min_length`, or a stub on
 one): a box's or a person's lone face is not. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
@@ -193,7 +195,7 @@ def _doors(
     # door-point candidates: (wall, end) with a convex or floating property, not on an object.
     # A jamb is a wall's end: joined to nothing there, or to an end cap no longer than a wall's
     # thickness (`jamb_cap_max`; a longer wall there makes a block's corner, a table against a
-    # wall) that is whole (its far end seen or joined: a side seen in part may run deep, a
+    # wall, unless the wall is a building's, `end_face_min_length`: a thin wall's corner) that is whole (its far end seen or joined: a side seen in part may run deep, a
     # table's between two tables standing in a row by a wall). The wall a door continues is
     # long (`door_wall_min_length`), or a short stub whose far end joins a long wall (a
     # cabinet's side is short and joins another short side; then the gap must continue it
@@ -201,7 +203,8 @@ def _doors(
     wi, we, capped, long, stub, cap_sized, cap_seen, lengths = jamb_candidates(
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
-        float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX)
+        float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX,
+        float(params.end_face_min_length))
     if len(wi) < 1:
         return empty, [], empty, [], evidence
     ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i
@@ -481,7 +484,8 @@ def _backed(
     wall's end (`face_end` (G,): the gap's second point lies on a wall's face instead). A ray that goes on, returns nothing, or ends beside the gap
     (the free space behind a door opens sideways, e.g. a corridor seen through a door at an
     angle) is free. Backed when at least `door_backed_share` of the informative
-    rays are closed. Also (G,) how many rays were seen to pass the gap (known, and ending more
+    rays are closed and none reached free space, `door_depth` past the line (then what closed
+    the others are a passage's sides: a hallway seen at an angle, not a bay's back). Also (G,) how many rays were seen to pass the gap (known, and ending more
     than `door_occlusion` beyond its line, or never): a door needs `door_min_free_rays` of
     them (a bay between two counters seen edge-on, each ray ending on the far counter's side
     right by the gap line, shows none; a thick wall's cap seen at an angle ends rays a few dm

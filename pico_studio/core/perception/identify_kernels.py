@@ -203,7 +203,7 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     `occlusion` of a jamb's normal (|s| or |s - L|) says nothing unless deeper than
     `jamb_cap_max` behind a jamb that is a wall's end; a ray is closed when it ends within
     `depth` of the gap line between the jambs (or deep beside one). Backed when some rays say
-    something and at least `backed_share` of them are closed."""
+    something, at least `backed_share` of them are closed, and none reached `depth` beyond."""
     g, n_walls, n_beams = segs.shape[0], walls.shape[0], ranges.shape[0]
     out = np.zeros(g, dtype=np.bool_)
     free = np.zeros(g, dtype=np.int64)
@@ -278,7 +278,7 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
                 free[m] += 1  # seen to pass the gap: it ended `occlusion` beyond its line, or never
                 if not finite or n_ > depth:
                     deep[m] += 1  # ...and reached `depth` beyond it: free space behind, not a pocket
-        out[m] = inf_n > 0 and closed_n >= backed_share * inf_n
+        out[m] = inf_n > 0 and closed_n >= backed_share * inf_n and deep[m] == 0
     return out, free, deep
 
 
@@ -338,17 +338,17 @@ def _example_candidates() -> tuple:
     walls = np.array([[0.0, 0.0, 2.0, 0.0], [2.0, 0.0, 2.0, 0.2], [3.0, 0.0, 5.0, 0.0]])
     connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
     prop = np.array([[0, 2], [2, 2], [2, 0]], dtype=np.int64)
-    return walls, connected, prop, np.zeros(3, dtype=np.bool_), 0.35, 0.5, 0, 2
+    return walls, connected, prop, np.zeros(3, dtype=np.bool_), 0.35, 0.5, 0, 2, 1.5
 
 
 @kernel(_example_candidates)
 def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray,
-                    cap_max: float, frame_min: float, floating: int, convex: int,
+                    cap_max: float, frame_min: float, floating: int, convex: int, building_min: float,
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                np.ndarray]:
     """The door-point candidates (identify._doors says what and why): every wall end (i, e)
     that is convex or floating, not on an object, and either joined to nothing or *capped*
-    there. Wall k joined at end e is a cap when |k| <= cap_max and it is *whole*: none of k's
+    there, or convex on a wall at least `building_min` long (a building's thin wall turning). Wall k joined at end e is a cap when |k| <= cap_max and it is *whole*: none of k's
     ends is floating but the one joining i (a T-joined k: neither). Per candidate, in row order
     (i, then e): (wall i, end e, capped, long: |i| >= frame_min, stub: not long and the wall
     joined at i's far end is long, cap_sized: |i| <= cap_max, cap_seen: neither of i's ends
@@ -374,8 +374,8 @@ def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, 
                         whole = False
                 if not whole:
                     continue
-            elif k >= 0:
-                continue
+            elif k >= 0 and not (prop[i, e] == convex and lengths[i] >= building_min):
+                continue  # a block's corner (a table against a wall); a building's wall turning is a jamb
             far = connected[i, 1 - e]
             wi[m], we[m], capped[m] = i, e, whole
             long[m] = lengths[i] >= frame_min
