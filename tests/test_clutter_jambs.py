@@ -200,3 +200,32 @@ def test_a_mouth_into_a_hallway_seen_at_an_angle_is_a_door():
     walls[1][2], walls[2][2] = -0.8, -0.8
     doors, _ = _doors(walls + back, [[-1, 1], [0, 4], [3, 4], [-1, 2], [1, 2]], seen + [[False, False]], robot)
     assert len(doors) == 0
+
+
+def test_a_t_opening_meeting_a_face_by_its_free_end_is_none():
+    """restaurant_2024 seeds 2, 4, 5's false door: a block's capped end faces a table's front
+    1.3 m on, meeting it 0.2 m from the front's end the laser saw past (the table's corner):
+    what the jamb faces there is a corner, no face. Meeting it 0.4 m from that end (more than
+    an end cap) it is a T-opening."""
+    robot = (4.38, 3.62)
+    end = [[4.6, 1.99, 4.6, 2.8], [4.6, 2.8, 4.8, 2.8]]
+    connected = [[-1, 1], [0, -1], [-1, -1]]
+    seen = [[False, False], [False, True], [True, False]]
+    doors, _ = _doors(end + [[4.8, 4.1, 3.4, 4.1]], connected, seen, robot)
+    assert len(doors) == 0
+    doors, kind = _doors(end + [[5.0, 4.1, 3.6, 4.1]], connected, seen, robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [4.6, 2.8, 4.6, 4.1], atol=1e-6)
+
+
+def test_a_box_side_seen_in_part_across_a_tables_front_is_no_jamb():
+    """restaurant_2024 seeds 4-6's false door: a table's front seen whole (1.4 m, both ends
+    seen past: a block's face) and, 1.2 m on across its line, 0.3 m of the moving box's side
+    (one end floating). Across a building's wall's line (2.1 m) that piece is a thick wall's end
+    cap seen in part: a door."""
+    robot = (5.63, 2.42)
+    box = [2.25, 4.25, 2.25, 3.95]
+    free = [[-1, -1], [-1, -1]]
+    doors, _ = _doors([[4.8, 4.1, 3.41, 4.1], box], free, [[True, True], [True, False]], robot)
+    assert len(doors) == 0
+    doors, kind = _doors([[5.5, 4.1, 3.41, 4.1], box], free, [[False, True], [True, False]], robot)
+    assert kind == ["jambs"] and np.allclose(doors[0], [3.41, 4.1, 2.25, 4.25], atol=1e-6)

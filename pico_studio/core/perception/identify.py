@@ -21,7 +21,8 @@ jamb is a wall's end joined to nothing or to a *whole* end cap (no longer than
 building's wall (at least `end_face_min_length`) turning at a convex corner (a thin-walled
 room's mouth; a table's front is shorter); a
 wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a
-long wall's line) or a door frame's wall (at least `door_wall_min_length`, or a stub on
+long wall's line that is no block's face: a table's front seen whole, both ends free, shorter
+than a building's wall) or a door frame's wall (at least `door_wall_min_length`, or a stub on
 one): a box's or a person's lone face is not. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
 wall — one at least `end_face_min_length` long, or a door frame's length ending in a whole
 cap (a thick wall's end; a table's end is as wide as the table), or a door frame's length
@@ -29,7 +30,8 @@ whose far end turns into another wall in a concave corner (a room's wall) facing
 wall's face (at least `end_face_min_length` long) — and never ends on a
 block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
 cabinet's front; or, longer than an end cap, turning in a convex corner into a short wall that
-runs back to a wall in a concave corner: a table standing against a wall, `_against_a_wall`). The face may be a building's wall seen in part, its floating end within
+runs back to a wall in a concave corner: a table standing against a wall, `_against_a_wall`),
+nor meets a face within `jamb_cap_max` of its free end (a corner, not a face: a table's end). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
 A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
 quarters of it, ending more than `door_occlusion` before it: a box standing in front) is none:
@@ -222,7 +224,8 @@ def _doors(
         np.ascontiguousarray(pts), np.ascontiguousarray(out_dir), wi.astype(np.int64), we.astype(np.int64),
         np.ascontiguousarray(is_convex), np.ascontiguousarray(long), np.ascontiguousarray(stub),
         np.ascontiguousarray(cap_sized), np.ascontiguousarray(cap_seen),
-        np.ascontiguousarray(connected, dtype=np.int64), float(params.door_min_width),
+        np.ascontiguousarray(connected, dtype=np.int64),
+        np.ascontiguousarray(_block_face(prop, lengths, params)[wi]), float(params.door_min_width),
         float(params.door_max_width), float(params.door_angle), float(params.door_offset),
         float(params.door_offset_short))
     doors: list[list[float]] = []
@@ -285,6 +288,8 @@ def _doors(
             # the face it meets is a building's too: not a small object, nor a block's face (both
             # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
             block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
+            # ...nor a wall whose free end (seen past) lies within an end cap of where the gap
+            # meets it: what the jamb faces there is a corner, not a face (a table's end)
             block_face |= _against_a_wall(connected, prop, lengths, params.jamb_cap_max, params.end_face_min_length,
                                           params.object_max_size)
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
@@ -293,6 +298,11 @@ def _doors(
                 if (cornered[m] or weak[m]) and lengths[k] < params.end_face_min_length:
                     continue
                 if not params.door_min_width <= t <= params.door_max_width:
+                    continue
+                meet = pts[m] + t * out_dir[m]
+                if any(prop[k, b] == CONVEX and connected[k, b] < 0
+                       and math.hypot(meet[0] - walls[k, 2 * b], meet[1] - walls[k, 2 * b + 1]) < params.jamb_cap_max
+                       for b in (0, 1)):
                     continue
                 kd = walls[k, 2:4] - walls[k, 0:2]
                 across = abs(float(kd @ out_dir[m])) / max(float(np.hypot(*kd)), 1e-12)
@@ -356,6 +366,12 @@ def _doors(
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
     return d, door_kinds, p, kinds, evidence
+
+
+def _block_face(prop: np.ndarray, lengths: np.ndarray, params: IdentifyParams) -> np.ndarray:
+    """(W,) bool: a wall seen whole with both ends free or corners (convex), longer than an end
+    cap and shorter than a building's wall: a block's face (a table's front)."""
+    return (prop == CONVEX).all(axis=1) & (lengths > params.jamb_cap_max) & (lengths < params.end_face_min_length)
 
 
 def _against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, cap: float,

@@ -108,13 +108,14 @@ def _example_pairs() -> tuple:
     cap_sized = np.array([False, False, True])
     cap_seen = np.array([False, False, True])
     connected = np.full((3, 2), -1, dtype=np.int64)
-    return pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, 0.6, 1.2, 0.3, 0.1, 0.05
+    block = np.zeros(3, dtype=np.bool_)
+    return pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, 0.6, 1.2, 0.3, 0.1, 0.05
 
 
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
                long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
-               min_width: float,
+               block: np.ndarray, min_width: float,
                max_width: float,
                angle: float, offset: float, offset_short: float,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -130,8 +131,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     line continues with the other wall coming back along it (-u_j > cos, resp. u_i > cos) or
     standing across it (|u_j| < sin(angle), resp. |u_i|) as a door frame's wall (`long` or
     `stub`) or an end cap (`cap_sized`: no longer than a wall's thickness) — seen whole
-    (`cap_seen`) unless the line it stands across is a long wall's (a cap seen in part from
-    the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
+    (`cap_seen`) unless the line it stands across is a long wall's that is no block's face
+    (`block`: a table's front seen whole; a cap seen in part from the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
     person's side seen in part looks the same): a lone short wall across the line, a box's or
     a person's side, is no jamb. A possible door: not both convex,
     the two walls collinear (|o_i . o_j| > cos, both offsets < offset) and facing (u_i > 0,
@@ -158,8 +159,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             uj = ux * out_dir[j, 0] + uy * out_dir[j, 1]
             line_i = ui > cos_a and ((off_ij < offset and long[i]) or (off_ij < offset_short and stub[i]))
             line_j = -uj > cos_a and ((off_ji < offset and long[j]) or (off_ji < offset_short and stub[j]))
-            frame_i = long[i] or stub[i] or (cap_sized[i] and (cap_seen[i] or long[j]))
-            frame_j = long[j] or stub[j] or (cap_sized[j] and (cap_seen[j] or long[i]))
+            frame_i = long[i] or stub[i] or (cap_sized[i] and (cap_seen[i] or (long[j] and not block[j])))
+            frame_j = long[j] or stub[j] or (cap_sized[j] and (cap_seen[j] or (long[i] and not block[i])))
             door_ij = line_i and (-uj > cos_a or (abs(uj) < sin_a and frame_j))
             door_ji = line_j and (ui > cos_a or (abs(ui) < sin_a and frame_i))
             both_convex = is_convex[i] and is_convex[j]
