@@ -333,9 +333,10 @@ def _doors(
                     # the wall's far end (hidden, cut by the field of view, or on the wall: it may
                     # run on)
                     evidence, count = _tally(evidence, g[wk], sure[wk] & (beyond <= 0) & ~against, against, params)
-                    waiting = np.flatnonzero(wk)[count < params.end_face_evidence_scans]
+                    short = count < params.end_face_evidence_scans
+                    waiting = np.flatnonzero(wk)[short]
                     # not proven yet (nor banned): a possible door, for the map to confirm once localised
-                    for m in waiting[(count[count < params.end_face_evidence_scans] >= 0) & ~bad[waiting]].tolist():
+                    for m in waiting[(count[short] >= 0) & ~bad[waiting]].tolist():
                         possible.append(g[m])
                         kinds.append("end_face")
                     bad[waiting] = True
