@@ -351,6 +351,10 @@ class IdentifyParams:
     end_face_evidence_max: int = param(
         32, lo=1, hi=1000, step=1, help="...remembering at most this many such gaps",
     )
+    bay_doors: bool = param(
+        True, help="A gap of a door's shape that the jamb rules refuse (a block's corner or face: a bay between "
+        "two tables, or a side room's mouth in thin walls) is a possible door, for the map to prove once localised",
+    )
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="Connected local walls spanning at most this (bounding-box diagonal) are an object (a cabinet, "

@@ -10,10 +10,11 @@ carried into the global frame and *confirmed* by the map when their middle lies 
 `door_confirm_distance` of one of the map's doors (the JSON map's `doors`: each polygon's
 line across the passage, `map_door_lines`) and their direction is within `door_confirm_angle`
 of it, or when they span an opening between the map's walls (one end within
-`jamb_confirm_distance` of a wall corner, the other of a wall); the rest are unconfirmed (a gap
-between two tables, a person beside a wall). A possible door of kind "end_face" (a T-opening
-still waiting for the evidence of several scans) that the map confirms is *promoted* to a door
-(`door_promoted`): the map is that evidence.
+`jamb_confirm_distance` of a wall corner, the other of a wall, the middle clear of every wall);
+the rest are unconfirmed (a gap between two tables, a person beside a wall). A possible door of
+kind "end_face" (a T-opening still waiting for the evidence of several scans) or "bay" (a
+door's shape between block corners: a table bay or a thin-walled room's mouth) that the map
+confirms is *promoted* to a door (`door_promoted`): the map is that evidence.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from pico_studio.core.localisation.combined_kernels import doors_confirmed
 from pico_studio.core.localisation.combined_kernels import walls_on_map as on_map_kernel
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose
+from pico_studio.core.perception.identify import MAP_PROVEN_KINDS
 
 
 @dataclass
@@ -92,7 +94,8 @@ def confirmed_by_map(doors: np.ndarray, map_doors: np.ndarray, map_walls: np.nda
     `door_confirm_distance` of a map door line and its direction is within `door_confirm_angle`
     of that line's, or it spans an opening between the map's walls: one end within
     `jamb_confirm_distance` of a map wall's corner, the other of a map wall (a corner or a face:
-    a T-opening). `map_walls` are the map's walls only, so a table's corner is never a jamb.
+    a T-opening), and its middle farther than that from every map wall (not a gap along a
+    thick wall's face, between two of its corners). `map_walls` are the map's walls only, so a table's corner is never a jamb.
     The loops: combined_kernels.doors_confirmed."""
     if len(doors) == 0:
         return np.zeros(0, dtype=bool)
@@ -125,9 +128,11 @@ def combine(
     map_walls = np.asarray(dfield.segments[:n_map_walls], dtype=float).reshape(-1, 4)
     door_ok = confirmed_by_map(found, lines, map_walls, params)
     possible_ok = confirmed_by_map(possible, lines, map_walls, params)
-    # a T-opening that passed every test but the evidence over scans (possible kind "end_face")
-    # is a door once the map has an opening there: the map is the evidence
-    promote = possible_ok & (kinds == "end_face") if len(kinds) == len(possible) else np.zeros(len(possible), dtype=bool)
+    # a T-opening that passed every test but the evidence over scans (possible kind "end_face"),
+    # or a door's shape the furniture rules refused ("bay"), is a door once the map has an
+    # opening there: the map is the evidence
+    promote = (possible_ok & np.isin(kinds, MAP_PROVEN_KINDS) if len(kinds) == len(possible)
+               else np.zeros(len(possible), dtype=bool))
     return CombinedMap(
         walls=walls,
         wall_matched=walls_on_map(walls, dfield, params),

@@ -56,7 +56,8 @@ def _doors_example() -> tuple:
 def doors_confirmed(doors: np.ndarray, map_doors: np.ndarray, map_walls: np.ndarray, jamb_distance: float,
                     door_distance: float, door_angle: float) -> np.ndarray:
     """(D,) bool: doors the map confirms (combined.confirmed_by_map): one end within
-    `jamb_distance` of a map wall's corner and the other of a map wall; or the middle within
+    `jamb_distance` of a map wall's corner and the other of a map wall, the middle farther than
+    that from every map wall (the gap is open in the map, not along its walls); or the middle within
     `door_distance` of a map door line whose direction is within `door_angle` of the door's
     (undirected: |((a - b + pi/2) mod pi) - pi/2|)."""
     out = np.zeros(doors.shape[0], dtype=np.bool_)
@@ -72,10 +73,17 @@ def doors_confirmed(doors: np.ndarray, map_doors: np.ndarray, map_walls: np.ndar
                 if _point_segment_distance(px, py, map_walls[w, 0], map_walls[w, 1], map_walls[w, 2],
                                            map_walls[w, 3]) <= jamb_distance:
                     on_wall[e] = True
-        if (at_corner[0] and on_wall[1]) or (at_corner[1] and on_wall[0]):
-            out[d] = True
-            continue
         mx, my = (doors[d, 0] + doors[d, 2]) / 2, (doors[d, 1] + doors[d, 3]) / 2
+        if (at_corner[0] and on_wall[1]) or (at_corner[1] and on_wall[0]):
+            open_middle = True
+            for w in range(map_walls.shape[0]):
+                if _point_segment_distance(mx, my, map_walls[w, 0], map_walls[w, 1], map_walls[w, 2],
+                                           map_walls[w, 3]) <= jamb_distance:
+                    open_middle = False
+                    break
+            if open_middle:
+                out[d] = True
+                continue
         a = np.arctan2(doors[d, 3] - doors[d, 1], doors[d, 2] - doors[d, 0])
         for k in range(map_doors.shape[0]):
             if not _point_segment_distance(mx, my, map_doors[k, 0], map_doors[k, 1], map_doors[k, 2],

@@ -38,6 +38,14 @@ quarters of it, ending more than `door_occlusion` before it: a box standing in f
 the local map's walls alone say nothing of what stands there now. A door between two jambs is a gap some ray was seen to pass
 through (`door_min_free_rays`): a bay seen edge-on is none.
 
+Bays (`bay_doors`): a gap of a door's shape between two convex corners that the jamb rules
+refuse (a block's corner or face, its cap longer than a wall's thickness: a bay between two
+tables by a wall; or backed, or never seen through), and a passage's mouth (two door frame's
+walls side by side, the gap across both ends: a hallway's far end), are possible doors of kind
+"bay". In thin walls a side room's mouth between two 1 m wall pieces has exactly a table bay's
+shape: only the global map can tell them apart, and once localised the combined map makes a
+bay a door where its walls have an opening there.
+
 Evidence over scans (`Identified.evidence`, handed back in by the perceptor): a T-opening
 from a door frame's length seen shorter than `end_face_min_length`, its far end floating,
 facing a building wall's face, is from one scan a partition hidden in part or a table's side
@@ -71,8 +79,11 @@ from pico_studio.core.perception.identify_kernels import (
 )
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
-POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall", "end_face")
+POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall", "end_face", "bay")
 DOOR_KINDS = ("jambs", "end_face")
+# the possible doors that a door's shape makes and only the global map can prove: once
+# localised, the combined map makes them doors where it has an opening (combined.combine)
+MAP_PROVEN_KINDS = ("end_face", "bay")
 
 
 @dataclass(frozen=True)
@@ -347,6 +358,11 @@ def _doors(
                     if not any(_same_place(gl, d, params) for d in doors):
                         doors.append(gl)
                         door_kinds.append("end_face")
+    if params.bay_doors:
+        for gap in _bays(walls, prop, connected, objects, params):
+            if not any(_same_opening(gap.tolist(), d) for d in doors):
+                possible.append(gap)
+                kinds.append("bay")
     loose = np.flatnonzero(~is_convex)
     if len(loose):
         hit_t, hit_k = _ray_hits(pts[loose], out_dir[loose], walls)
@@ -367,6 +383,68 @@ def _doors(
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
     return d, door_kinds, p, kinds, evidence
+
+
+def _bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np.ndarray,
+          params: IdentifyParams) -> list[np.ndarray]:
+    """Gaps of a door's shape between two convex corners that the jamb rules refuse: a block's
+    corner or face (its cap longer than a wall's thickness, the wall shorter than a building's),
+    or the gap backed or never seen through. Between two tables by a wall that is a bay; in a
+    thin-walled building it is a room's mouth (a side room between two wall pieces, a hallway's
+    inner end) — from the local map alone the two look the same, so it is a possible door ("bay")
+    for the map to prove. The door's shape: `door_pairs` with every convex end a jamb (any cap,
+    no block face), and no wall across the gap."""
+    wi, we, _, long, stub, cap_sized, cap_seen, _ = jamb_candidates(
+        np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
+        np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
+        float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX, 0.0)
+    convex = prop[wi, we] == CONVEX
+    wi, we, long, stub = wi[convex], we[convex], long[convex], stub[convex]
+    cap_sized, cap_seen = cap_sized[convex], cap_seen[convex]
+    if len(wi) < 2:
+        return []
+    ends = walls.reshape(-1, 2)
+    pts = ends[2 * wi + we]
+    out_dir = pts - ends[2 * wi + 1 - we]
+    out_dir /= np.maximum(np.hypot(out_dir[:, 0], out_dir[:, 1]), 1e-12)[:, None]
+    ia, ja, off_ij, off_ji, is_door, _ = door_pairs(
+        np.ascontiguousarray(pts), np.ascontiguousarray(out_dir), wi.astype(np.int64), we.astype(np.int64),
+        np.ones(len(wi), dtype=bool), np.ascontiguousarray(long), np.ascontiguousarray(stub),
+        np.ascontiguousarray(cap_sized), np.ascontiguousarray(cap_seen), np.ascontiguousarray(connected, dtype=np.int64),
+        np.zeros(len(wi), dtype=bool), float(params.door_min_width), float(params.door_max_width),
+        float(params.door_angle), float(params.door_offset), float(params.door_offset_short))
+    ia, ja, off = ia[is_door], ja[is_door], np.minimum(off_ij[is_door], off_ji[is_door])
+    mi, mj, moff = _mouths(pts, out_dir, wi, we, long, connected, params)
+    ia, ja, off = np.concatenate([ia, mi]), np.concatenate([ja, mj]), np.concatenate([off, moff])
+    if len(ia) == 0:
+        return []
+    segs = np.concatenate([pts[ia], pts[ja]], axis=1)
+    clear = ~_blocked_many(segs, walls, wi[ia], wi[ja])
+    out: list[np.ndarray] = []
+    # best aligned first, one gap per opening (as the jamb doors)
+    for m in np.argsort(off, kind="stable").tolist():
+        if clear[m] and not any(_same_opening(segs[m].tolist(), g.tolist()) for g in out):
+            out.append(segs[m])
+    return out
+
+
+def _mouths(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, long: np.ndarray,
+            connected: np.ndarray, params: IdentifyParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A passage's mouth: the convex ends P_i, P_j of two door frame's walls (`long`) running
+    side by side the same way (o_i . o_j > cos(door_angle)) with the gap across both (|u . o|
+    < sin(door_angle), u = (P_j - P_i) / |P_j - P_i|), a door's width apart — a hallway's end,
+    as the truth's passage mouths. (i, j, |u . o_i| + |u . o_j|: how square the mouth is.)"""
+    cos_a, sin_a = math.cos(params.door_angle), math.sin(params.door_angle)
+    i, j = np.triu_indices(len(pts), k=1)
+    d = pts[j] - pts[i]
+    dist = np.hypot(d[:, 0], d[:, 1])
+    u = d / np.maximum(dist, 1e-12)[:, None]
+    ui = np.abs((u * out_dir[i]).sum(axis=1))
+    uj = np.abs((u * out_dir[j]).sum(axis=1))
+    ok = ((dist >= params.door_min_width) & (dist <= params.door_max_width) & long[i] & long[j]
+          & ((out_dir[i] * out_dir[j]).sum(axis=1) > cos_a) & (ui < sin_a) & (uj < sin_a)
+          & (wi[i] != wi[j]) & (connected[wi[i], we[i]] != wi[j]))
+    return i[ok], j[ok], (ui + uj)[ok]
 
 
 def _block_face(prop: np.ndarray, lengths: np.ndarray, params: IdentifyParams) -> np.ndarray:
