@@ -111,3 +111,36 @@ def test_a_long_wall_needs_no_evidence():
     walls = np.array([[4.8, 2.8, 4.8, 1.2], FLOOR])
     out = identify(walls, FREE, SEEN, ROBOT, PARAMS, _view(None))
     assert out.door_kind == ["end_face"]
+
+
+def test_a_thick_walls_capped_end_seen_short_counts_as_well():
+    """restaurant_2024's block end (x = 4.6..4.8) seen from below-left: its side only 0.32 m
+    (shorter than a door frame's wall: the rest hidden), its lower end joined to a whole 0.19 m
+    end cap (a thick wall's end; a table's end is as wide as the table) facing the floor 1 m
+    down. After enough scans through the gap into free space it is a T-opening; the same short
+    piece with no cap (a person's or a chair's side) never is."""
+    robot = (3.71, 0.94)
+    side, cap = [4.6, 1.52, 4.6, 1.2], [4.6, 1.2, 4.79, 1.2]
+    heading = float(np.arctan2(0.7 - robot[1], 4.6 - robot[0]))
+    angles = np.linspace(-np.pi / 2, np.pi / 2, 361)
+    ranges = np.full(361, 8.0)
+    hidden = np.array([4.6, 1.52 + PARAMS.end_face_continuation])  # the side may run on: hidden
+    bearing = float(np.arctan2(hidden[1] - robot[1], hidden[0] - robot[0])) - heading
+    ranges[np.abs(angles - bearing) < 0.05] = 0.5
+    view = View(ranges, angles, np.ones(361, dtype=bool), (robot[0], robot[1], heading))
+
+    def doors_after(walls: list[list[float]], connected: list[list[int]], seen: list[list[bool]], n: int) -> list[int]:
+        evidence, found = None, []
+        for _ in range(n):
+            out = identify(np.array(walls), np.array(connected, dtype=np.int64), np.array(seen), robot, PARAMS,
+                           view, evidence)
+            evidence = out.evidence
+            found.append(len(out.doors))
+        return found
+
+    k = PARAMS.end_face_evidence_scans
+    capped = doors_after([side, cap, FLOOR], [[-1, 1], [0, -1], [-1, -1]],
+                         [[False, False], [False, True], [False, False]], k + 1)
+    assert capped == [0] * (k - 1) + [1] * 2
+    bare = doors_after([side, FLOOR], [[-1, -1], [-1, -1]], [[False, True], [False, False]], k + 1)
+    assert bare == [0] * (k + 1)

@@ -47,7 +47,8 @@ shape: only the global map can tell them apart, and once localised the combined 
 bay a door where its walls have an opening there.
 
 Evidence over scans (`Identified.evidence`, handed back in by the perceptor): a T-opening
-from a door frame's length seen shorter than `end_face_min_length`, its far end floating,
+from a door frame's length seen shorter than `end_face_min_length` (or a whole end cap's side
+seen shorter than a door frame's), its far end floating,
 facing a building wall's face, is from one scan a partition hidden in part or a table's side
 seen in part. A scan supports it when a ray through the gap reaches free space, `door_depth`
 past its line or never ending (rays grazing past onto the face a few cm on show a pocket by a
@@ -277,8 +278,9 @@ def _doors(
         # or a door frame's length seen short, its far end floating (it runs on out of view; a
         # table's side ends in a seen corner or a seen end), facing a building wall's face: from
         # one scan as likely a table's side, so a door only after `end_face_evidence_scans` scans
-        # saw free rays through the gap
-        weak = long & ~building & (prop[wi, 1 - we] == FLOATING) & (params.end_face_evidence_scans > 0)
+        # saw free rays through the gap; so too a whole end cap's side seen shorter than a door
+        # frame's (the rest hidden: a thick wall's end; a person's or a chair's side has no cap)
+        weak = (long | capped) & ~building & (prop[wi, 1 - we] == FLOATING) & (params.end_face_evidence_scans > 0)
         face = np.flatnonzero(is_convex & (building | cornered | weak))
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
