@@ -189,15 +189,15 @@ def test_a_mouth_into_a_hallway_seen_at_an_angle_is_a_door():
     """escape:5's exit: a room's wall (x = 0) with a 0.8 m mouth into a hallway 1.4 m long, open
     at its far end. Seen from the side most rays through the mouth end on the hallway's walls
     within door_depth — the shape of a bay — but one reaches the free space past its end, so
-    it is a passage, not a bay's back. Closed 0.8 m in, it is a bay."""
+    it is a passage, not a bay's back. Closed 0.6 m in (shallower than door_depth), it is a bay."""
     robot = (2.73, 2.95)
     walls = [[0.0, 0.0, 0.0, 2.78], [0.0, 2.78, -1.43, 2.78], [0.0, 3.58, -1.43, 3.58], [0.0, 5.43, 0.0, 3.58]]
     connected = [[-1, 1], [0, -1], [3, -1], [-1, 2]]
     seen = [[False, False], [False, True], [False, True], [False, False]]
     doors, kind = _doors(walls, connected, seen, robot)
     assert kind == ["jambs"] and np.allclose(sorted(doors[0][[1, 3]]), [2.78, 3.58], atol=1e-6)
-    back = [[-0.8, 2.78, -0.8, 3.58]]
-    walls[1][2], walls[2][2] = -0.8, -0.8
+    back = [[-0.6, 2.78, -0.6, 3.58]]
+    walls[1][2], walls[2][2] = -0.6, -0.6
     doors, _ = _doors(walls + back, [[-1, 1], [0, 4], [3, 4], [-1, 2], [1, 2]], seen + [[False, False]], robot)
     assert len(doors) == 0
 
@@ -229,3 +229,34 @@ def test_a_box_side_seen_in_part_across_a_tables_front_is_no_jamb():
     assert len(doors) == 0
     doors, kind = _doors([[5.5, 4.1, 3.41, 4.1], box], free, [[False, True], [True, False]], robot)
     assert kind == ["jambs"] and np.allclose(doors[0], [3.41, 4.1, 2.25, 4.25], atol=1e-6)
+
+
+def test_a_side_rooms_mouth_is_a_door_though_its_back_wall_is_a_metre_in():
+    """A side room 1 m deep (the shallowest room: seed 000's side rooms) behind a 1 m mouth
+    between two building walls' corners, a box in its middle. The rays through the mouth end on
+    the box and on the back wall 1 m past the line: farther than `door_depth`, so the room is
+    no bay. Were the threshold the room's own depth (1.2 m here), its mouth would be one."""
+    from dataclasses import replace
+
+    from pico_studio.core.perception.identify import View
+    from pico_studio.core.perception.identify_kernels import ray_hits
+
+    robot = (0.5, 2.0)
+    solid = np.array([[-2.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -1.0], [1.0, 0.0, 3.0, 0.0], [1.0, 0.0, 1.0, -1.0],
+                      [0.0, -1.0, 1.0, -1.0], [0.35, -0.65, 0.65, -0.65], [0.65, -0.65, 0.65, -0.35],
+                      [0.65, -0.35, 0.35, -0.35], [0.35, -0.35, 0.35, -0.65]])
+    heading = -np.pi / 2
+    angles = np.linspace(-np.pi / 2, np.pi / 2, 361)
+    direction = np.stack([np.cos(angles + heading), np.sin(angles + heading)], axis=1)
+    none = np.full(len(angles), -1, dtype=np.int64)
+    ranges, _ = ray_hits(np.tile(robot, (len(angles), 1)), direction, solid, none, none)
+    ranges = np.minimum(ranges, 8.0)
+    view = View(ranges, angles, np.ones(len(angles), dtype=bool), (robot[0], robot[1], heading))
+    walls, connected, seen = _mouth(2.0, 1.0)
+
+    def kinds(params):
+        out = identify(np.array(walls), np.array(connected, dtype=np.int64), np.array(seen), robot, params, view)
+        return out.door_kind
+
+    assert PARAMS.door_depth < 1.0 and kinds(PARAMS) == ["jambs"]
+    assert kinds(replace(PARAMS, door_depth=1.2)) == []

@@ -304,9 +304,10 @@ class IdentifyParams:
         "thickness); a corner with a longer wall is a block's corner (a table against a wall), no jamb",
     )
     door_depth: float = param(
-        1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
+        0.8, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="A door is an opening you can see through: a beam (or the local map) through the gap "
-        "must reach at least this far past the gap line, else the gap is a bay (e.g. between two tables)",
+        "must reach at least this far past the gap line, else the gap is a bay (e.g. between two tables); "
+        "short of the shallowest room (a 1 m side room's back wall must not make its mouth a bay)",
     )
     door_backed_share: float = param(
         0.5, lo=0.0, hi=1.0, step=0.05,
