@@ -260,3 +260,16 @@ def test_a_side_rooms_mouth_is_a_door_though_its_back_wall_is_a_metre_in():
 
     assert PARAMS.door_depth < 1.0 and kinds(PARAMS) == ["jambs"]
     assert kinds(replace(PARAMS, door_depth=1.2)) == []
+
+
+def test_a_tables_front_pointing_at_a_partitions_end_is_no_door():
+    """cafe 25: a table's front seen whole (1.17 m, both ends seen, its sides hidden) in line
+    with the end of a partition standing across that line 1.28 m on: the front is a block's
+    face, no wall a door continues there. A building's wall (1.6 m) in its place is one."""
+    robot = (7.59, 3.04)
+    partition = [4.03, 4.89, 4.02, 2.49]
+    seen = [[True, True], [True, False]]
+    doors, _ = _doors([[6.47, 5.07, 5.3, 5.08], partition], [[-1, -1], [-1, -1]], seen, robot)
+    assert len(doors) == 0
+    doors, kind = _doors([[6.9, 5.07, 5.3, 5.08], partition], [[-1, -1], [-1, -1]], seen, robot)
+    assert kind == ["jambs"] and np.allclose(doors[0], [5.3, 5.08, 4.03, 4.89], atol=1e-6)

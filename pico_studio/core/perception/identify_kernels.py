@@ -161,8 +161,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             line_j = -uj > cos_a and ((off_ji < offset and long[j]) or (off_ji < offset_short and stub[j]))
             frame_i = long[i] or stub[i] or (cap_sized[i] and (cap_seen[i] or (long[j] and not block[j])))
             frame_j = long[j] or stub[j] or (cap_sized[j] and (cap_seen[j] or (long[i] and not block[i])))
-            door_ij = line_i and (-uj > cos_a or (abs(uj) < sin_a and frame_j))
-            door_ji = line_j and (ui > cos_a or (abs(ui) < sin_a and frame_i))
+            door_ij = line_i and (-uj > cos_a or (abs(uj) < sin_a and frame_j and not block[i]))
+            door_ji = line_j and (ui > cos_a or (abs(ui) < sin_a and frame_i and not block[j]))
             both_convex = is_convex[i] and is_convex[j]
             is_door = both_convex and (door_ij or door_ji)
             collinear = (abs(out_dir[i, 0] * out_dir[j, 0] + out_dir[i, 1] * out_dir[j, 1]) > cos_a
