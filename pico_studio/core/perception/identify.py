@@ -23,7 +23,7 @@ room's mouth; a table's front is shorter); a
 wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a
 long wall's line that is no block's face: a table's front seen whole, both ends free, shorter
 than a building's wall) or a door frame's wall (at least `door_wall_min_length`, or a stub on
-one): a box's or a person's lone face is not. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
+one): a box's or a person's lone face is not, nor any wall across a block face's line. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
 wall — one at least `end_face_min_length` long, or a door frame's length ending in a whole
 cap (a thick wall's end; a table's end is as wide as the table), or a door frame's length
 whose far end turns into another wall in a concave corner (a room's wall) facing a building

@@ -134,7 +134,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     (`cap_seen`) unless the line it stands across is a long wall's that is no block's face
     (`block`: a table's front seen whole; a cap seen in part from the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
     person's side seen in part looks the same): a lone short wall across the line, a box's or
-    a person's side, is no jamb. A possible door: not both convex,
+    a person's side, is no jamb; nor is anything standing across a block face's line (a table's
+    front pointing at a partition's end). A possible door: not both convex,
     the two walls collinear (|o_i . o_j| > cos, both offsets < offset) and facing (u_i > 0,
     u_j < 0)."""
     n = pts.shape[0]
