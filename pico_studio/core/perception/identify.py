@@ -58,7 +58,8 @@ view cuts it, or it is the wall itself: it may run on); it becomes a door after
 `end_face_evidence_scans` such scans, and until then is a possible door of kind "end_face"
 (once localised, the combined map promotes it where the map has an opening). A scan that
 finds the gap blocked or backed, or looks past that point (the wall ends there: a table's
-side), bans the place.
+side), bans the place. A shorter wall's seen end so (no cap: a glimpse of a thick wall's side, or a
+person's or a chair's side) is only ever a possible door "end_face", for the map to prove.
 """
 
 from __future__ import annotations
@@ -281,7 +282,11 @@ def _doors(
         # saw free rays through the gap; so too a whole end cap's side seen shorter than a door
         # frame's (the rest hidden: a thick wall's end; a person's or a chair's side has no cap)
         weak = (long | capped) & ~building & (prop[wi, 1 - we] == FLOATING) & (params.end_face_evidence_scans > 0)
-        face = np.flatnonzero(is_convex & (building | cornered | weak))
+        # or any shorter piece seen so (a thick wall's side glimpsed, its cap edge-on; or a
+        # person's, a chair's side): never a door from the local map, a possible door for the
+        # map to prove
+        glimpse = ~building & ~cornered & ~weak & (prop[wi, 1 - we] == FLOATING)
+        face = np.flatnonzero(is_convex & (building | cornered | weak | glimpse))
         if len(face):
             hit_t, hit_k = _ray_hits(pts[face], out_dir[face], walls)
             # the face may be seen in part: a building's wall whose floating end stops short of
@@ -297,7 +302,7 @@ def _doors(
                 for r, m in enumerate(np.flatnonzero(miss).tolist()):
                     if ext_k[r] >= 0 and not _seen_past(pts[face[m]] + ext_t[r] * out_dir[face[m]], view, params):
                         hit_t[m], hit_k[m] = ext_t[r], ext_k[r]
-            gaps, own, other_k, is_weak, ends_short = [], [], [], [], []
+            gaps, own, other_k, is_weak, is_glimpse, ends_short = [], [], [], [], [], []
             # the face it meets is a building's too: not a small object, nor a block's face (both
             # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
             block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
@@ -308,7 +313,7 @@ def _doors(
             for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
                 if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
                     continue
-                if (cornered[m] or weak[m]) and lengths[k] < params.end_face_min_length:
+                if (cornered[m] or weak[m] or glimpse[m]) and lengths[k] < params.end_face_min_length:
                     continue
                 if not params.door_min_width <= t <= params.door_max_width:
                     continue
@@ -327,6 +332,7 @@ def _doors(
                 # a short wall's far end that the scan looks past, in line with the wall, ends
                 # there: the wall is a block's side (a table's), however its end was cut
                 is_weak.append(bool(weak[m]))
+                is_glimpse.append(bool(glimpse[m]))
                 if weak[m]:
                     ends_short.append(_beam_at(other[m] - params.end_face_continuation * out_dir[m], view, params))
             if gaps:
@@ -353,6 +359,11 @@ def _doors(
                         possible.append(g[m])
                         kinds.append("end_face")
                     bad[waiting] = True
+                gl_ = np.array(is_glimpse, dtype=bool)
+                for m in np.flatnonzero(gl_ & ~bad).tolist():
+                    possible.append(g[m])
+                    kinds.append("end_face")
+                bad |= gl_
                 for m in np.flatnonzero(~bad).tolist():
                     gl = g[m].tolist()
                     if _hidden(g[m], view, params):
