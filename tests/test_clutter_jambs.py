@@ -273,3 +273,21 @@ def test_a_tables_front_pointing_at_a_partitions_end_is_no_door():
     assert len(doors) == 0
     doors, kind = _doors([[6.9, 5.07, 5.3, 5.08], partition], [[-1, -1], [-1, -1]], seen, robot)
     assert kind == ["jambs"] and np.allclose(doors[0], [5.3, 5.08, 4.03, 4.89], atol=1e-6)
+
+
+def test_a_box_standing_against_a_pillar_is_no_thick_walls_end():
+    """restaurant_2024's moving box at rest beside the block at x = 2.0..2.2: its front (0.5 m)
+    and its short side (0.25 m, a cap's size) turning into the block's face, which runs on the
+    other way (down to the floor): a step, not a thick wall's end, so no T-opening from its
+    corner to the floor. A wall's end whose cap joins its other face running back the same way
+    (up) is one."""
+    robot = (1.11, 1.91)
+    floor, below = [0.6, 0.2, 2.0, 0.2], [2.0, 0.2, 2.0, 1.0]
+    cap, front = [2.0, 1.0, 1.75, 1.0], [1.75, 1.0, 1.75, 1.5]
+    connected = [[-1, 1], [0, 2], [1, 3], [2, -1]]
+    seen = [[False, False]] * 4
+    _, kind = _doors([floor, below, cap, front], connected, seen, robot)
+    assert "end_face" not in kind
+    above = [2.0, 1.5, 2.0, 1.0]  # the cap's far end joins a face running up, as the front does
+    doors, kind = _doors([floor, above, cap, front], [[-1, -1], [-1, 2], [1, 3], [2, -1]], seen, robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [1.75, 1.0, 1.75, 0.2], atol=1e-6)

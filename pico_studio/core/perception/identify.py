@@ -17,7 +17,8 @@ within `facing_distance`.
 
 Jambs among furniture (restaurant_2024's false doors, `tests/test_clutter_jambs.py`): a
 jamb is a wall's end joined to nothing or to a *whole* end cap (no longer than
-`jamb_cap_max`, its far end seen or joined: a side seen in part may run a table deep), or a
+`jamb_cap_max`, its far end seen or joined: a side seen in part may run a table deep; and not
+a step — the wall at its far end running the other way: a box standing against a wall), or a
 building's wall (at least `end_face_min_length`) turning at a convex corner (a thin-walled
 room's mouth; a table's front is shorter); a
 wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a

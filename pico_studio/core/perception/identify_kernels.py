@@ -351,7 +351,8 @@ def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, 
     """The door-point candidates (identify._doors says what and why): every wall end (i, e)
     that is convex or floating, not on an object, and either joined to nothing or *capped*
     there, or convex on a wall at least `building_min` long (a building's thin wall turning). Wall k joined at end e is a cap when |k| <= cap_max and it is *whole*: none of k's
-    ends is floating but the one joining i (a T-joined k: neither). Per candidate, in row order
+    ends is floating but the one joining i (a T-joined k: neither), and the wall joined at its
+far end, if any, runs back the same way as i (`_step`: else a box against a wall). Per candidate, in row order
     (i, then e): (wall i, end e, capped, long: |i| >= frame_min, stub: not long and the wall
     joined at i's far end is long, cap_sized: |i| <= cap_max, cap_seen: neither of i's ends
     floating (seen whole), lengths (W,) of every wall)."""
@@ -374,6 +375,8 @@ def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, 
                 for b in range(2):
                     if prop[k, b] == floating and connected[k, b] != i:
                         whole = False
+                if whole and _step(walls, connected, i, e, k):
+                    whole = False
                 if not whole:
                     continue
             elif k >= 0 and not (prop[i, e] == convex and lengths[i] >= building_min):
@@ -387,6 +390,27 @@ def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, 
             m += 1
     return (wi[:m].copy(), we[:m].copy(), capped[:m].copy(), long[:m].copy(), stub[:m].copy(), cap_sized[:m].copy(),
             cap_seen[:m].copy(), lengths)
+
+
+@njit
+def _step(walls: np.ndarray, connected: np.ndarray, i: int, e: int, k: int) -> bool:
+    """Does cap k (joined to end e of wall i) join, at its far end, a wall running the other
+    way from wall i? A thick wall's end cap joins its two faces, both running back the same
+    way; a step turns into a wall running on the other side (a box standing against a wall:
+    its front, its short side, the wall)."""
+    bk = 0 if connected[k, 0] == i else 1
+    if connected[k, bk] != i:
+        return False  # k T-joined to i: no far end to look at
+    f = connected[k, 1 - bk]
+    if f < 0 or f == i:
+        return False
+    jx, jy = walls[k, 2 * (1 - bk)], walls[k, 2 * (1 - bk) + 1]
+    d0 = np.hypot(walls[f, 0] - jx, walls[f, 1] - jy)
+    d1 = np.hypot(walls[f, 2] - jx, walls[f, 3] - jy)
+    fx, fy = (walls[f, 2] - jx, walls[f, 3] - jy) if d0 <= d1 else (walls[f, 0] - jx, walls[f, 1] - jy)
+    ix = walls[i, 2 * (1 - e)] - walls[i, 2 * e]
+    iy = walls[i, 2 * (1 - e) + 1] - walls[i, 2 * e + 1]
+    return fx * ix + fy * iy < 0
 
 
 def _example_extended() -> tuple:
