@@ -49,7 +49,7 @@ POSSIBLE_DOOR_KIND_NAMES = {
     "convex_loose": "possible door: convex corner - loose end",
     "loose_loose": "possible door: loose end - loose end",
     "loose_wall": "possible door: loose end - wall",
-    "end_face": "possible door: wall end - wall face, not yet seen through over enough scans",
+    "end_face": "possible door: wall end - wall face, not yet seen through over enough scans (or for the map)",
     "bay": "possible door: a door's shape between block corners (a bay, or a thin-walled room's mouth)",
 }
 SPIKE_CORNER: RGB = (90, 50, 0)  # dark brown
