@@ -74,6 +74,7 @@ from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.identify_kernels import (
     backed,
     blocked_many,
+    distinct_openings,
     door_pairs,
     extended_hits,
     jamb_candidates,
@@ -259,10 +260,10 @@ def _doors(
         # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
         cand = np.flatnonzero(is_door & ~blocked & ~unseen)
         seg_list = segs.tolist()
-        for m in cand[np.argsort(np.minimum(off_ij[cand], off_ji[cand]))].tolist():
-            if not any(_same_opening(seg_list[m], d) for d in doors):
-                doors.append(seg_list[m])
-                door_kinds.append("jambs")
+        order = cand[np.argsort(np.minimum(off_ij[cand], off_ji[cand]))].astype(np.int64)
+        for m in distinct_openings(np.ascontiguousarray(segs), order, np.ones(len(segs), dtype=bool), 0.5, 1e-6).tolist():
+            doors.append(seg_list[m])
+            door_kinds.append("jambs")
         for m in np.flatnonzero(is_possible & ~blocked).tolist():
             possible.append(segs[m])
             kinds.append("convex_loose" if is_convex[ia[m]] or is_convex[ja[m]] else "loose_loose")
@@ -374,8 +375,8 @@ def _doors(
                         door_kinds.append("end_face")
     if params.bay_doors:
         for gap in _bays(walls, prop, connected, objects, params):
-            if not any(_same_opening(gap.tolist(), d) for d in doors):
-                possible.append(gap)
+            if not any(_same_opening(gap, d) for d in doors):
+                possible.append(np.array(gap))
                 kinds.append("bay")
     loose = np.flatnonzero(~is_convex)
     if len(loose):
@@ -400,7 +401,7 @@ def _doors(
 
 
 def _bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np.ndarray,
-          params: IdentifyParams) -> list[np.ndarray]:
+          params: IdentifyParams) -> list[list[float]]:
     """Gaps of a door's shape between two convex corners that the jamb rules refuse: a block's
     corner or face (its cap longer than a wall's thickness, the wall shorter than a building's),
     or the gap backed or never seen through. Between two tables by a wall that is a bay; in a
@@ -434,11 +435,10 @@ def _bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: n
         return []
     segs = np.concatenate([pts[ia], pts[ja]], axis=1)
     clear = ~_blocked_many(segs, walls, wi[ia], wi[ja])
-    out: list[np.ndarray] = []
     # best aligned first, one gap per opening (as the jamb doors)
-    for m in np.argsort(off, kind="stable").tolist():
-        if clear[m] and not any(_same_opening(segs[m].tolist(), g.tolist()) for g in out):
-            out.append(segs[m])
+    kept = distinct_openings(np.ascontiguousarray(segs), np.argsort(off, kind="stable").astype(np.int64),
+                             np.ascontiguousarray(clear), 0.5, 1e-6)
+    out: list[list[float]] = segs[kept].tolist()
     return out
 
 
@@ -449,13 +449,15 @@ def _mouths(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray
     < sin(door_angle), u = (P_j - P_i) / |P_j - P_i|), a door's width apart — a hallway's end,
     as the truth's passage mouths. (i, j, |u . o_i| + |u . o_j|: how square the mouth is.)"""
     cos_a, sin_a = math.cos(params.door_angle), math.sin(params.door_angle)
-    i, j = np.triu_indices(len(pts), k=1)
+    both = np.flatnonzero(long)  # only door frame's walls pair
+    a, b = np.triu_indices(len(both), k=1)
+    i, j = both[a], both[b]
     d = pts[j] - pts[i]
     dist = np.hypot(d[:, 0], d[:, 1])
     u = d / np.maximum(dist, 1e-12)[:, None]
     ui = np.abs((u * out_dir[i]).sum(axis=1))
     uj = np.abs((u * out_dir[j]).sum(axis=1))
-    ok = ((dist >= params.door_min_width) & (dist <= params.door_max_width) & long[i] & long[j]
+    ok = ((dist >= params.door_min_width) & (dist <= params.door_max_width)
           & ((out_dir[i] * out_dir[j]).sum(axis=1) > cos_a) & (ui < sin_a) & (uj < sin_a)
           & (wi[i] != wi[j]) & (connected[wi[i], we[i]] != wi[j]))
     return i[ok], j[ok], (ui + uj)[ok]

@@ -413,6 +413,45 @@ def _step(walls: np.ndarray, connected: np.ndarray, i: int, e: int, k: int) -> b
     return fx * ix + fy * iy < 0
 
 
+def _example_distinct() -> tuple:
+    segs = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 1.0, 0.1], [2.0, 0.0, 3.0, 0.0]])
+    return segs, np.array([0, 1, 2], dtype=np.int64), np.array([True, True, True]), 0.5, 1e-6
+
+
+@kernel(_example_distinct)
+def distinct_openings(segs: np.ndarray, order: np.ndarray, usable: np.ndarray, max_angle: float,
+                      tol: float) -> np.ndarray:
+    """The `usable` gaps in `order`, each kept unless it is the same opening as one kept before:
+    the two share an end point (within `tol`) and leave it within `max_angle` of each other
+    (identify._same_opening's test). The kept rows, in order (K,) int64."""
+    cos_max = math.cos(max_angle)
+    kept = np.empty(order.shape[0], dtype=np.int64)
+    n = 0
+    for r in range(order.shape[0]):
+        m = order[r]
+        if not usable[m]:
+            continue
+        same = False
+        for q in range(n):
+            k = kept[q]
+            for ea in range(2):
+                for eb in range(2):
+                    pax, pay = segs[m, 2 * ea], segs[m, 2 * ea + 1]
+                    pbx, pby = segs[k, 2 * eb], segs[k, 2 * eb + 1]
+                    if max(abs(pax - pbx), abs(pay - pby)) < tol:
+                        ux, uy = segs[m, 2 * (1 - ea)] - pax, segs[m, 2 * (1 - ea) + 1] - pay
+                        vx, vy = segs[k, 2 * (1 - eb)] - pbx, segs[k, 2 * (1 - eb) + 1] - pby
+                        cos = (ux * vx + uy * vy) / max(math.hypot(ux, uy) * math.hypot(vx, vy), 1e-12)
+                        if cos > cos_max:
+                            same = True
+            if same:
+                break
+        if not same:
+            kept[n] = m
+            n += 1
+    return kept[:n].copy()
+
+
 def _example_extended() -> tuple:
     walls = np.array([[0.0, -1.0, 2.0, -1.0], [3.0, 2.0, 3.0, 4.0]])
     origin = np.array([[2.3, 0.0]])
