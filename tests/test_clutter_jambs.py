@@ -291,3 +291,17 @@ def test_a_box_standing_against_a_pillar_is_no_thick_walls_end():
     above = [2.0, 1.5, 2.0, 1.0]  # the cap's far end joins a face running up, as the front does
     doors, kind = _doors([floor, above, cap, front], [[-1, -1], [-1, 2], [1, 3], [2, -1]], seen, robot)
     assert kind == ["end_face"] and np.allclose(doors[0], [1.75, 1.0, 1.75, 0.2], atol=1e-6)
+
+
+def test_a_walls_end_hidden_behind_the_corner_it_turns_is_no_jamb():
+    """clutter_world 1: a table standing 2 cm off the room's wall (x = 0.2), the wall above it
+    (1.63 m) joined to the table's top face. Seen from below-right, that corner is convex only
+    as seen from behind: the wall turns towards the robot, hiding its own end, and the 'gap'
+    down the wall's line to the table's bottom face runs through the table's slot. No door; a
+    thin wall turning away from the robot (a side room's mouth) stays a jamb
+    (test_a_thin_walls_corner_is_a_jamb_a_tables_corner_not)."""
+    walls = [[0.92, 2.48, 0.92, 1.27], [0.21, 2.48, 0.92, 2.48], [0.19, 4.11, 0.21, 2.48], [0.92, 1.27, 0.2, 1.28],
+             [0.2, 1.28, 0.2, 0.2]]
+    connected = [[1, 3], [2, 0], [-1, 1], [0, 4], [3, -1]]
+    _, kind = _doors(walls, connected, [[False, False]] * 5, (2.47, 1.17))
+    assert "end_face" not in kind

@@ -19,8 +19,9 @@ Jambs among furniture (restaurant_2024's false doors, `tests/test_clutter_jambs.
 jamb is a wall's end joined to nothing or to a *whole* end cap (no longer than
 `jamb_cap_max`, its far end seen or joined: a side seen in part may run a table deep; and not
 a step — the wall at its far end running the other way: a box standing against a wall), or a
-building's wall (at least `end_face_min_length`) turning at a convex corner (a thin-walled
-room's mouth; a table's front is shorter); a
+building's wall (at least `end_face_min_length`) turning at a convex corner away from the
+robot (a thin-walled room's mouth; a table's front is shorter; turning towards the robot the
+corner hides the wall's own end, convex only as seen from behind); a
 wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a
 long wall's line that is no block's face: a table's front seen whole, both ends free, shorter
 than a building's wall) or a door frame's wall (at least `door_wall_min_length`, or a stub on
@@ -221,7 +222,7 @@ def _doors(
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
         float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX,
-        float(params.end_face_min_length))
+        float(params.end_face_min_length), float(robot[0]), float(robot[1]))
     if len(wi) < 1:
         return empty, [], empty, [], evidence
     ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i
@@ -374,7 +375,7 @@ def _doors(
                         doors.append(gl)
                         door_kinds.append("end_face")
     if params.bay_doors:
-        for gap in _bays(walls, prop, connected, objects, params):
+        for gap in _bays(walls, prop, connected, objects, robot, params):
             if not any(_same_opening(gap, d) for d in doors):
                 possible.append(np.array(gap))
                 kinds.append("bay")
@@ -401,7 +402,7 @@ def _doors(
 
 
 def _bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np.ndarray,
-          params: IdentifyParams) -> list[list[float]]:
+          robot: tuple[float, float], params: IdentifyParams) -> list[list[float]]:
     """Gaps of a door's shape between two convex corners that the jamb rules refuse: a block's
     corner or face (its cap longer than a wall's thickness, the wall shorter than a building's),
     or the gap backed or never seen through. Between two tables by a wall that is a bay; in a
@@ -412,7 +413,8 @@ def _bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: n
     wi, we, _, long, stub, cap_sized, cap_seen, _ = jamb_candidates(
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
-        float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX, 0.0)
+        float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX, 0.0, float(robot[0]),
+        float(robot[1]))
     convex = prop[wi, we] == CONVEX
     wi, we, long, stub = wi[convex], we[convex], long[convex], stub[convex]
     cap_sized, cap_seen = cap_sized[convex], cap_seen[convex]

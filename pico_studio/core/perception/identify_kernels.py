@@ -340,17 +340,19 @@ def _example_candidates() -> tuple:
     walls = np.array([[0.0, 0.0, 2.0, 0.0], [2.0, 0.0, 2.0, 0.2], [3.0, 0.0, 5.0, 0.0]])
     connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
     prop = np.array([[0, 2], [2, 2], [2, 0]], dtype=np.int64)
-    return walls, connected, prop, np.zeros(3, dtype=np.bool_), 0.35, 0.5, 0, 2, 1.5
+    return walls, connected, prop, np.zeros(3, dtype=np.bool_), 0.35, 0.5, 0, 2, 1.5, 1.0, 1.0
 
 
 @kernel(_example_candidates)
 def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray,
                     cap_max: float, frame_min: float, floating: int, convex: int, building_min: float,
+                    rx: float, ry: float,
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                np.ndarray]:
     """The door-point candidates (identify._doors says what and why): every wall end (i, e)
     that is convex or floating, not on an object, and either joined to nothing or *capped*
-    there, or convex on a wall at least `building_min` long (a building's thin wall turning). Wall k joined at end e is a cap when |k| <= cap_max and it is *whole*: none of k's
+    there, or convex on a wall at least `building_min` long turning away from the robot at
+    (rx, ry) (a building's thin wall turning: `_turns_away`). Wall k joined at end e is a cap when |k| <= cap_max and it is *whole*: none of k's
     ends is floating but the one joining i (a T-joined k: neither), and the wall joined at its
 far end, if any, runs back the same way as i (`_step`: else a box against a wall). Per candidate, in row order
     (i, then e): (wall i, end e, capped, long: |i| >= frame_min, stub: not long and the wall
@@ -379,8 +381,12 @@ far end, if any, runs back the same way as i (`_step`: else a box against a wall
                     whole = False
                 if not whole:
                     continue
-            elif k >= 0 and not (prop[i, e] == convex and lengths[i] >= building_min):
-                continue  # a block's corner (a table against a wall); a building's wall turning is a jamb
+            elif k >= 0 and not (prop[i, e] == convex and lengths[i] >= building_min
+                                 and _turns_away(walls, i, e, k, rx, ry)):
+                # a block's corner (a table against a wall); a building's wall turning is a jamb
+                # when it turns away from the robot (R): turning towards it, the corner hides the
+                # wall's end from R (convex only as seen from behind: a wall's end by a table)
+                continue
             far = connected[i, 1 - e]
             wi[m], we[m], capped[m] = i, e, whole
             long[m] = lengths[i] >= frame_min
@@ -390,6 +396,20 @@ far end, if any, runs back the same way as i (`_step`: else a box against a wall
             m += 1
     return (wi[:m].copy(), we[:m].copy(), capped[:m].copy(), long[:m].copy(), stub[:m].copy(), cap_sized[:m].copy(),
             cap_seen[:m].copy(), lengths)
+
+
+@njit
+def _turns_away(walls: np.ndarray, i: int, e: int, k: int, rx: float, ry: float) -> bool:
+    """Does wall k, joined at end P (end e of wall i), run to the other side of i's line than
+    the robot R? With d = P - (i's far end): (d x (k's far end - P)) (d x (R - P)) < 0."""
+    px, py = walls[i, 2 * e], walls[i, 2 * e + 1]
+    dx, dy = px - walls[i, 2 * (1 - e)], py - walls[i, 2 * (1 - e) + 1]
+    d0 = np.hypot(walls[k, 0] - px, walls[k, 1] - py)
+    d1 = np.hypot(walls[k, 2] - px, walls[k, 3] - py)
+    fx, fy = (walls[k, 2], walls[k, 3]) if d0 <= d1 else (walls[k, 0], walls[k, 1])
+    side_k = dx * (fy - py) - dy * (fx - px)
+    side_r = dx * (ry - py) - dy * (rx - px)
+    return side_k * side_r < 0
 
 
 @njit
