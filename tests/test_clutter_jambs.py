@@ -305,3 +305,21 @@ def test_a_walls_end_hidden_behind_the_corner_it_turns_is_no_jamb():
     connected = [[1, 3], [2, 0], [-1, 1], [0, 4], [3, -1]]
     _, kind = _doors(walls, connected, [[False, False]] * 5, (2.47, 1.17))
     assert "end_face" not in kind
+
+
+def test_a_lone_end_cap_facing_a_wall_is_a_possible_t_opening():
+    """cafe 1: a partition's end seen only as its 0.2 m cap (its sides edge-on), the room's wall
+    1.08 m on along the cap's normal towards the robot: a possible T-opening, from the cap's
+    middle, for the map to prove (a person's foot looks the same); never a door from the local
+    map. Facing a table's 0.7 m front instead, or nothing within a door's width, it is none."""
+    robot = (4.69, 5.98)
+    cap, wall = [4.09, 5.67, 4.29, 5.67], [6.0, 6.75, 1.0, 6.75]
+    out = identify(np.array([cap, wall]), np.full((2, 2), -1, dtype=np.int64), np.array([[True, True], [False, False]]),
+                   robot, PARAMS)
+    assert len(out.doors) == 0
+    gaps = out.possible_doors[[k == "end_face" for k in out.possible_door_kind]]
+    assert len(gaps) == 1 and np.allclose(gaps[0], [4.19, 5.67, 4.19, 6.75], atol=1e-6)
+    for other in ([4.5, 6.75, 3.8, 6.75], [6.0, 7.2, 1.0, 7.2]):  # a table's front; a wall 1.53 m off
+        out = identify(np.array([cap, other]), np.full((2, 2), -1, dtype=np.int64),
+                       np.array([[True, True], [False, False]]), robot, PARAMS)
+        assert "end_face" not in out.possible_door_kind

@@ -61,7 +61,9 @@ view cuts it, or it is the wall itself: it may run on); it becomes a door after
 (once localised, the combined map promotes it where the map has an opening). A scan that
 finds the gap blocked or backed, or looks past that point (the wall ends there: a table's
 side), bans the place. A shorter wall's seen end so (no cap: a glimpse of a thick wall's side, or a
-person's or a chair's side) is only ever a possible door "end_face", for the map to prove.
+person's or a chair's side) is only ever a possible door "end_face", for the map to prove; so
+is a lone end cap (`jamb_cap_max` long, joined to nothing: a partition's end seen face on)
+whose normal towards the robot's side meets a building wall's face a door's width on.
 """
 
 from __future__ import annotations
@@ -379,6 +381,10 @@ def _doors(
             if not any(_same_opening(gap, d) for d in doors):
                 possible.append(np.array(gap))
                 kinds.append("bay")
+    if params.end_face_doors:
+        for t_gap in _lone_caps(walls, connected, objects, lengths, robot, params):
+            possible.append(t_gap)
+            kinds.append("end_face")
     loose = np.flatnonzero(~is_convex)
     if len(loose):
         hit_t, hit_k = _ray_hits(pts[loose], out_dir[loose], walls)
@@ -442,6 +448,41 @@ def _bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: n
                              np.ascontiguousarray(clear), 0.5, 1e-6)
     out: list[list[float]] = segs[kept].tolist()
     return out
+
+
+def _lone_caps(walls: np.ndarray, connected: np.ndarray, objects: np.ndarray, lengths: np.ndarray,
+               robot: tuple[float, float], params: IdentifyParams) -> list[np.ndarray]:
+    """Possible T-openings from a lone end cap: a wall no longer than a wall's thickness
+    (`jamb_cap_max`), joined to nothing (a partition's end seen only face on, its sides edge-on
+    or hidden), whose normal towards the robot's side meets a building wall's face (at least
+    `end_face_min_length`, about square to it) a door's width on, nothing across the gap. A
+    person's foot or a chair's leg looks the same: only the map can prove it."""
+    caps = np.flatnonzero((connected < 0).all(axis=1) & (lengths <= params.jamb_cap_max) & (lengths > 1e-6)
+                          & ~objects)
+    if len(caps) == 0:
+        return []
+    a, b = walls[caps, 0:2], walls[caps, 2:4]
+    mid = (a + b) / 2
+    d = (b - a) / lengths[caps][:, None]
+    n = np.stack([-d[:, 1], d[:, 0]], axis=1)
+    n[((np.asarray(robot, dtype=float) - mid) * n).sum(axis=1) < 0] *= -1
+    t, k = _ray_hits(mid, n, walls, (caps, np.full(len(caps), -1)))
+    gaps, own, other = [], [], []
+    for r in np.flatnonzero((k >= 0) & (t >= params.door_min_width) & (t <= params.door_max_width)).tolist():
+        kk = int(k[r])
+        if objects[kk] or lengths[kk] < params.end_face_min_length:
+            continue
+        kd = walls[kk, 2:4] - walls[kk, 0:2]
+        if abs(float(kd @ n[r])) / max(float(np.hypot(*kd)), 1e-12) > math.sin(params.door_angle):
+            continue
+        gaps.append(np.concatenate([mid[r], mid[r] + t[r] * n[r]]))
+        own.append(caps[r])
+        other.append(kk)
+    if not gaps:
+        return []
+    g = np.array(gaps)
+    blocked = _blocked_many(g, walls, np.array(own), np.array(other))
+    return [g[m] for m in np.flatnonzero(~blocked).tolist()]
 
 
 def _mouths(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, long: np.ndarray,
