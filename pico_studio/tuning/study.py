@@ -7,7 +7,9 @@ any SQLAlchemy URL) for a database that several machines share (`--study NAME`).
 A study remembers what it searches (user attributes `space`, `params`, `objective`, `max_ms`,
 `scenarios`); opening it with anything else is refused before a single write. `--trials N` is
 the study's size: every worker (local or on another machine) stops when the study holds N
-trials, so a resumed or shared study adds up instead of starting over. The first trial of a
+trials, so a resumed or shared study adds up instead of starting over. Local workers hold N
+exactly (each checks the count and makes its next trial under one file lock); machines sharing
+a database may each start one more when they check at the same moment. The first trial of a
 new study is the start config (`--config`, else the defaults): the "default" of the report.
 
 A trial whose config fails validation or whose run raises is recorded as failed (its error in
@@ -16,6 +18,7 @@ the user attribute `error`) and the study goes on.
 
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import logging
 import os
@@ -23,7 +26,8 @@ import re
 import socket
 import time
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -215,11 +219,39 @@ def run_worker(spec: StudySpec, worker: int = 0, *, on_trial: Callable[[int], No
         if on_trial is not None:
             on_trial(counted(study))
 
-    # one trial per optimize() so the count is checked before each (other workers add too);
+    if spec.is_journal:
+        # local workers: the count is checked and the next trial made under one file lock, so
+        # two workers seeing N - 1 trials at once cannot both start the N-th
+        while True:
+            with _exclusive(Path(spec.storage + ".count.lock")):
+                if counted(study) >= spec.trials:
+                    break
+                trial = study.ask()
+            try:
+                values = objective(trial)
+            except Exception:
+                done = study.tell(trial, state=TrialState.FAIL)
+            else:
+                done = study.tell(trial, values)
+            record(study, done)
+        return mine
+    # a database several machines share: one trial per optimize() so the count is checked before
+    # each (other workers add too; two machines checking at once may each start one more);
     # optimize() also runs the database heartbeat and records a raising trial as failed
     while counted(study) < spec.trials:
         study.optimize(objective, n_trials=1, catch=(Exception,), callbacks=[record])
     return mine
+
+
+@contextmanager
+def _exclusive(path: Path) -> Iterator[None]:
+    """Hold an exclusive lock on `path` (made if missing) for the block: processes on one machine."""
+    with open(path, "a") as f:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f.fileno(), fcntl.LOCK_UN)
 
 
 def finished(study: optuna.Study) -> list[FrozenTrial]:
