@@ -19,6 +19,7 @@ from pico_studio.core.behaviours.registry import Drive
 from pico_studio.core.perception import (
     Perceptor,
     corners,
+    gap_tests,
     identify,
     pcg64,
     scan,
@@ -34,8 +35,8 @@ from pico_studio.sim import Simulator
 from tests.conftest import MAPS
 from tests.jit_scenes import hospital_frames, recorded_calls
 
-KERNELS = {identify: ("ray_hits", "blocked_many", "door_pairs", "backed", "object_groups", "jamb_candidates",
-                      "extended_hits")}
+KERNELS = {identify: ("door_pairs", "backed", "object_groups", "jamb_candidates", "extended_hits", "distinct_openings"),
+           gap_tests: ("ray_hits", "blocked_many")}
 
 
 @pytest.fixture(scope="module")
