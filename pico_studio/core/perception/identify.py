@@ -76,6 +76,8 @@ import numpy as np
 from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.gap_tests import gaps_blocked, nearest_hits
 from pico_studio.core.perception.identify_kernels import (
+    SAME_OPENING_ANGLE,
+    SAME_POINT,
     backed,
     distinct_openings,
     door_pairs,
@@ -264,7 +266,8 @@ def _doors(
         cand = np.flatnonzero(is_door & ~blocked & ~unseen)
         seg_list = segs.tolist()
         order = cand[np.argsort(np.minimum(off_ij[cand], off_ji[cand]))].astype(np.int64)
-        for m in distinct_openings(np.ascontiguousarray(segs), order, np.ones(len(segs), dtype=bool), 0.5, 1e-6).tolist():
+        for m in distinct_openings(np.ascontiguousarray(segs), order, np.ones(len(segs), dtype=bool),
+                                   SAME_OPENING_ANGLE, SAME_POINT).tolist():
             doors.append(seg_list[m])
             door_kinds.append("jambs")
         for m in np.flatnonzero(is_possible & ~blocked).tolist():
@@ -564,7 +567,7 @@ def _backed(
                   float(params.door_depth), float(params.jamb_cap_max), float(params.door_backed_share))
 
 
-def _same_opening(a: list[float], b: list[float], max_angle: float = 0.5, tol: float = 1e-6) -> bool:
+def _same_opening(a: list[float], b: list[float], max_angle: float = SAME_OPENING_ANGLE, tol: float = SAME_POINT) -> bool:
     """Two gaps (x0, y0, x1, y1) from one point (either end) leaving in about the same direction."""
     cos_max = math.cos(max_angle)
     for pa, qa in ((a[0:2], a[2:4]), (a[2:4], a[0:2])):

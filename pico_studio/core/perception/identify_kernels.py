@@ -433,9 +433,15 @@ def _step(walls: np.ndarray, connected: np.ndarray, i: int, e: int, k: int) -> b
     return fx * ix + fy * iy < 0
 
 
+# one opening, not two: two gaps sharing an end point (within SAME_POINT) and leaving it within
+# SAME_OPENING_ANGLE of each other (distinct_openings, identify._same_opening)
+SAME_OPENING_ANGLE = 0.5  # rad
+SAME_POINT = 1e-6  # m
+
+
 def _example_distinct() -> tuple:
     segs = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 1.0, 0.1], [2.0, 0.0, 3.0, 0.0]])
-    return segs, np.array([0, 1, 2], dtype=np.int64), np.array([True, True, True]), 0.5, 1e-6
+    return segs, np.array([0, 1, 2], dtype=np.int64), np.array([True, True, True]), SAME_OPENING_ANGLE, SAME_POINT
 
 
 @kernel(_example_distinct)

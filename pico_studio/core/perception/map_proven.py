@@ -20,6 +20,8 @@ import numpy as np
 from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.gap_tests import gaps_blocked, nearest_hits
 from pico_studio.core.perception.identify_kernels import (
+    SAME_OPENING_ANGLE,
+    SAME_POINT,
     distinct_openings,
     door_pairs,
     jamb_candidates,
@@ -65,7 +67,7 @@ def bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np
     clear = ~gaps_blocked(segs, walls, wi[ia], wi[ja])
     # best aligned first, one gap per opening (as the jamb doors)
     kept = distinct_openings(np.ascontiguousarray(segs), np.argsort(off, kind="stable").astype(np.int64),
-                             np.ascontiguousarray(clear), 0.5, 1e-6)
+                             np.ascontiguousarray(clear), SAME_OPENING_ANGLE, SAME_POINT)
     out: list[list[float]] = segs[kept].tolist()
     return out
 
