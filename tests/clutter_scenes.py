@@ -154,3 +154,101 @@ def cafe_world(seed: int) -> tuple[dict, dict]:
         ],
     }
     return doc, sim
+
+
+def ward_world(seed: int) -> tuple[dict, dict]:
+    """A JSON map and a sim config unlike the halls': a hospital ward. A corridor (10-14 m by
+    1.6-2.4 m) with rooms on both sides (2.5-4 m wide, 3-4 m deep), one wall thickness per world
+    (0.05-0.25 m), each room's door (0.7-1.1 m) anywhere along the corridor wall or right by its
+    side wall (a T-opening); in each room a bed (0.9 x 2 m, 1-3 cm off the back wall: its 2 m
+    side is as long as a building's wall) and mostly a cabinet (0.5 m), and a person walking to
+    and fro along the corridor."""
+    rng = np.random.default_rng(seed)
+    u = rng.uniform
+    t = float(rng.choice([0.05, 0.1, 0.2, 0.25]))
+    L, wc = float(u(10.0, 14.0)), float(u(1.6, 2.4))
+    pts: list[dict] = []
+    walls: list[list[int]] = []
+    tables: list[list[list[int]]] = []
+
+    def rect(x0: float, y0: float, x1: float, y1: float, into: list | None = None) -> None:
+        ids = []
+        for x, y in ((x0, y0), (x1, y0), (x1, y1), (x0, y1)):
+            pts.append({"x": round(x, 3), "y": round(y, 3)})
+            ids.append(len(pts) - 1)
+        e = [[ids[i], ids[(i + 1) % 4]] for i in range(4)]
+        if into is None:
+            walls.extend(e)
+        else:
+            into.append(e)
+
+    # the corridor walls' lower edges: the corridor runs between y = t and y = wc + t
+    ylo, yhi = 0.0, wc + t
+    ys: list[float] = []
+    for wy0, sign in ((ylo, -1), (yhi, 1)):
+        D = float(u(3.0, 4.0))
+        # room boundaries
+        xs = [0.0]
+        while xs[-1] < L - 2.5:
+            xs.append(min(xs[-1] + float(u(2.5, 4.0)), L))
+        if L - xs[-1] < 2.5:
+            xs[-1] = L
+        else:
+            xs.append(L)
+        gaps = []
+        for a, b in zip(xs[:-1], xs[1:], strict=True):
+            dw = float(u(0.7, 1.1))
+            if rng.random() < 0.25:  # the door by the room's side wall: a T-opening
+                s = a + t / 2 if rng.random() < 0.5 else b - t / 2 - dw
+            else:
+                s = float(u(a + t / 2 + 0.3, b - t / 2 - 0.3 - dw))
+            gaps.append((s, s + dw))
+        # corridor wall pieces between doors
+        x = 0.0
+        for s, e in gaps:
+            if s - x > 1e-3:
+                rect(x, wy0, s, wy0 + t)
+            x = e
+        if L - x > 1e-3:
+            rect(x, wy0, L, wy0 + t)
+        # back wall and dividers
+        if sign < 0:
+            back0, back1 = wy0 - D - t, wy0 - D
+            rect(0, back0, L, back1)
+            for xb in xs[1:-1]:
+                rect(xb - t / 2, back1, xb + t / 2, wy0)
+            inner = (back1, wy0)
+            ys.append(back0)
+        else:
+            back0, back1 = wy0 + t + D, wy0 + 2 * t + D
+            rect(0, back0, L, back1)
+            for xb in xs[1:-1]:
+                rect(xb - t / 2, wy0 + t, xb + t / 2, back0)
+            inner = (wy0 + t, back0)
+            ys.append(back1)
+        # furniture: a bed against the back wall, a cabinet by a side wall
+        for a, b in zip(xs[:-1], xs[1:], strict=True):
+            g = float(u(0.01, 0.03))
+            bx = float(u(a + t / 2 + 0.2, b - t / 2 - 1.1))
+            if sign < 0:
+                rect(bx, inner[0] + g, bx + 0.9, inner[0] + g + 2.0, tables)
+            else:
+                rect(bx, inner[1] - g - 2.0, bx + 0.9, inner[1] - g, tables)
+            if rng.random() < 0.7:
+                c = 0.5
+                cx0 = a + t / 2 + g if rng.random() < 0.5 else b - t / 2 - g - c
+                if abs((cx0 + c / 2) - (bx + 0.45)) > 1.0:
+                    cy0 = inner[1] - 0.6 - c if sign < 0 else inner[0] + 0.6
+                    rect(cx0, cy0, cx0 + c, cy0 + c, tables)
+    # end walls
+    rect(-t, min(ys), 0.0, max(ys))
+    rect(L, min(ys), L + t, max(ys))
+    doc = {"walls": walls, "tables": tables, "doors": [], "points": pts}
+    cy = t + wc / 2
+    start = (1.0, cy, 0.0)
+    sim = {
+        "initial_pose": list(start), "uncertain_odom": False, "provide_internal_pose": True,
+        "objects": [{"length": 0.4, "width": 0.4, "trigger_radius": 3.0, "repeat": True, "velocity": 0.4,
+                     "init_pose": [2.5, cy + 0.3, 0.0], "final_pose": [L - 2.5, cy + 0.3, 0.0]}],
+    }
+    return doc, sim

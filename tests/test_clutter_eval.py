@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 
 from pico_studio.evaluation.runner import evaluate_map
-from tests.clutter_scenes import cafe_world
+from tests.clutter_scenes import cafe_world, ward_world
 
 
 def test_restaurant_with_its_moving_box(maps_dir):
@@ -28,4 +28,19 @@ def test_a_generated_cafe(tmp_path):
     r = evaluate_map(str(tmp_path / "cafe.json"), sim_config=str(tmp_path / "cafe_sim.json"), poses=12, seed=1)
     assert r["doors_visible"] >= 4
     assert r["door_precision"] >= 0.95 and r["door_recall"] >= 0.6
+    assert r["endpoint_error_m"] <= 0.03 and r["convexity_accuracy"] >= 0.98
+
+
+def test_a_generated_ward(tmp_path):
+    """A hospital ward (`clutter_scenes.ward_world`): 2 m beds whose corners were door jambs
+    towards the corridor wall's doors (2 false doors in 12 poses before the block-corner rule);
+    once localised the map keeps every door and rejects what is left."""
+    doc, sim = ward_world(3)
+    (tmp_path / "ward.json").write_text(json.dumps(doc))
+    (tmp_path / "ward_sim.json").write_text(json.dumps(sim))
+    r = evaluate_map(str(tmp_path / "ward.json"), sim_config=str(tmp_path / "ward_sim.json"), poses=12, seed=1)
+    assert r["doors_visible"] >= 10
+    false_doors = r["doors_detected"] * (1 - r["door_precision"])
+    assert false_doors <= 1.01 and r["door_recall"] >= 0.9
+    assert r["map_door_precision"] == 1.0 and r["map_door_recall"] >= 0.9
     assert r["endpoint_error_m"] <= 0.03 and r["convexity_accuracy"] >= 0.98

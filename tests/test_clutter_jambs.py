@@ -185,6 +185,21 @@ def test_a_thin_walls_corner_is_a_jamb_a_tables_corner_not():
     assert "jambs" not in kind
 
 
+def test_a_beds_corner_is_no_jamb_a_side_walls_corner_is():
+    """A bed (0.9 x 2 m) in a ward room behind the corridor wall's door: its 2 m side (as long as
+    a building's wall) turns at a convex corner into its 0.9 m foot, whose other end is convex
+    too — a block's face, no longer than an object — so the corner is no jamb towards the
+    corridor wall's end 1 m off. The same corner turning into a wall that runs on out of view
+    (a side room's wall) is a jamb."""
+    robot = (12.51, 2.82)
+    walls = [[11.16, 4.96, 11.17, 2.94], [11.17, 2.94, 10.27, 2.93], [10.99, 1.92, 13.11, 1.91]]
+    connected = [[-1, 1], [0, -1], [-1, -1]]
+    doors, kind = _doors(walls, connected, [[False, False], [False, True], [True, False]], robot)
+    assert "jambs" not in kind
+    doors, kind = _doors(walls, connected, [[False, False], [False, False], [True, False]], robot)
+    assert kind == ["jambs"] and np.allclose(doors[0], [11.17, 2.94, 10.99, 1.92], atol=1e-6)
+
+
 def test_a_mouth_into_a_hallway_seen_at_an_angle_is_a_door():
     """escape:5's exit: a room's wall (x = 0) with a 0.8 m mouth into a hallway 1.4 m long, open
     at its far end. Seen from the side most rays through the mouth end on the hallway's walls

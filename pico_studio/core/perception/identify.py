@@ -21,7 +21,9 @@ jamb is a wall's end joined to nothing or to a *whole* end cap (no longer than
 a step — the wall at its far end running the other way: a box standing against a wall), or a
 building's wall (at least `end_face_min_length`) turning at a convex corner away from the
 robot (a thin-walled room's mouth; a table's front is shorter; turning towards the robot the
-corner hides the wall's own end, convex only as seen from behind); a
+corner hides the wall's own end, convex only as seen from behind) into a wall that is no
+block's face (both its ends convex, no longer than `object_max_size`: a bed's foot, its 2 m
+side as long as a building's wall); a
 wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a
 long wall's line that is no block's face: a table's front seen whole, both ends free, shorter
 than a building's wall) or a door frame's wall (at least `door_wall_min_length`, or a stub on
@@ -226,7 +228,7 @@ def _doors(
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
         float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX,
-        float(params.end_face_min_length), float(robot[0]), float(robot[1]))
+        float(params.end_face_min_length), float(robot[0]), float(robot[1]), float(params.object_max_size))
     if len(wi) < 1:
         return empty, [], empty, [], evidence
     ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i

@@ -340,19 +340,20 @@ def _example_candidates() -> tuple:
     walls = np.array([[0.0, 0.0, 2.0, 0.0], [2.0, 0.0, 2.0, 0.2], [3.0, 0.0, 5.0, 0.0]])
     connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
     prop = np.array([[0, 2], [2, 2], [2, 0]], dtype=np.int64)
-    return walls, connected, prop, np.zeros(3, dtype=np.bool_), 0.35, 0.5, 0, 2, 1.5, 1.0, 1.0
+    return walls, connected, prop, np.zeros(3, dtype=np.bool_), 0.35, 0.5, 0, 2, 1.5, 1.0, 1.0, 1.0
 
 
 @kernel(_example_candidates)
 def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray,
                     cap_max: float, frame_min: float, floating: int, convex: int, building_min: float,
-                    rx: float, ry: float,
+                    rx: float, ry: float, object_max: float,
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                np.ndarray]:
     """The door-point candidates (identify._doors says what and why): every wall end (i, e)
     that is convex or floating, not on an object, and either joined to nothing or *capped*
     there, or convex on a wall at least `building_min` long turning away from the robot at
-    (rx, ry) (a building's thin wall turning: `_turns_away`). Wall k joined at end e is a cap when |k| <= cap_max and it is *whole*: none of k's
+    (rx, ry) (a building's thin wall turning: `_turns_away`) into a wall that is no block's face
+(`_block_corner`, no longer than `object_max`). Wall k joined at end e is a cap when |k| <= cap_max and it is *whole*: none of k's
     ends is floating but the one joining i (a T-joined k: neither), and the wall joined at its
 far end, if any, runs back the same way as i (`_step`: else a box against a wall). Per candidate, in row order
     (i, then e): (wall i, end e, capped, long: |i| >= frame_min, stub: not long and the wall
@@ -382,7 +383,7 @@ far end, if any, runs back the same way as i (`_step`: else a box against a wall
                 if not whole:
                     continue
             elif k >= 0 and not (prop[i, e] == convex and lengths[i] >= building_min
-                                 and _turns_away(walls, i, e, k, rx, ry)):
+                                 and _turns_away(walls, i, e, k, rx, ry) and not _block_corner(connected, prop, lengths, i, k, convex, object_max)):
                 # a block's corner (a table against a wall); a building's wall turning is a jamb
                 # when it turns away from the robot (R): turning towards it, the corner hides the
                 # wall's end from R (convex only as seen from behind: a wall's end by a table)
@@ -410,6 +411,22 @@ def _turns_away(walls: np.ndarray, i: int, e: int, k: int, rx: float, ry: float)
     side_k = dx * (fy - py) - dy * (fx - px)
     side_r = dx * (ry - py) - dy * (rx - px)
     return side_k * side_r < 0
+
+
+@njit
+def _block_corner(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, i: int, k: int, convex: int,
+                  object_max: float) -> bool:
+    """Is wall k, joined to wall i, a block's face: no longer than an object (`object_max`) and
+    its other end convex too (a bed's front, i its side)? A room's wall turns into a side wall
+    that ends in a concave corner (a thin-walled room's mouth) or runs on out of view; a
+    hallway's wall, seen to its end, is longer."""
+    if lengths[k] > object_max:
+        return False
+    if connected[k, 0] == i:
+        return prop[k, 1] == convex
+    if connected[k, 1] == i:
+        return prop[k, 0] == convex
+    return False
 
 
 @njit

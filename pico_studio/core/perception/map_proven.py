@@ -42,7 +42,7 @@ def bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
         float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX, 0.0, float(robot[0]),
-        float(robot[1]))
+        float(robot[1]), 0.0)
     convex = prop[wi, we] == CONVEX
     wi, we, long, stub = wi[convex], we[convex], long[convex], stub[convex]
     cap_sized, cap_seen = cap_sized[convex], cap_seen[convex]
