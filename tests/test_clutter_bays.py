@@ -83,7 +83,7 @@ def test_the_map_makes_a_bay_a_door_where_its_walls_open_and_not_among_furniture
     possible = np.array([MOUTH, furniture])
     cm = combine(pose, pose, np.zeros((0, 4)), lmap.field, np.zeros(len(lmap.field.segments), dtype=np.int64),
                  lmap.n_walls, CONFIG.localisation.combined, doors=np.zeros((0, 4)), possible_doors=possible,
-                 possible_door_kind=["bay", "bay"], map_doors=lmap.door_lines)
+                 possible_door_kind=["bay", "bay"], map_openings=lmap.openings)
     assert np.allclose(cm.doors, [MOUTH]) and cm.door_promoted.tolist() == [True]
     assert np.allclose(cm.possible_doors, [furniture]) and cm.possible_door_confirmed.tolist() == [False]
 
@@ -94,5 +94,5 @@ def test_a_gap_along_a_thick_walls_face_is_no_map_opening():
     no opening: its middle is on a wall. The T-opening by the block at x = 4.6..4.8 is one."""
     lmap = build_localisation_map(load_map(str(RESTAURANT)), CONFIG.localisation)
     gaps = np.array([[2.1, 2.0, 2.0, 1.5], [3.0, 2.0, 2.1, 2.0], [4.7, 1.2, 4.7, 0.2]])
-    got = confirmed_by_map(gaps, np.zeros((0, 4)), lmap.field.segments[: lmap.n_walls], CONFIG.localisation.combined)
+    got = confirmed_by_map(gaps, lmap.openings, CONFIG.localisation.combined)
     assert got.tolist() == [False, False, True]

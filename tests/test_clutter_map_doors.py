@@ -1,5 +1,6 @@
-"""Once localised, the map's doors confirm door candidates: a candidate across a map door is
-confirmed, one between two tables is not (restaurant_2024's door leaves)."""
+"""Once localised, the map's door openings (`GlobalMap.openings`, what the truth scores
+against) confirm door candidates: a candidate across a map door is confirmed, one between two
+tables is not (restaurant_2024's door leaves)."""
 
 from __future__ import annotations
 
@@ -9,8 +10,9 @@ import numpy as np
 
 from pico_studio.config import load_config
 from pico_studio.core.localisation import build_localisation_map, combine
-from pico_studio.core.localisation.combined import confirmed_by_map, map_door_lines
+from pico_studio.core.localisation.combined import confirmed_by_map
 from pico_studio.json_map import load_map
+from pico_studio.json_map.openings import door_openings
 
 PARAMS = load_config(None).localisation
 RESTAURANT = Path(__file__).resolve().parents[1] / "examples" / "maps" / "restaurant_2024.json"
@@ -18,7 +20,7 @@ RESTAURANT = Path(__file__).resolve().parents[1] / "examples" / "maps" / "restau
 
 def test_a_door_leaf_gives_the_line_across_its_passage():
     leaf = np.array([[3.6, 1.8], [4.6, 1.8], [4.6, 2.0], [3.6, 2.0]])
-    line = map_door_lines([leaf])[0]
+    line = door_openings(np.zeros((0, 4)), [leaf])[0]
     ends = sorted([tuple(np.round(line[0:2], 6)), tuple(np.round(line[2:4], 6))])
     assert np.allclose(ends, [(3.6, 1.9), (4.6, 1.9)])
 
@@ -29,18 +31,17 @@ def test_an_opening_between_map_walls_is_confirmed_a_table_gap_not():
     gap = np.array([[2.02, 0.03, 2.88, -0.02]])  # wall corner to wall end
     tee = np.array([[2.0, 0.05, 2.0, 0.95]])  # wall corner to nowhere: no jamb on the far side
     table = np.array([[3.5, 1.5, 4.3, 1.5]])  # two table corners in the room
-    got = confirmed_by_map(np.vstack([gap, tee, table]), np.zeros((0, 4)), walls, p)
+    got = confirmed_by_map(np.vstack([gap, tee, table]), door_openings(walls), p)
     assert got.tolist() == [True, False, False]
 
 
 def test_candidates_across_a_map_door_are_confirmed_others_not():
     lmap = build_localisation_map(load_map(str(RESTAURANT)), PARAMS)
-    assert len(lmap.door_lines) >= 1
+    assert len(lmap.openings) >= 1
     on = np.array([[3.62, 1.95, 4.58, 1.9]])  # across the door leaf at (3.6..4.6, 1.8..2.0)
     turned = np.array([[4.1, 1.4, 4.1, 2.4]])  # at the same place, across the leaf's direction
     tables = np.array([[3.41, 4.1, 2.25, 4.25]])  # between a table and a box
-    walls = lmap.field.segments[: lmap.n_walls]
-    got = confirmed_by_map(np.vstack([on, turned, tables]), lmap.door_lines, walls, PARAMS.combined)
+    got = confirmed_by_map(np.vstack([on, turned, tables]), lmap.openings, PARAMS.combined)
     assert got.tolist() == [True, False, False]
 
 
@@ -56,8 +57,45 @@ def test_a_t_opening_waiting_for_evidence_becomes_a_door_where_the_map_has_one()
     cm = combine(pose, pose, np.zeros((0, 4)), lmap.field, np.zeros(len(lmap.field.segments), dtype=np.int64),
                  lmap.n_walls, PARAMS.combined, doors=np.array([[3.62, 1.95, 4.58, 1.9]]),
                  possible_doors=possible, possible_door_kind=["end_face", "end_face", "loose_wall"],
-                 map_doors=lmap.door_lines)
+                 map_openings=lmap.openings)
     assert np.allclose(cm.doors, [[3.62, 1.95, 4.58, 1.9], tee])
     assert cm.door_confirmed.tolist() == [True, True] and cm.door_promoted.tolist() == [False, True]
     assert np.allclose(cm.possible_doors, [tables, tee]) and list(cm.possible_door_kind) == ["end_face", "loose_wall"]
     assert cm.possible_door_confirmed.tolist() == [False, True]
+
+
+def test_the_combined_map_confirms_the_truths_openings_and_only_those():
+    """One list of openings: the truth scores against `GlobalMap.openings` and the combined map
+    confirms against it. On hospital_2021.png (a heightmap: every outline vertex a corner) the
+    gap from the middle block's corner to the corridor wall's face (1.2 m, the corridor going on
+    past it) is no opening, and was confirmed by the combined map's old corner-to-wall rule."""
+    from pico_studio.config import Config
+    from pico_studio.sim import Simulator
+
+    cfg = Config()
+    gmap = load_map(str(RESTAURANT.parent / "hospital_2021.png"), cfg.map)
+    sim = Simulator(gmap, cfg.sim, seed=0)
+    openings = gmap.openings()
+    assert len(openings) >= 8 and np.array_equal(sim.truth.door_openings(), openings)
+    lmap = build_localisation_map(gmap, PARAMS)
+    assert confirmed_by_map(openings, lmap.openings, PARAMS.combined).all()
+    corridor = np.array([[-1.7, 1.97, -2.92, 1.94]])
+    assert confirmed_by_map(corridor, lmap.openings, PARAMS.combined).tolist() == [False]
+
+
+def test_the_maps_opening_parameters_are_its_loaders():
+    """`load_map(path, cfg.map)` gives the map `cfg.map.openings`: a narrower maximum width
+    drops the wider gaps between wall ends from its openings (and so from the truth's and the
+    combined map's); the map's door leaf stays an opening whatever its width."""
+    from dataclasses import replace
+
+    from pico_studio.config import Config
+
+    cfg = Config()
+    wide = load_map(str(RESTAURANT), cfg.map).openings()
+    narrow_params = replace(cfg.map, openings=replace(cfg.map.openings, door_max_width=0.9))
+    narrow = load_map(str(RESTAURANT), narrow_params).openings()
+    widths = np.hypot(wide[:, 2] - wide[:, 0], wide[:, 3] - wide[:, 1])
+    assert (widths > 0.9).any() and len(narrow) < len(wide)
+    assert all(any(np.allclose(n, w) for w in wide) for n in narrow)
+    assert any(np.allclose(n, [3.6, 1.9, 4.6, 1.9]) for n in narrow)  # the door leaf's line

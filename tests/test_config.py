@@ -50,6 +50,9 @@ def test_partial_file_merges_over_defaults(tmp_path) -> None:
     [
         ("map:\n  heightmap:\n    resolutoin: 0.1\n", "map.heightmap.resolutoin: unknown key; did you mean 'resolution'?"),
         ("mapp: {}\n", "mapp: unknown key; did you mean 'map'?"),
+        ("sim:\n  truth:\n    door_max_width: 1.2\n", "sim.truth.door_max_width: moved to map.openings.door_max_width"),
+        ("localisation:\n  combined:\n    jamb_confirm_distance: 0.1\n",
+         "localisation.combined.jamb_confirm_distance: no such parameter any more"),
         ("map:\n  heightmap:\n    resolution: 5\n", "map.heightmap.resolution: 5 is out of range; allowed 0.001 .. 1 m/px"),
         ("map:\n  heightmap:\n    resolution: .nan\n", "map.heightmap.resolution: must be a finite number"),
         ("map:\n  heightmap:\n    min_speck_area: 2.5\n", "map.heightmap.min_speck_area: must be a whole number"),

@@ -267,6 +267,7 @@ def test_combined_map_and_tracker_loops_compiled_equal_their_python():
     """Every call of the combined map's and the tracker's loops (walls on the map, doors the
     map confirms, usable points, seen-wall counts) during a localising run on hospital_2019:
     compiled as in their Python, and not vacuous (walls matched, doors confirmed, hits)."""
+    from pico_studio.core import geometry
     from pico_studio.core.behaviours.registry import Drive
     from pico_studio.core.localisation import (
         combined,
@@ -281,7 +282,7 @@ def test_combined_map_and_tracker_loops_compiled_equal_their_python():
     from pico_studio.sim import Simulator
     from tests.jit_scenes import hospital_frames, recorded_calls
 
-    names = {combined: ("on_map_kernel", "doors_confirmed"), matcher: ("usable_kernel",), tracker: ("seen_hits_kernel",)}
+    names = {combined: ("on_map_kernel", "door_matches"), matcher: ("usable_kernel",), tracker: ("seen_hits_kernel",)}
     cfg = Config()
     with recorded_calls(names) as calls:
         first = hospital_frames(1)[0][0]
@@ -290,7 +291,7 @@ def test_combined_map_and_tracker_loops_compiled_equal_their_python():
         assert isinstance(perceptor, LocalisingPerceptor)
         for _ in Session(sim, perceptor=perceptor, behaviour=Drive(0.3, 0.0, 0.2)).frames(until=1.5):
             pass
-    kernels = {"on_map_kernel": combined_kernels.walls_on_map, "doors_confirmed": combined_kernels.doors_confirmed,
+    kernels = {"on_map_kernel": combined_kernels.walls_on_map, "door_matches": geometry.door_matches,
                "usable_kernel": match_kernels.usable_kernel, "seen_hits_kernel": match_kernels.seen_hits_kernel}
     found = {}
     for n, k in kernels.items():

@@ -37,7 +37,7 @@ def reference_jamb_seen_length(truth: GroundTruth, jambs: np.ndarray) -> np.ndar
     length2 = np.maximum((ab * ab).sum(1), 1e-18)
     for j, p in enumerate(np.asarray(jambs, dtype=float).reshape(-1, 2)):
         u = np.clip(((p - a) * ab).sum(1) / length2, 0.0, 1.0)
-        near = np.hypot(*(a + u[:, None] * ab - p).T) <= t.max_wall_thickness / 2 + 1e-3
+        near = np.hypot(*(a + u[:, None] * ab - p).T) <= truth._world.map.opening_params.max_wall_thickness / 2 + 1e-3
         close = np.isin(hits, np.flatnonzero(near)) & (np.hypot(*(xy - p).T) <= t.jamb_reach)
         for k in np.unique(hits[close]):
             along = (xy[close & (hits == k)] - a[k]) @ ab[k] / math.sqrt(length2[k])
@@ -189,7 +189,7 @@ def test_jamb_seen_length_is_the_python_it_replaced(map_name: str):
     for f in frames:
         np.testing.assert_allclose(f["jamb_new"], f["jamb_ref"], rtol=1e-12, atol=1e-12)
         # the compiled loop and its own Python: the same floats
-        args = (np.ascontiguousarray(f["jambs"]), *f["scan"], f["walls"], t.max_wall_thickness / 2 + 1e-3,
+        args = (np.ascontiguousarray(f["jambs"]), *f["scan"], f["walls"], Config().map.openings.max_wall_thickness / 2 + 1e-3,
                 float(t.jamb_reach))
         np.testing.assert_array_equal(truth_kernels.jamb_seen_lengths(*args),
                                       jit.py_func(truth_kernels.jamb_seen_lengths)(*args))

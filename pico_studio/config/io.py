@@ -23,6 +23,23 @@ from pico_studio.user_files import parse_yaml, read_text
 T = TypeVar("T")
 
 
+# parameters that moved or went: an old file names them, the error says where they are now
+MOVED = {
+    **{f"sim.truth.{k}": f"map.openings.{k}" for k in (
+        "door_min_width", "door_max_width", "max_wall_thickness", "mouth_probe", "mouth_wall_length", "mouth_margin")},
+    "localisation.combined.jamb_confirm_distance": None,  # the map's openings confirm doors now
+}
+
+
+def _moved(path: str) -> str | None:
+    if path not in MOVED:
+        return None
+    new = MOVED[path]
+    if new is None:
+        return "no such parameter any more (the map's door openings, map.openings, confirm doors now): remove it"
+    return f"moved to {new}"
+
+
 def _did_you_mean(key: str, options: list[str]) -> str:
     close = difflib.get_close_matches(key, options, n=1, cutoff=0.5)
     return f"; did you mean '{close[0]}'?" if close else f"; known keys: {', '.join(options)}"
@@ -40,6 +57,9 @@ def from_dict(cls: type[T], data: Any, *, file: str | Path | None = None, prefix
     for key, value in data.items():
         path = f"{prefix}{key}"
         if key not in fields:
+            moved = _moved(path)
+            if moved:
+                raise ConfigError(moved, file=file, field=path)
             what = "no plugin of that name is loaded (--plugin FILE.py)" if issubclass(cls, PluginSections) else "unknown key"
             raise ConfigError(what + (_did_you_mean(str(key), list(fields)) if fields else ""), file=file, field=path)
         f = fields[key]
@@ -161,7 +181,7 @@ def with_value(obj: T, path: str, value: Any) -> T:
     """A copy of the tree with one parameter changed, validated like a file would be."""
     info = {p.path: p for p in params(obj)}.get(path)
     if info is None:
-        raise ConfigError("unknown parameter" + _did_you_mean(path, [p.path for p in params(obj)]), field=path)
+        raise ConfigError(_moved(path) or "unknown parameter" + _did_you_mean(path, [p.path for p in params(obj)]), field=path)
     new_value = _coerce(info.spec, value, file=None, field=path)
     return _replace_path(obj, path.split("."), new_value, prefix="")
 

@@ -140,18 +140,12 @@ class CombinedParams:
                            help="Explained beams on a map wall before it counts as seen")
     door_confirm_distance: float = param(
         0.3, lo=0.0, hi=2.0, step=0.05, unit="m",
-        help="Once localised, a door (or possible door) whose middle lies this close to one of the map's "
-        "doors, and runs along it, is confirmed by the map",
-    )
-    jamb_confirm_distance: float = param(
-        0.15, lo=0.0, hi=1.0, step=0.01, unit="m",
-        help="Once localised, a door (or possible door) is confirmed by the map's walls too when one end "
-        "lies this close to a map wall's corner and the other this close to a map wall (cabinets and "
-        "tables are no jambs)",
+        help="Once localised, a door (or possible door) whose middle lies this close to the middle of one "
+        "of the map's door openings (map.openings), and runs along it, is confirmed by the map",
     )
     door_confirm_angle: float = param(
         0.35, lo=0.0, hi=1.57, step=0.05, unit="rad",
-        help="...and differs from the map door's direction by at most this",
+        help="...and differs from the opening's direction by at most this",
     )
 
 

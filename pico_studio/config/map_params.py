@@ -70,6 +70,23 @@ class RasterParams:
 
 
 @dataclass(frozen=True)
+class OpeningParams:
+    """What a door opening is in a map (`json_map.openings`): the truth scores doors against
+    these and the combined map confirms doors where they are."""
+
+    door_min_width: float = param(0.5, lo=0.1, hi=5.0, step=0.05, unit="m", help="Narrowest gap between wall ends that counts as a door opening",
+                                 at_most="door_max_width")
+    door_max_width: float = param(1.5, lo=0.1, hi=5.0, step=0.05, unit="m", help="Widest gap between wall ends that counts as a door opening")
+    max_wall_thickness: float = param(0.3, lo=0.01, hi=2.0, step=0.01, unit="m", help="A short segment closing a thick wall's end (an end cap) is at most this long")
+    straight_tolerance: float = param(0.15, lo=0.0, hi=1.0, step=0.01, unit="rad", help="Walls meeting within this of a straight line form no corner (a passage mouth is between corners)")
+    abut_tolerance: float = param(0.03, lo=0.0, hi=0.1, step=0.001, unit="m", help="A wall vertex this close to another wall abuts it (a T-junction): no free wall end there")
+    mouth_probe: float = param(0.25, lo=0.05, hi=2.0, step=0.05, unit="m", help="How far either side of a candidate passage mouth the free width is measured")
+    mouth_wall_length: float = param(0.5, lo=0.0, hi=5.0, step=0.05, unit="m", help="A passage's side walls run at least this long from its mouth (a plant pot beside a wall makes no passage)")
+    mouth_margin: float = param(0.1, lo=0.0, hi=1.0, step=0.01, unit="m", help="A passage is at most this much wider than its mouth (and the area it opens into at least door_min_width wider)")
+
+
+@dataclass(frozen=True)
 class MapParams:
     heightmap: HeightmapParams = section(HeightmapParams, "Heightmap images: vectorising walls and doors")
+    openings: OpeningParams = section(OpeningParams, "Door openings of a map: what the truth scores and the combined map confirms against")
     raster: RasterParams = section(RasterParams, "Drawing vector maps into occupancy/heightmap images")

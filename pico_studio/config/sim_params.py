@@ -102,19 +102,12 @@ class ObjectParams:
 
 @dataclass(frozen=True)
 class TruthParams:
-    door_min_width: float = param(0.5, lo=0.1, hi=5.0, step=0.05, unit="m", help="Narrowest gap between wall ends that counts as a door opening",
-                                 at_most="door_max_width")
-    door_max_width: float = param(1.5, lo=0.1, hi=5.0, step=0.05, unit="m", help="Widest gap between wall ends that counts as a door opening")
-    max_wall_thickness: float = param(0.3, lo=0.01, hi=2.0, step=0.01, unit="m", help="A short segment closing a thick wall's end (an end cap) is at most this long")
     straight_tolerance: float = param(0.15, lo=0.0, hi=1.0, step=0.01, unit="rad", help="Walls meeting within this of a straight line form no corner")
     abut_tolerance: float = param(0.03, lo=0.0, hi=0.1, step=0.001, unit="m", help="A map vertex this close to another segment abuts it (a T-junction, touching polygons, a table a few cm off a wall: a gap the laser cannot resolve): that segment's walls count in its corner")
     visible_tolerance: float = param(0.05, lo=0.0, hi=1.0, step=0.01, unit="m", help="A point is unoccluded when the ray to it is blocked no nearer than this before it")
     min_wall_beams: int = param(2, lo=1, hi=100, step=1, help="A visible wall piece is hit by at least this many consecutive beams")
     jamb_min_seen: float = param(0.15, lo=0.0, hi=2.0, step=0.01, unit="m", help="A door is visible when beams of the scan hit each jamb's wall over at least this length")
     jamb_reach: float = param(0.5, lo=0.05, hi=5.0, step=0.05, unit="m", help="Only the part of a jamb's wall this close to the jamb counts as seeing it")
-    mouth_probe: float = param(0.25, lo=0.05, hi=2.0, step=0.05, unit="m", help="How far either side of a candidate passage mouth the free width is measured")
-    mouth_wall_length: float = param(0.5, lo=0.0, hi=5.0, step=0.05, unit="m", help="A passage's side walls run at least this long from its mouth (a plant pot beside a wall makes no passage)")
-    mouth_margin: float = param(0.1, lo=0.0, hi=1.0, step=0.01, unit="m", help="A passage is at most this much wider than its mouth (and the area it opens into at least door_min_width wider)")
 
 
 @dataclass(frozen=True)

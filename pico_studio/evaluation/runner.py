@@ -39,10 +39,10 @@ from pico_studio.evaluation.run_score import PoseErrorScorer, PoseScore, RunScor
 from pico_studio.evaluation.scenarios import Scenario, ScenarioSet
 from pico_studio.evaluation.worlds import make_world
 from pico_studio.json_map import GlobalMap, load_map
+from pico_studio.json_map.openings import vertex_graph
 from pico_studio.progress import Progress, ProgressObserver
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
-from pico_studio.sim.map_features import vertex_graph
 from pico_studio.sim.sim_config import SimConfigFile, load_sim_config
 
 Pose = tuple[float, float, float]

@@ -17,7 +17,8 @@ them only the run of samples that can lie in its box is tested.
 
 Pairing (`match_nearest`): greedy, nearest first — of all pairs within the radius, sorted by
 distance, a pair is taken unless one of its points is taken already. Door matches
-(`door_matches`): middles within a distance and directions within an angle.
+(`geometry.door_matches`, the combined map's test too): middles within a distance and
+directions within an angle.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ import math
 
 import numpy as np
 
+from pico_studio.core.geometry import door_matches  # noqa: F401  (the combined map confirms doors by it too)
 from pico_studio.jit import kernel, njit
 
 
@@ -189,28 +191,3 @@ def match_nearest(a: np.ndarray, b: np.ndarray, radius: float) -> tuple[np.ndarr
         ia[pairs], ib[pairs] = i, j
         pairs += 1
     return ia[:pairs], ib[:pairs]
-
-
-def _door_example() -> tuple:
-    doors = np.array([[0.0, 0.0, 0.9, 0.0], [5.0, 5.0, 5.0, 6.0]])
-    return doors, doors[:1] + 0.05, 0.3, math.cos(0.3)
-
-
-@kernel(_door_example)
-def door_matches(found: np.ndarray, truth: np.ndarray, distance: float, cos_angle: float) -> np.ndarray:
-    """(F, T) bool: door f (F, 4) matches opening t (T, 4): their middles within `distance`
-    and their directions within the angle, |u_f . u_t| >= cos_angle (u = (b - a) / |b - a|)."""
-    out = np.zeros((found.shape[0], truth.shape[0]), dtype=np.bool_)
-    for f in range(found.shape[0]):
-        fx, fy = (found[f, 0] + found[f, 2]) / 2, (found[f, 1] + found[f, 3]) / 2
-        ux, uy = found[f, 2] - found[f, 0], found[f, 3] - found[f, 1]
-        norm = max(np.hypot(ux, uy), 1e-12)
-        ux, uy = ux / norm, uy / norm
-        for t in range(truth.shape[0]):
-            mx, my = (truth[t, 0] + truth[t, 2]) / 2, (truth[t, 1] + truth[t, 3]) / 2
-            if np.hypot(fx - mx, fy - my) > distance:
-                continue
-            vx, vy = truth[t, 2] - truth[t, 0], truth[t, 3] - truth[t, 1]
-            norm_t = max(np.hypot(vx, vy), 1e-12)
-            out[f, t] = abs(ux * (vx / norm_t) + uy * (vy / norm_t)) >= cos_angle
-    return out

@@ -33,11 +33,19 @@ def load_map(
 ) -> GlobalMap:
     """Any map by its suffix: .json (vector map), .png/.pgm (heightmap image; a same-stem
     map_server YAML beside it that names it is used), .yaml/.yml (map_server file).
-    `params` (cfg.map or cfg.map.heightmap) tunes vectorising; `resolution` overrides the
+    `params` (cfg.map or cfg.map.heightmap) tunes vectorising (and cfg.map.openings what the
+    map's door openings are, `GlobalMap.openings`); `resolution` overrides the
     pixel size of an image without a YAML. Raises `MapError` naming the file (and field)."""
+    openings = params.openings if isinstance(params, MapParams) else None
     if isinstance(params, MapParams):
         params = params.heightmap
-    p = Path(path)
+    gmap = _load(Path(path), params, resolution)
+    if openings is not None:
+        gmap.opening_params = openings
+    return gmap
+
+
+def _load(p: Path, params: HeightmapParams | None, resolution: float | None) -> GlobalMap:
     suffix = p.suffix.lower()
     if suffix not in MAP_SUFFIXES:
         raise MapError(

@@ -14,6 +14,9 @@ from typing import Any
 
 import numpy as np
 
+from pico_studio.config.map_params import OpeningParams
+from pico_studio.json_map.openings import door_openings
+
 # A map coordinate beyond 10 km is a typo or junk (the challenge's buildings are < 100 m):
 # refused at validation, before 1e308 overflows a raster size or a distance somewhere later.
 MAX_COORDINATE_M = 10_000.0
@@ -37,6 +40,8 @@ class GlobalMap:
     key_order: list[str] = field(default_factory=list)  # top-level key order of the source file
     source: Path | None = None
     warnings: list[str] = field(default_factory=list)
+    opening_params: OpeningParams = field(default_factory=OpeningParams, compare=False)  # what a door opening is
+    _openings: dict[OpeningParams, np.ndarray] = field(default_factory=dict, init=False, compare=False, repr=False)
 
     # ----- derived geometry -------------------------------------------------------------
     def segments_of(self, pairs: np.ndarray) -> np.ndarray:
@@ -72,6 +77,21 @@ class GlobalMap:
     @property
     def door_polygons(self) -> list[np.ndarray]:
         return [self.polygon_vertices(p) for p in self.doors]
+
+    def openings(self) -> np.ndarray:
+        """(D, 4) the map's door openings, jamb to jamb (`json_map.openings.door_openings` with
+        `opening_params`: its doors, gaps between wall ends, passage mouths; tables and cabinets
+        block a gap but have none of their own). Computed once per parameters."""
+        p = self.opening_params
+        if p not in self._openings:
+            objects = [self.segments_of(o) for o in self.objects]
+            self._openings[p] = door_openings(
+                self.wall_segments, self.door_polygons, obstacles=np.vstack(objects) if objects else None,
+                min_width=p.door_min_width, max_width=p.door_max_width, max_thickness=p.max_wall_thickness,
+                mouth_probe=p.mouth_probe, mouth_margin=p.mouth_margin, mouth_wall_length=p.mouth_wall_length,
+                straight_tolerance=p.straight_tolerance, abut=p.abut_tolerance,
+            )
+        return self._openings[p].copy()
 
     @property
     def start_polygons(self) -> list[np.ndarray]:

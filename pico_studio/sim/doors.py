@@ -11,28 +11,10 @@ from __future__ import annotations
 
 import math
 
-import cv2
 import numpy as np
 
 from pico_studio.core.geometry import relative
-
-
-def door_frame(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, float]:
-    """(centre, unit axis along the door, size along it, thickness) of a door polygon: its
-    minimum-area bounding rectangle, so a heightmap's ragged door outline works as well as a
-    JSON map's rectangle."""
-    (cx, cy), (w, h), deg = cv2.minAreaRect(np.asarray(vertices, dtype=np.float32))
-    a = math.radians(deg)
-    axis = np.array([math.cos(a), math.sin(a)])
-    if h > w:
-        axis, w, h = np.array([-axis[1], axis[0]]), h, w
-    # the rectangle comes from float32 maths: measure size and centre again in float64
-    v = np.asarray(vertices, dtype=float)
-    along = v @ axis
-    normal = np.array([-axis[1], axis[0]])
-    across = v @ normal
-    center = axis * (along.max() + along.min()) / 2 + normal * (across.max() + across.min()) / 2
-    return center, axis, float(along.max() - along.min()), float(across.max() - across.min())
+from pico_studio.json_map.openings import door_frame
 
 
 def slide_direction(axis: np.ndarray, grey: int | None) -> np.ndarray:

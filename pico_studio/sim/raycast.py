@@ -27,6 +27,7 @@ import math
 import numpy as np
 
 from pico_studio.jit import kernel
+from pico_studio.json_map.openings import cast_rays  # noqa: F401  (the plain few-ray test, the map's)
 
 Pose = tuple[float, float, float]
 _EPS = 1e-9  # a beam exactly through an end point still hits
@@ -125,22 +126,3 @@ def _cast(segments: np.ndarray, x: float, y: float, cos_th: float, sin_th: float
         if not best[b] < np.inf:
             hit[b] = -1
     return best, hit
-
-
-def cast_rays(origin: tuple[float, float], angles: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """Distance along rays from `origin` at arbitrary map-frame `angles` to the nearest of
-    `segments` (map frame), inf where none: the plain (K x N) test, for a few rays."""
-    angles = np.asarray(angles, dtype=float)
-    if len(segments) == 0:
-        return np.full(angles.shape, np.inf)
-    c = np.cos(angles)[:, None]
-    s = np.sin(angles)[:, None]
-    p1 = segments[None, :, 0:2] - np.asarray(origin)
-    d = segments[None, :, 2:4] - segments[None, :, 0:2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        den = c * d[..., 1] - s * d[..., 0]
-        t = (p1[..., 0] * d[..., 1] - p1[..., 1] * d[..., 0]) / den
-        # where along the segment the ray crosses: cross(p1, (c, s)) / den
-        u = (p1[..., 0] * s - p1[..., 1] * c) / den
-    ok = (t >= 0.0) & (u >= 0.0) & (u <= 1.0)
-    return np.where(ok, t, np.inf).min(axis=1)

@@ -25,8 +25,9 @@ and moving objects where they are now (a standing box's corner, a closed door's 
 its jambs are real corners).
 
 Corners are those of the static geometry (walls, cabinets/tables), classified convex/concave
-as seen from the robot (see `map_features`); door openings are `map_features.door_openings`
-of the map (its doors, the gaps between wall ends of a door's width, and passage mouths).
+as seen from the robot (see `map_features`); door openings are the map's own
+(`GlobalMap.openings`: its doors, the gaps between wall ends of a door's width, and passage
+mouths), the ones the combined map confirms doors against.
 
 The truth is given the parts of the simulator it reads (world, base, laser, odometry and the
 truth parameters), so `sim.truth` does not import `sim.simulator`.
@@ -43,9 +44,10 @@ import cv2
 import numpy as np
 
 from pico_studio.config.sim_params import TruthParams
+from pico_studio.json_map.openings import Vertices, vertex_graph
 from pico_studio.sim.base import Base, CollisionEvent
 from pico_studio.sim.laser import Laser
-from pico_studio.sim.map_features import Vertices, classify_corners, door_openings, vertex_graph
+from pico_studio.sim.map_features import classify_corners
 from pico_studio.sim.odometry import Odometry
 from pico_studio.sim.truth_kernels import (
     beam_ends,
@@ -135,7 +137,7 @@ class GroundTruth:
         return Corners(pts, convex, loose)
 
     def door_openings(self) -> np.ndarray:
-        """(D, 4) every door opening of the map, jamb to jamb (see `map_features.door_openings`)."""
+        """(D, 4) every door opening of the map, jamb to jamb (`GlobalMap.openings`)."""
         return self._openings.copy()
 
     def visible_doors(self) -> np.ndarray:
@@ -178,7 +180,7 @@ class GroundTruth:
         loop: `truth_kernels.jamb_seen_lengths`; walls come first in `world.segments()`)."""
         t = self._params
         jambs = np.ascontiguousarray(jambs, dtype=np.float64).reshape(-1, 2)
-        return jamb_seen_lengths(jambs, *self._scan(), self._walls, t.max_wall_thickness / 2 + 1e-3, float(t.jamb_reach))
+        return jamb_seen_lengths(jambs, *self._scan(), self._walls, self._world.map.opening_params.max_wall_thickness / 2 + 1e-3, float(t.jamb_reach))
 
     @cached_property
     def _walls(self) -> np.ndarray:
@@ -198,14 +200,7 @@ class GroundTruth:
 
     @cached_property
     def _openings(self) -> np.ndarray:
-        w = self._world
-        t = self._params
-        return door_openings(
-            w.walls, w.map.door_polygons, obstacles=w.objects,
-            min_width=t.door_min_width, max_width=t.door_max_width, max_thickness=t.max_wall_thickness,
-            mouth_probe=t.mouth_probe, mouth_margin=t.mouth_margin, mouth_wall_length=t.mouth_wall_length, straight_tolerance=t.straight_tolerance,
-            abut=t.abut_tolerance,
-        )
+        return self._world.map.openings()
 
     def _in_fov(self, points: np.ndarray) -> np.ndarray:
         """Within the laser's range and angular field of view from the current pose (the numpy

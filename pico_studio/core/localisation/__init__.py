@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from pico_studio.config.localisation_params import LocalisationParams
-from pico_studio.core.localisation.combined import CombinedMap, combine, map_door_lines
+from pico_studio.core.localisation.combined import CombinedMap, combine
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose
 from pico_studio.core.localisation.prior import PosePrior, initial_prior
@@ -62,8 +62,7 @@ def build_localisation_map(
     if dfield is None:
         dfield = DistanceField.from_map(global_map, params.field)
     return LocalisationMap(dfield, initial_prior(global_map, params.prior, initial_pose),
-                           global_map.bounds, len(global_map.walls),
-                           map_door_lines(global_map.door_polygons))
+                           global_map.bounds, len(global_map.walls), global_map.openings())
 
 
 def localise_world_model(
@@ -88,7 +87,7 @@ def localise_world_model(
             doors=getattr(wm, "doors", None),
             possible_doors=getattr(wm, "possible_doors", None),
             possible_door_kind=getattr(wm, "possible_door_kind", None),
-            map_doors=lmap.door_lines,
+            map_openings=lmap.openings,
         )
     timings = getattr(wm, "timings_ms", None)
     if isinstance(timings, dict):
@@ -124,7 +123,7 @@ class Localiser:
             return None
         return combine(self.last.pose, zero_pose, local_walls, self.lmap.field,
                        self.state.seen_hits, self.lmap.n_walls, self.params.combined,
-                       map_doors=self.lmap.door_lines, **doors)
+                       map_openings=self.lmap.openings, **doors)
 
     def fill(self, wm: Any) -> Any:
         """Localise on a WorldModel's scan and odometry pose and set its localisation fields."""

@@ -6,12 +6,12 @@ every `sample_spacing`; it is *matched* when at least `match_fraction` of its sa
 within `match_distance` of a map wall (the distance field says), otherwise *unmatched* — an
 obstacle, a person, a moved object. A map wall is *seen* once `seen_hits` explained beams
 have landed on it (counted by the tracker while not lost). Doors and possible doors are
-carried into the global frame and *confirmed* by the map when their middle lies within
-`door_confirm_distance` of one of the map's doors (the JSON map's `doors`: each polygon's
-line across the passage, `map_door_lines`) and their direction is within `door_confirm_angle`
-of it, or when they span an opening between the map's walls (one end within
-`jamb_confirm_distance` of a wall corner, the other of a wall, the middle clear of every wall);
-the rest are unconfirmed (a gap between two tables, a person beside a wall). A possible door of
+carried into the global frame and *confirmed* by the map when they are one of the map's door
+openings (`GlobalMap.openings`: its doors, the gaps between its wall ends, its passage mouths —
+the openings the simulator's truth scores against): the middles within `door_confirm_distance`
+and the directions within `door_confirm_angle` (`geometry.door_matches`, the truth's test). The
+rest are unconfirmed (a gap between two tables, a person beside a wall, a table's corner facing
+a wall). A possible door of
 kind "end_face" (a T-opening still waiting for the evidence of several scans) or "bay" (a
 door's shape between block corners: a table bay or a thin-walled room's mouth) that the map
 confirms is *promoted* to a door (`door_promoted`): the map is that evidence.
@@ -19,14 +19,14 @@ confirms is *promoted* to a door (`door_promoted`): the map is that evidence.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from pico_studio.config.localisation_params import CombinedParams
-from pico_studio.core.geometry import compose, invert, transform_segments
-from pico_studio.core.localisation.combined_kernels import doors_confirmed
+from pico_studio.core.geometry import compose, door_matches, invert, transform_segments
 from pico_studio.core.localisation.combined_kernels import walls_on_map as on_map_kernel
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose
@@ -73,35 +73,15 @@ def walls_on_map(walls: np.ndarray, dfield: DistanceField, params: CombinedParam
                          float(params.match_distance), float(params.match_fraction))
 
 
-def map_door_lines(door_polygons: list[np.ndarray]) -> np.ndarray:
-    """(K, 4) the line across the passage of each map door polygon: its main axis through the
-    centroid, spanning the polygon (a door leaf 1 m x 0.2 m gives the 1 m line in its middle)."""
-    lines = []
-    for poly in door_polygons:
-        p = np.asarray(poly, dtype=float).reshape(-1, 2)
-        if len(p) < 2:
-            continue
-        c = p.mean(axis=0)
-        u = np.linalg.svd(p - c, full_matrices=False)[2][0]  # the main direction
-        t = (p - c) @ u
-        lines.append(np.concatenate([c + t.min() * u, c + t.max() * u]))
-    return np.array(lines, dtype=float).reshape(-1, 4)
-
-
-def confirmed_by_map(doors: np.ndarray, map_doors: np.ndarray, map_walls: np.ndarray,
-                     params: CombinedParams) -> np.ndarray:
-    """(D,) bool: doors (global frame) the map confirms. Either the door's middle lies within
-    `door_confirm_distance` of a map door line and its direction is within `door_confirm_angle`
-    of that line's, or it spans an opening between the map's walls: one end within
-    `jamb_confirm_distance` of a map wall's corner, the other of a map wall (a corner or a face:
-    a T-opening), and its middle farther than that from every map wall (not a gap along a
-    thick wall's face, between two of its corners). `map_walls` are the map's walls only, so a table's corner is never a jamb.
-    The loops: combined_kernels.doors_confirmed."""
-    if len(doors) == 0:
-        return np.zeros(0, dtype=bool)
-    return doors_confirmed(np.ascontiguousarray(doors, dtype=float), np.ascontiguousarray(map_doors, dtype=float).reshape(-1, 4),
-                           np.ascontiguousarray(map_walls, dtype=float).reshape(-1, 4), float(params.jamb_confirm_distance),
-                           float(params.door_confirm_distance), float(params.door_confirm_angle))
+def confirmed_by_map(doors: np.ndarray, openings: np.ndarray, params: CombinedParams) -> np.ndarray:
+    """(D,) bool: doors (global frame) that are one of the map's door openings (K, 4), their
+    middles within `door_confirm_distance` and directions within `door_confirm_angle`."""
+    if len(doors) == 0 or len(openings) == 0:
+        return np.zeros(len(doors), dtype=bool)
+    match = door_matches(np.ascontiguousarray(doors, dtype=float).reshape(-1, 4),
+                         np.ascontiguousarray(openings, dtype=float).reshape(-1, 4),
+                         float(params.door_confirm_distance), math.cos(params.door_confirm_angle))
+    return np.asarray(match.any(axis=1), dtype=bool)
 
 
 def combine(
@@ -116,18 +96,17 @@ def combine(
     doors: np.ndarray | None = None,
     possible_doors: np.ndarray | None = None,
     possible_door_kind: np.ndarray | list[str] | None = None,
-    map_doors: np.ndarray | None = None,
+    map_openings: np.ndarray | None = None,
 ) -> CombinedMap:
-    """The combined map for one step; every input array in the zero frame but `map_doors`
-    (`map_door_lines` of the global map, in its frame)."""
+    """The combined map for one step; every input array in the zero frame but `map_openings`
+    (`GlobalMap.openings`, in the global frame)."""
     t = zero_to_global(global_pose, zero_pose)
     walls = transform_segments(np.asarray(local_walls, dtype=float).reshape(-1, 4), t)
     kinds = np.asarray(possible_door_kind if possible_door_kind is not None else [], dtype=object)
     found, possible = _carry(doors, t), _carry(possible_doors, t)
-    lines = np.zeros((0, 4)) if map_doors is None else np.asarray(map_doors, dtype=float).reshape(-1, 4)
-    map_walls = np.asarray(dfield.segments[:n_map_walls], dtype=float).reshape(-1, 4)
-    door_ok = confirmed_by_map(found, lines, map_walls, params)
-    possible_ok = confirmed_by_map(possible, lines, map_walls, params)
+    openings = np.zeros((0, 4)) if map_openings is None else np.asarray(map_openings, dtype=float).reshape(-1, 4)
+    door_ok = confirmed_by_map(found, openings, params)
+    possible_ok = confirmed_by_map(possible, openings, params)
     # a T-opening that passed every test but the evidence over scans (possible kind "end_face"),
     # or a door's shape the furniture rules refused ("bay"), is a door once the map has an
     # opening there: the map is the evidence
@@ -152,4 +131,4 @@ def _carry(segments: np.ndarray | None, t: Pose) -> np.ndarray:
     return transform_segments(np.asarray(segments, dtype=float).reshape(-1, 4), t)
 
 
-__all__ = ["CombinedMap", "combine", "confirmed_by_map", "map_door_lines", "walls_on_map", "zero_to_global"]
+__all__ = ["CombinedMap", "combine", "confirmed_by_map", "walls_on_map", "zero_to_global"]

@@ -55,7 +55,7 @@ class LocalisationMap:
     prior: PosePrior
     bounds: tuple[float, float, float, float]
     n_walls: int  # the first n_walls segments of the field are the map's walls, in order
-    door_lines: np.ndarray  # (K, 4) the map doors across their passages (combined.map_door_lines)
+    openings: np.ndarray  # (K, 4) the map's door openings (GlobalMap.openings), what confirms a door
 
 
 @dataclass(frozen=True)
