@@ -33,6 +33,27 @@ def test_the_shipped_sets_load_with_paths_resolved() -> None:
     assert by["hospital_2019"].method == "poses" and by["hospital_2019_tour"].method == "behaviour"
     assert by["escape_room_world_7"].world == "escape:7"
     assert load_scenarios(SETS / "smoke.yaml").name == "smoke"
+    furnished = load_scenarios(ROOT / "examples" / "scenarios" / "furnished_worlds.yaml")
+    assert {s.world.partition(":")[0] for s in furnished if s.world} == {"hall", "cafe", "ward"}
+
+
+def test_a_furnished_world_brings_its_people_and_is_scored_among_its_furniture(tmp_path: Path) -> None:
+    """`world: cafe:SEED` (and hall, ward): the generated JSON map with its tables and the
+    simulator config with its walking people, scored like a map; a scenario's own sim_config
+    replaces the people."""
+    from pico_studio.evaluation.worlds import make_world
+
+    w = make_world("cafe:3")
+    assert w.sim_config is not None and len(w.sim_config.objects) == 2 and len(w.map.objects) >= 4
+    assert w.start == w.sim_config.initial_pose
+    p = write(tmp_path, "scenarios:\n  - {name: ward, world: 'ward:3', poses: 4, seed: 1, localise: true}\n")
+    r = evaluate_scenario(next(iter(load_scenarios(p))), Config())
+    assert r.metrics["doors.recall"] > 0.5 and r.metrics["map_doors.precision"] == 1.0
+    (tmp_path / "still.json").write_text(json.dumps({"initial_pose": list(w.start), "objects": []}))
+    p = write(tmp_path, "scenarios:\n  - {name: cafe, world: 'cafe:3', sim_config: still.json, poses: 2}\n")
+    from pico_studio.evaluation.runner import _world
+
+    assert _world(next(iter(load_scenarios(p))), Config())[3].objects == ()
 
 
 @pytest.mark.parametrize("body, field, words", [

@@ -272,10 +272,8 @@ def _scenario_sim_run(s: Scenario, cfg: Config) -> KeptRun:
     from pico_studio.core.behaviours.registry import DEFAULT_SECONDS, behaviour_name, make_behaviour
     from pico_studio.evaluation.runner import _world
     from pico_studio.sim import Simulator
-    from pico_studio.sim.sim_config import load_sim_config
 
-    gmap, start, _ = _world(s, cfg)
-    sc = load_sim_config(s.sim_config) if s.sim_config is not None else None
+    gmap, start, _, sc = _world(s, cfg)
     sim = Simulator(gmap, cfg.sim, sc, seed=s.seed, initial_pose=start)
     pose = tuple(float(v) for v in sim.truth.pose)
     spec = s.behaviour or "wander"

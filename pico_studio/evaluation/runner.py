@@ -250,8 +250,7 @@ def evaluate_scenario(s: Scenario, cfg: Config, *, progress: Progress | None = N
         summary = _recording(s, cfg, progress)
         frames = int(summary.get("frames_read", 0))
     else:
-        gmap, start, expected = _world(s, cfg)
-        sc = load_sim_config(s.sim_config) if s.sim_config is not None else None
+        gmap, start, expected, sc = _world(s, cfg)
         if s.poses is not None:
             summary = evaluate_poses(gmap, cfg, sc, seed=s.seed, poses=s.poses, frames=s.frames, turn=s.turn,
                                      clearance=s.clearance, localise=s.localise, progress=progress,
@@ -272,15 +271,18 @@ def evaluate_scenario(s: Scenario, cfg: Config, *, progress: Progress | None = N
     return ScenarioResult(s.name, summary, metrics, frames, time.perf_counter() - t0)
 
 
-def _world(s: Scenario, cfg: Config) -> tuple[GlobalMap, Pose | None, list[int] | None]:
-    """The scenario's map, the start pose it brings (a generated world's) and the expected
-    room contents (a room-finder world's)."""
+def _world(s: Scenario, cfg: Config) -> tuple[GlobalMap, Pose | None, list[int] | None, SimConfigFile | None]:
+    """The scenario's map, the start pose it brings (a generated world's), the expected room
+    contents (a room-finder world's) and the simulator config: the scenario's, else the one a
+    furnished world brings (its people)."""
+    sc = load_sim_config(s.sim_config) if s.sim_config is not None else None
     if s.world is not None:
         w = make_world(s.world)
+        w.map.opening_params = cfg.map.openings
         expected = [int(r["objects"]) for r in w.rooms] if w.rooms else None  # type: ignore[call-overload]
-        return w.map, w.start, expected
+        return w.map, w.start, expected, sc if sc is not None else w.sim_config
     assert s.map is not None
-    return load_map(s.map, cfg.map), None, None
+    return load_map(s.map, cfg.map), None, None, sc
 
 
 def _recording(s: Scenario, cfg: Config, progress: Progress | None) -> dict[str, Any]:

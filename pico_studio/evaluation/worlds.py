@@ -12,16 +12,22 @@ one panel wide and deep, never at a corner (at least a panel from it) nor next t
 holds one object (a box in its centre) or a person's two feet (two small boxes side by side,
 toes to the entrance). The expected count is what the seed counts: a box is one object, two
 feet are two. The robot starts at least 0.6 m from the walls, not in a side room.
+
+Furnished worlds (`hall`, `cafe`, `ward`: `furnished_worlds`): tables, beds and cabinets, and
+people walking (the world's `sim_config`), for the door figures among furniture.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from pico_studio.json_map import GlobalMap
+from pico_studio.evaluation.furnished_worlds import cafe_world, clutter_world, ward_world
+from pico_studio.json_map import GlobalMap, map_from_dict
+from pico_studio.sim.sim_config import SimConfigFile, sim_config_from_dict
 
 PANEL = 1.0  # side room width and depth [m]
 
@@ -32,6 +38,7 @@ class World:
     start: tuple[float, float, float]
     rooms: list[dict[str, object]] = field(default_factory=list)  # room finder: expected rooms
     seed: int = 0
+    sim_config: SimConfigFile | None = None  # its moving people (the furnished worlds)
 
 
 class _Builder:
@@ -157,17 +164,31 @@ def room_finder_world(seed: int) -> World:
     return World(map=b.build(), start=(float(x), float(y), float(heading)), rooms=rooms, seed=seed)
 
 
-GENERATORS = {"escape": escape_world, "rooms": room_finder_world}
+def _furnished(make: Callable[[int], tuple[dict, dict]], name: str) -> Callable[[int], World]:
+    """A `furnished_worlds` generator as a `World`: its map, its start, its people."""
+    def world(seed: int) -> World:
+        doc, sim = make(seed)
+        config = sim_config_from_dict(sim, file=f"{name}:{seed}")
+        start = config.initial_pose or (0.0, 0.0, 0.0)
+        return World(map=map_from_dict(doc, file=f"{name}:{seed}"), start=start, seed=seed, sim_config=config)
+    return world
+
+
+GENERATORS: dict[str, Callable[[int], World]] = {
+    "escape": escape_world, "rooms": room_finder_world,
+    "hall": _furnished(clutter_world, "hall"), "cafe": _furnished(cafe_world, "cafe"), "ward": _furnished(ward_world, "ward"),
+}
 
 
 def make_world(spec: str) -> World:
-    """`escape:SEED` or `rooms:SEED` as a `World` (the spec is checked by `parse_world`)."""
+    """`escape:SEED`, `rooms:SEED`, `hall:SEED`, `cafe:SEED` or `ward:SEED` as a `World` (the
+    spec is checked by `parse_world`)."""
     kind, seed = parse_world(spec)
     return GENERATORS[kind](seed)
 
 
 def parse_world(spec: str) -> tuple[str, int]:
-    """(generator name, seed) of `escape:SEED` / `rooms:SEED`; ValueError saying what is wrong."""
+    """(generator name, seed) of `KIND:SEED` (a `GENERATORS` kind); ValueError saying what is wrong."""
     kind, _, seed = spec.partition(":")
     if kind not in GENERATORS:
         raise ValueError(f"unknown world {kind!r}; use {' or '.join(f'{k}:SEED' for k in GENERATORS)}")
