@@ -8,6 +8,7 @@ values, reporting what changed (the page's import keeps every tuned value the fi
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import difflib
 from pathlib import Path
@@ -23,7 +24,9 @@ from pico_studio.user_files import parse_yaml, read_text
 T = TypeVar("T")
 
 
-# parameters that moved or went: an old file names them, the error says where they are now
+# parameters that moved or went: an old file (a page export names every parameter) still
+# loads — a moved value is read at its new place, a gone one dropped — and a dict given to
+# `from_dict` directly is told where they are now
 MOVED = {
     **{f"sim.truth.{k}": f"map.openings.{k}" for k in (
         "door_min_width", "door_max_width", "max_wall_thickness", "mouth_probe", "mouth_wall_length", "mouth_margin")},
@@ -228,8 +231,41 @@ def merge(base: T, data: Any, *, file: str | Path | None = None) -> Merged[T]:
     if data is not None and not isinstance(data, dict):
         raise ConfigError(f"must be a mapping of keys to values, got {type(data).__name__}",
                           file=file, field="(top level)")
-    new = from_dict(type(base), _deep_merge(to_dict(base), data or {}), file=file)
+    new = from_dict(type(base), _deep_merge(to_dict(base), _migrated(data or {})), file=file)
     return Merged(new, changes(base, new))
+
+
+def _migrated(data: dict[str, Any]) -> dict[str, Any]:
+    """`data` with every `MOVED` key read at its new place (unless that is given too) and every
+    gone one dropped; a copy where anything moved, `data` itself otherwise."""
+    out = data
+    for old, new in MOVED.items():
+        *parents, leaf = old.split(".")
+        holder: Any = out
+        for part in parents:
+            holder = holder.get(part) if isinstance(holder, dict) else None
+        if not isinstance(holder, dict) or leaf not in holder:
+            continue
+        if out is data:
+            out = copy.deepcopy(data)
+            holder = out
+            for part in parents:
+                holder = holder[part]
+        value = holder.pop(leaf)
+        if new is None:
+            continue
+        *new_parents, new_leaf = new.split(".")
+        target = out
+        for part in new_parents:
+            nxt = target.get(part)
+            if not isinstance(nxt, dict):
+                if nxt is not None:
+                    break  # not a mapping there: from_dict says so
+                nxt = target[part] = {}
+            target = nxt
+        else:
+            target.setdefault(new_leaf, value)
+    return out
 
 
 def merge_yaml(base: T, text: str, *, file: str | Path | None = None) -> Merged[T]:
