@@ -1,4 +1,5 @@
-"""`pico-studio map info|convert`: inspect, draw and convert global maps (JSON or heightmap)."""
+"""`pico-studio map info|convert|generate`: inspect, draw and convert global maps (JSON or
+heightmap), and write a generated world as a map and a sim config to serve or run."""
 
 from __future__ import annotations
 
@@ -43,6 +44,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument("output", help="the file to write: .json, .png, .pgm or .yaml")
     _common(c, "pixel size (m/px) of the image written, or of an input image without a YAML")
     c.set_defaults(func=_convert)
+
+    g = msub.add_parser(
+        "generate",
+        help="write a generated world (escape, rooms, hall, cafe, ward) as a JSON map and a sim config",
+        description="Write the seeded world KIND:SEED (escape:3, rooms:5, hall:1, cafe:2, ward:3: the "
+        "worlds the scenario sets name) as OUT.json and, beside it, OUT_sim.json: its start pose and "
+        "its walking people, for `pico-studio serve --map OUT.json --sim-config OUT_sim.json`.",
+    )
+    g.add_argument("world", help="KIND:SEED, e.g. ward:3")
+    g.add_argument("output", help="the JSON map to write (the sim config goes beside it, *_sim.json)")
+    g.add_argument("--png", metavar="OUT", help="also draw the map into this PNG file")
+    g.set_defaults(func=_generate)
 
 
 def _common(p: argparse.ArgumentParser, resolution_help: str) -> None:
@@ -126,4 +139,33 @@ def _convert(args: argparse.Namespace) -> int:
     )
     for w in result.map.warnings:
         print(f"  warning: {w}")
+    return 0
+
+
+def _generate(args: argparse.Namespace) -> int:
+    from pico_studio.evaluation.worlds import make_world, parse_world
+    from pico_studio.json_map.json_io import save_json_map
+    from pico_studio.sim.sim_config import SimConfigFile, sim_config_to_dict
+
+    try:
+        parse_world(args.world)
+    except ValueError as e:
+        raise MapError(str(e), field="world") from None
+    out = Path(args.output)
+    if out.suffix.lower() != ".json":
+        raise MapError("the generated map is written as JSON: name a .json file", file=out)
+    sim_out = out.with_name(out.stem + "_sim.json")
+    for p in (out, sim_out, *([Path(args.png)] if args.png else [])):
+        check_output(p, MapError)
+    w = make_world(args.world)
+    save_json_map(w.map, out)
+    sc = w.sim_config if w.sim_config is not None else SimConfigFile(initial_pose=w.start)
+    sim_out.write_text(json.dumps(sim_config_to_dict(sc), indent=2) + "\n", encoding="utf-8")
+    counts = ", ".join(f"{v} {k}" for k, v in w.map.counts().items())
+    print(f"{args.world} -> {out}, {sim_out}")
+    print(f"  {counts}; {len(w.map.openings())} door openings; {len(sc.objects)} moving objects")
+    if args.png:
+        save_png(draw_map(w.map, title=f"{args.world}"), args.png)
+        print(f"  drawn: {args.png}")
+    print(f"  pico-studio serve --map {out} --sim-config {sim_out}")
     return 0

@@ -88,6 +88,20 @@ def sim_config_from_dict(data: Any, *, file: str | Path | None = None) -> SimCon
     )
 
 
+def sim_config_to_dict(sc: SimConfigFile) -> dict[str, Any]:
+    """The JSON form of `sc` (what `sim_config_from_dict` reads back): its start pose, the two
+    flags when set, and its moving objects."""
+    out: dict[str, Any] = {}
+    if sc.initial_pose is not None:
+        out["initial_pose"] = [float(v) for v in sc.initial_pose]
+    for key in ("uncertain_odom", "disable_speedcap"):
+        if getattr(sc, key) is not None:
+            out[key] = getattr(sc, key)
+    out["objects"] = [{"length": o.length, "width": o.width, "init_pose": list(o.init_pose), "final_pose": list(o.final_pose),
+                       "velocity": o.velocity, "trigger_radius": o.trigger_radius, "repeat": o.repeat} for o in sc.objects]
+    return out
+
+
 def _bool(data: dict[str, Any], key: str, file: str | Path | None) -> bool | None:
     if key not in data:
         return None
