@@ -65,3 +65,21 @@ def test_a_corridor_joining_a_hall_has_a_mouth_and_a_closed_corridor_has_none() 
     o = door_openings(segs)
     mids = np.round((o[:, :2] + o[:, 2:]) / 2, 3).tolist()
     assert mids == [[2.0, 3.0]]
+
+
+def test_vertex_pairs_a_doors_width_apart_come_in_chunks_as_from_the_whole_matrix():
+    """The passage mouths' candidate pairs (`openings._pairs_within`) are read a few hundred
+    rows of the distance matrix at a time — a heightmap's thousands of vertices never need the
+    whole (V x V) matrix — in the order the whole matrix gave: nearest first, ties row-major."""
+    import numpy as np
+
+    from pico_studio.json_map.openings import _pairs_within
+
+    rng = np.random.default_rng(4)
+    pts = np.round(rng.uniform(0.0, 6.0, size=(700, 2)), 1)  # rounded: many equal distances
+    diff = pts[None, :, :] - pts[:, None, :]
+    dist = np.hypot(diff[..., 0], diff[..., 1])
+    whole = sorted(map(tuple, np.argwhere(np.triu((dist >= 0.5) & (dist <= 1.5), 1))), key=lambda ij: dist[ij])
+    got = _pairs_within(pts, 0.5, 1.5, chunk=64)
+    assert [(i, j) for i, j, _ in got] == [(int(i), int(j)) for i, j in whole]
+    assert all(d == dist[i, j] for i, j, d in got) and len(got) > 1000

@@ -221,10 +221,7 @@ def _passage_mouths(
     cand = np.array([v for v, d in enumerate(graph.directions) if len(d) >= 1], dtype=np.int64)
     if len(cand) < 2:
         return []
-    pts = graph.points[cand]
-    diff = pts[None, :, :] - pts[:, None, :]
-    dist = np.hypot(diff[..., 0], diff[..., 1])
-    pairs = np.argwhere(np.triu((dist >= lo) & (dist <= hi), 1))
+    pairs = _pairs_within(graph.points[cand], lo, hi)
     out: list[np.ndarray] = []
 
     def convex(v: int, toward: np.ndarray) -> bool:
@@ -243,11 +240,10 @@ def _passage_mouths(
         r = cast_rays(tuple(origin), np.array([ang, ang + math.pi]), solid)
         return float(r.sum())
 
-    for i, j in sorted(map(tuple, pairs), key=lambda ij: dist[ij[0], ij[1]]):
+    for i, j, width in pairs:
         a, b = graph.points[cand[i]], graph.points[cand[j]]
         if not (convex(cand[i], b) and convex(cand[j], a)):
             continue
-        width = float(dist[i, j])
         u = (b - a) / width
         eps = 1e-3
         if cast_rays(tuple(a + u * eps), np.array([math.atan2(u[1], u[0])]), solid)[0] < width - 2 * eps:
@@ -267,6 +263,22 @@ def _passage_mouths(
             continue
         out.append(np.concatenate([a, b]))
     return out
+
+
+def _pairs_within(pts: np.ndarray, lo: float, hi: float, chunk: int = 512) -> list[tuple[int, int, float]]:
+    """(i, j, |P_j - P_i|) for i < j with lo <= |P_j - P_i| <= hi, nearest first (ties in row
+    order): `chunk` rows of the distance matrix at a time, so a heightmap's thousands of
+    vertices never need the whole (V x V) matrix in memory."""
+    found: list[tuple[int, int, float]] = []
+    for i0 in range(0, len(pts), chunk):
+        diff = pts[None, :, :] - pts[i0 : i0 + chunk, None, :]
+        dist = np.hypot(diff[..., 0], diff[..., 1])
+        rows, cols = np.nonzero((dist >= lo) & (dist <= hi))
+        keep = cols > rows + i0
+        found += [(int(r) + i0, int(c), float(d)) for r, c, d in
+                  zip(rows[keep], cols[keep], dist[rows[keep], cols[keep]], strict=True)]
+    found.sort(key=lambda ijd: ijd[2])  # stable: equal distances keep the row order
+    return found
 
 
 def _door_centre_line(v: np.ndarray) -> np.ndarray:
