@@ -48,3 +48,18 @@ def test_render_bad_arguments_are_one_line(tmp_path: Path, capsys: pytest.Captur
     assert ".mp4" in capsys.readouterr().err
     assert main(["render", "--source", "bag:nothing.bag", "--from", "3", "--to", "1", "--out", str(tmp_path / "x.png")]) == 2
     assert "--to" in capsys.readouterr().err
+
+
+def test_the_map_layer_draws_the_maps_door_openings(maps_dir: Path, tmp_path: Path) -> None:
+    """The global-map layer carries the map's door openings (`GlobalMap.openings`, what the
+    combined map confirms a door against and the truth scores), restaurant_2024's T-opening by
+    the block at x = 4.7 among them; no map, none."""
+    from pico_studio.json_map import load_map
+    from pico_studio.ui.scene_data import map_prims
+
+    m = load_map(maps_dir / "restaurant_2024.json")
+    prims = map_prims(m)
+    assert np.array_equal(prims["map_openings"].data, m.openings()) and len(m.openings()) >= 2
+    assert any(np.allclose(o, [4.7, 1.2, 4.7, 0.2], atol=0.05) or np.allclose(o, [4.7, 0.2, 4.7, 1.2], atol=0.05)
+               for o in m.openings())
+    assert map_prims(None)["map_openings"].data.shape == (0, 4)

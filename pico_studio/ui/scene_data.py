@@ -70,6 +70,8 @@ LAYERS: tuple[LayerSpec, ...] = (
         PrimSpec("map_objects", S, style.MAP_OBJECT, 3.0),
         PrimSpec("map_fronts", S, style.MAP_OBJECT_FRONT, style.THICK_MAP),
         PrimSpec("map_doors", S, style.MAP_DOOR, 3.0),
+        # the map's door openings (GlobalMap.openings): what the combined map confirms doors against
+        PrimSpec("map_openings", S, style.MAP_OPENING, 2.0),
     ), static=True),
     LayerSpec("reference_map", "Reference map (true poses)", (
         PrimSpec("reference_map", P, style.REFERENCE_MAP, point_size=3.0),
@@ -163,6 +165,7 @@ def map_prims(m: GlobalMap | None) -> dict[str, Prim]:
         "map_objects": Prim(S, np.vstack(objects) if objects else np.zeros((0, 4))),
         "map_fronts": Prim(S, m.object_fronts),
         "map_doors": Prim(S, np.vstack(doors) if doors else np.zeros((0, 4))),
+        "map_openings": Prim(S, m.openings()),
         "map_start": Prim(S, np.vstack(start) if start else np.zeros((0, 4))),
     }
 

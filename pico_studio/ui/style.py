@@ -20,6 +20,7 @@ MAP_WALL: RGB = OI_BLACK
 MAP_OBJECT: RGB = (125, 85, 45)  # brown
 MAP_OBJECT_FRONT: RGB = (230, 159, 32)  # Okabe-Ito orange as the page can show it
 MAP_DOOR: RGB = (0, 60, 100)  # dark blue
+MAP_OPENING: RGB = (60, 130, 110)  # sea green: the map's door openings, what confirms a door
 MAP_START: RGB = (135, 220, 225)  # pale sky blue
 SIM_WORLD: RGB = (110, 60, 150)  # violet: the simulator's doors (as they slide) and moving objects
 # perception
@@ -94,7 +95,8 @@ def swatch(rgb: RGB, text: str) -> str:
 
 LEGEND: list[tuple[str, list[tuple[RGB, str]]]] = [
     ("Global map", [(MAP_WALL, "walls"), (MAP_OBJECT, "cabinets / tables"), (MAP_OBJECT_FRONT, "their front"),
-                    (MAP_DOOR, "doors"), (MAP_START, "start area")]),
+                    (MAP_DOOR, "doors"), (MAP_OPENING, "door openings (what confirms a door; the truth's)"),
+                    (MAP_START, "start area")]),
     ("Simulated world", [(SIM_WORLD, "doors as they are now, moving objects")]),
     ("Laser", [(LASER, "laser points")]),
     ("Current map", [(CURRENT_MAP, "segments of this scan")]),
@@ -134,7 +136,7 @@ POINT_COLOURS = {LASER, *ENDPOINT.values(), SPIKE_CORNER, VECTOR_CORNER_INNER, V
 
 # the layer key -> its colours as the Layers tab shows them beside the toggle
 LAYER_COLOURS: dict[str, list[RGB]] = {
-    "map": [MAP_WALL, MAP_OBJECT, MAP_OBJECT_FRONT, MAP_DOOR, MAP_START],
+    "map": [MAP_WALL, MAP_OBJECT, MAP_OBJECT_FRONT, MAP_DOOR, MAP_OPENING, MAP_START],
     "sim_world": [SIM_WORLD],
     "trail": [TRAIL],
     "truth_path": [TRUE_PATH],
