@@ -265,8 +265,8 @@ def test_broken_map_upload_shows_the_error_and_the_page_keeps_working(app, page,
 
 def test_an_invalid_value_is_reported_and_reverted(app, page) -> None:
     page.get_by_role("tab", name="Config").click()
-    page.get_by_text("ui", exact=True).locator("visible=true").first.click()
-    page.get_by_text("wander", exact=True).locator("visible=true").first.click()
+    open_folder(page, "ui", "wander", exact=True)  # (a folder open already stays open)
+    open_folder(page, "wander", "clear_distance", exact=True)
     before = app.studio.cfg.ui.wander.clear_distance
     set_number(page, "clear_distance", 0.2)  # below stop_distance: the declared ordering refuses it
     page.get_by_text(re.compile("must be at most clear_distance")).first.wait_for(timeout=20000)

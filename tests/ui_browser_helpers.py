@@ -89,12 +89,14 @@ def set_number(page, label: str, value: float) -> None:  # noqa: ANN001
     box.press("Enter")
 
 
-def open_folder(page, title: str, inside: str) -> None:  # noqa: ANN001
-    """Expand the visible GUI folder `title` unless the button or label `inside` shows already."""
-    if page.get_by_text(inside).locator("visible=true").count():
+def open_folder(page, title: str, inside: str, *, exact: bool = False) -> None:  # noqa: ANN001
+    """Expand the visible GUI folder `title` unless the button or label `inside` shows already
+    (`exact`: only that very text: a folder already open stays open — a click would close it,
+    as the settings kept in local storage from an earlier test may have left it)."""
+    if page.get_by_text(inside, exact=exact).locator("visible=true").count():
         return
     page.get_by_text(title, exact=True).locator("visible=true").first.click()
-    page.get_by_text(inside).locator("visible=true").first.wait_for(timeout=20000)
+    page.get_by_text(inside, exact=exact).locator("visible=true").first.wait_for(timeout=20000)
 
 
 @contextmanager
