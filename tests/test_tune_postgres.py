@@ -108,3 +108,20 @@ def test_a_postgresql_study_adds_up_and_refuses_another_space(postgres_url, tmp_
     code, _, err = tune(capsys, *args, "--params", "perception.identify.*", "--trials", "8")
     assert code == 2 and "another search space" in err
     assert len(_load(postgres_url, "grow").trials) == 5
+
+
+def test_a_table_another_machine_created_meanwhile_is_retried_a_wrong_password_not():
+    """Two machines opening one empty database race to create its tables; the loser sees a
+    unique violation or (PostgreSQL) a DuplicateTable wrapped in a ProgrammingError — both are
+    retried, once the tables are there; any other failure is reported at once."""
+    from pico_studio.tuning.study import _created_meanwhile
+
+    class IntegrityError(Exception):
+        pass
+
+    class ProgrammingError(Exception):
+        pass
+
+    dup = ProgrammingError('(psycopg.errors.DuplicateTable) relation "alembic_version" already exists')
+    assert _created_meanwhile(dup) and _created_meanwhile(IntegrityError("duplicate key value"))
+    assert not _created_meanwhile(Exception('password authentication failed for user "postgres"'))

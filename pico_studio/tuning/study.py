@@ -95,19 +95,28 @@ def open_storage(url: str) -> optuna.storages.BaseStorage:
 
         Path(url).parent.mkdir(parents=True, exist_ok=True)
         return JournalStorage(JournalFileBackend(url))
-    for attempt in range(3):
+    attempts = 4
+    for attempt in range(attempts):
         try:
             # a heartbeat lets a study on several machines fail the trials of a worker that died
             return optuna.storages.RDBStorage(url, heartbeat_interval=30, grace_period=120,
                                               engine_kwargs={"pool_pre_ping": True})
         except Exception as e:  # sqlalchemy's errors name the driver, the host and the reason
-            # machines starting together on an empty database race to create its tables
-            if "IntegrityError" in type(e).__name__ and attempt < 2:
+            # machines starting together on an empty database race to create its tables: the
+            # loser sees a unique violation (IntegrityError) or a table made meanwhile
+            # (PostgreSQL's DuplicateTable, as a ProgrammingError); the tables are there now
+            if _created_meanwhile(e) and attempt < attempts - 1:
                 time.sleep(0.5 + attempt)
                 continue
             reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
             raise ConfigError(f"cannot open storage {shown_url(url)}: {reason}", field="--storage") from None
     raise AssertionError("unreachable")
+
+
+def _created_meanwhile(e: Exception) -> bool:
+    """Did opening the storage fail because another process created its tables at the same time?"""
+    text = str(e)
+    return "IntegrityError" in type(e).__name__ or "DuplicateTable" in text or "already exists" in text
 
 
 def _quiet() -> None:
