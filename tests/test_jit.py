@@ -221,6 +221,7 @@ def test_wall_coverage_is_the_sampled_coverage_of_the_scoring():
 
 
 def test_raycast_compiled_equals_its_python_and_the_plain_ray_test():
+    from pico_studio.json_map.openings import cast_rays
     from pico_studio.sim import raycast
     from tests.jit_scenes import hospital_frames
 
@@ -235,7 +236,7 @@ def test_raycast_compiled_equals_its_python_and_the_plain_ray_test():
         _same((ranges, hits), jit.py_func(raycast._cast)(*args))
         # the plain (rays x segments) test agrees on every tenth beam
         angles = a + fan.angle_min + np.arange(0, 1000, 10) * fan.increment
-        np.testing.assert_allclose(ranges[::10], raycast.cast_rays((x, y), angles, segs), rtol=1e-9)
+        np.testing.assert_allclose(ranges[::10], cast_rays((x, y), angles, segs), rtol=1e-9)
         assert (hits[np.isfinite(ranges)] >= 0).all()
 
 

@@ -14,10 +14,10 @@ from pico_studio import jit
 from pico_studio.config import Config
 from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.json_map import load_map
+from pico_studio.json_map.openings import Vertices, cast_rays, sector_width
 from pico_studio.session import Session
 from pico_studio.sim import Simulator, truth_kernels
-from pico_studio.sim.map_features import Vertices, classify_corners, corner_candidates, sector_width
-from pico_studio.sim.raycast import cast_rays
+from pico_studio.sim.map_features import classify_corners, corner_candidates
 from pico_studio.sim.truth import GroundTruth
 from pico_studio.sim.world import KIND_DOOR
 from tests.conftest import MAPS
@@ -337,7 +337,7 @@ def test_corner_pairs_are_the_python_they_replaced():
 
 
 def test_door_matches_and_nearest_vertices_are_the_numpy_they_replaced():
-    from pico_studio.core.geometry import pairwise_distances
+    from pico_studio.core.geometry import door_matches, pairwise_distances
     from pico_studio.evaluation import score_kernels as sk
     from pico_studio.evaluation.frame_score import Tolerances, doors_match
 
@@ -350,7 +350,7 @@ def test_door_matches_and_nearest_vertices_are_the_numpy_they_replaced():
             ref = reference_doors_match(found, true, tol)
             np.testing.assert_array_equal(doors_match(found, true, tol), ref)
             args = (found, true, tol.door_distance, cos_angle)
-            np.testing.assert_array_equal(sk.door_matches(*args), jit.py_func(sk.door_matches)(*args))
+            np.testing.assert_array_equal(door_matches(*args), jit.py_func(door_matches)(*args))
             matched += int(ref.sum())
         vertices = np.ascontiguousarray(truth._graph.points)
         for points in (ends, corners):

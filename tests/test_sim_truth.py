@@ -9,8 +9,8 @@ import pytest
 from sim_helpers import box_map, door_map
 
 from pico_studio.json_map import load_json_map, map_from_dict
+from pico_studio.json_map.openings import door_openings, sector_width
 from pico_studio.sim import Simulator
-from pico_studio.sim.map_features import door_openings, sector_width
 from pico_studio.sim.sim_config import sim_config_from_dict
 
 

@@ -1,13 +1,14 @@
 """Ground-truth corners where map polygons abut: a wall rectangle's corner on another's face
 (a T-junction, an L of two rectangles, a few mm apart or exactly) is concave on the room side,
-and the far corners stay convex (`map_features.vertex_graph`'s abutting vertices)."""
+and the far corners stay convex (`json_map.openings.vertex_graph`'s abutting vertices)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from pico_studio.sim.map_features import classify_corners, vertex_graph
+from pico_studio.json_map.openings import vertex_graph
+from pico_studio.sim.map_features import classify_corners
 
 TOL = 0.15  # TruthParams.straight_tolerance's default
 

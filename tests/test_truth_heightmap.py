@@ -12,7 +12,7 @@ import pytest
 from pico_studio.config.map_params import HeightmapParams
 from pico_studio.json_map import load_map
 from pico_studio.json_map.heightmap import classify, read_heightmap
-from pico_studio.sim.doors import door_frame
+from pico_studio.json_map.openings import door_frame
 
 RES = 0.025  # the default pixel size of an image without a YAML
 

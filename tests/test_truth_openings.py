@@ -8,8 +8,8 @@ import pytest
 
 from pico_studio.evaluation.worlds import escape_world
 from pico_studio.json_map import load_map
+from pico_studio.json_map.openings import door_openings
 from pico_studio.sim import Simulator
-from pico_studio.sim.map_features import door_openings
 
 
 def _unit(seg: np.ndarray) -> np.ndarray:

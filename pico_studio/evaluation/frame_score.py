@@ -44,6 +44,7 @@ import numpy as np
 
 from pico_studio.core.geometry import (
     compose,
+    door_matches,
     invert,
     relative,
     transform_points,
@@ -51,7 +52,6 @@ from pico_studio.core.geometry import (
 )
 from pico_studio.core.world_model import FLOATING, WorldModel
 from pico_studio.evaluation.score_kernels import (
-    door_matches,
     match_nearest,
     nearest_distances,
     wall_coverage,
@@ -159,7 +159,7 @@ def match_points(a: np.ndarray, b: np.ndarray, radius: float) -> list[tuple[int,
 
 def doors_match(found: np.ndarray, truth: np.ndarray, tol: Tolerances) -> np.ndarray:
     """(F, T) bool: door f matches opening t (middles close, directions parallel; one compiled
-    loop: `score_kernels.door_matches`)."""
+    loop: `geometry.door_matches`, the combined map's test too)."""
     return door_matches(_c4(found), _c4(truth), float(tol.door_distance), math.cos(tol.door_angle))
 
 

@@ -27,7 +27,6 @@ import math
 
 import numpy as np
 
-from pico_studio.core.geometry import door_matches  # noqa: F401  (the combined map confirms doors by it too)
 from pico_studio.jit import kernel, njit
 
 

@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from pico_studio.json_map.openings import Vertices, door_openings, sector_width, vertex_graph
+from pico_studio.json_map.openings import Vertices
 from pico_studio.sim.truth_kernels import corner_classes
 
 
@@ -59,5 +59,3 @@ def corner_candidates(graph: Vertices, straight_tolerance: float) -> np.ndarray:
         cache[key] = np.array(keep, dtype=np.int64)
     return cache[key]
 
-
-__all__ = ["Vertices", "classify_corners", "corner_candidates", "door_openings", "sector_width", "vertex_graph"]

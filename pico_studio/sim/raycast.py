@@ -27,7 +27,6 @@ import math
 import numpy as np
 
 from pico_studio.jit import kernel
-from pico_studio.json_map.openings import cast_rays  # noqa: F401  (the plain few-ray test, the map's)
 
 Pose = tuple[float, float, float]
 _EPS = 1e-9  # a beam exactly through an end point still hits

@@ -24,7 +24,7 @@ from the laser at (x, y, a), d = p - (x, y), is in view when
     free length along d / |d|  >=  |d| - tolerance
 
 (within range and field of view, and nothing solid more than `tolerance` before it), the free
-length by `raycast.cast_rays`' ray-segment test: with p1 = a - o, e = b - a and
+length by `json_map.openings.cast_rays`' ray-segment test: with p1 = a - o, e = b - a and
 den = c e_y - s e_x, the ray (c, s) meets segment a b at t = (p1 x e) / den when t >= 0 and
 u = (p1 x (c, s)) / den lies in [0, 1]. One pass over the points, a ray cast only for those in
 the field of view, without `cast_rays`' (rays x segments) arrays.

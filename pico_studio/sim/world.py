@@ -15,9 +15,9 @@ import numpy as np
 
 from pico_studio.config.sim_params import SimParams
 from pico_studio.json_map import GlobalMap
+from pico_studio.json_map.openings import cast_rays
 from pico_studio.sim.doors import SlidingDoor
 from pico_studio.sim.moving_objects import MovingObject
-from pico_studio.sim.raycast import cast_rays
 from pico_studio.sim.sim_config import SimConfigFile
 
 KIND_WALL, KIND_OBJECT, KIND_DOOR, KIND_MOVING = 0, 1, 2, 3
