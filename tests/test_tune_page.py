@@ -65,5 +65,5 @@ def test_a_bad_glob_is_reported_and_the_page_keeps_working(app, tune_page) -> No
     assert wait_until(lambda: app.tune.globs.value == "perception.nope.*", timeout=60)
     page.get_by_role("button", name="Start study").click()
     page.get_by_text("perception.nope.*", exact=False).locator("visible=true").first.wait_for(timeout=60000)
-    assert wait_until(lambda: any("perception.nope.*" in e.message for e in app.log.entries), timeout=60)
+    assert wait_until(lambda: any("perception.nope.*" in e.message for e in app.log.all()), timeout=60)
     assert page.get_by_role("button", name="Start study").is_enabled()

@@ -101,14 +101,14 @@ def test_a_guarded_error_and_a_skipped_message_go_to_the_log(recordings_dir: Pat
     app = _app(tmp_path, f"bag:{cut}")
     try:
         app.seek(10)
-        sources = [e for e in app.log.entries if e.stage == "source"]
+        sources = [e for e in app.log.all() if e.stage == "source"]
         assert sources and "index is unusable" in " ".join(e.message for e in sources)
 
         def bad(_event: object) -> None:
             raise UserError("nope", field="thing")
 
         app.page.guard("testing", bad)(None)
-        (entry,) = [e for e in app.log.entries if e.stage == "testing"]
+        (entry,) = [e for e in app.log.all() if e.stage == "testing"]
         assert entry.level == "error" and entry.frame == 10 and "nope" in entry.message
         assert entry.time == pytest.approx(app.studio.source.frame_times[10] - app.studio.source.frame_times[0])
         app.redraw()

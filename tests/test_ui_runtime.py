@@ -317,3 +317,46 @@ def test_doors_scan_corners_entrance_and_room_watch_are_drawn_from_the_world_mod
     from pico_studio.core.geometry import transform_segments
 
     assert frame_prims(s, frame)["doors"].data == pytest.approx(transform_segments(wm.doors, zero))
+
+
+def test_the_log_is_read_while_another_thread_writes_to_it() -> None:
+    """A callback thread logs an upload's error while the loop's redraw counts the entries:
+    the read copies under the book's lock (iterating the deque raised "deque mutated during
+    iteration", which paused the live loop)."""
+    import threading
+
+    from pico_studio.ui.logbook import LogBook
+
+    book = LogBook(max_entries=300)
+    done = threading.Event()
+    errors: list[BaseException] = []
+
+    def write() -> None:
+        for i in range(20000):
+            book.add("warning" if i % 2 else "error", "upload", f"message {i}", frame=i)
+        done.set()
+
+    def read() -> None:
+        try:
+            while not done.is_set():
+                n, warnings = book.counts()
+                assert 0 <= warnings <= n <= 300
+                assert len(book.newest(50)) <= 50 and len(book.all()) <= 300
+        except BaseException as e:  # noqa: BLE001 - reported below
+            errors.append(e)
+
+    import sys
+
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)  # threads switch often: a read that does not hold the lock is caught
+    try:
+        readers = [threading.Thread(target=read) for _ in range(2)]
+        for t in readers:
+            t.start()
+        write()
+        for t in readers:
+            t.join()
+    finally:
+        sys.setswitchinterval(interval)
+    assert not errors, errors
+    assert book.counts() == (300, 150)

@@ -23,6 +23,7 @@ from tests.ui_browser_helpers import (
     VIEWPORT,
     open_folder,
     served_app,
+    thread_stacks,
     wait_until,
 )
 
@@ -85,7 +86,11 @@ def _upload(page, path: Path, button: str = "Upload map") -> None:  # noqa: ANN0
 
 
 def _still_serving(app, frames_before: int) -> bool:
-    return wait_until(lambda: app.studio.frame_count > frames_before + 5)
+    if wait_until(lambda: app.studio.frame_count > frames_before + 5):
+        return True
+    entries = "\n".join(f"{e.level} {e.stage}: {e.message}" for e in app.log.newest(20))
+    pytest.fail(f"the loop stopped at frame {app.studio.frame_count} (playing: {app.studio.playing})\n"
+                f"log:\n{entries}\n{thread_stacks()}")
 
 
 HOSPITAL_JSON = (MAPS / "hospital_2019.json").read_text()

@@ -6,7 +6,10 @@ import argparse
 import math
 import re
 import socket
+import sys
+import threading
 import time
+import traceback
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -24,6 +27,15 @@ VIEWPORT = {"width": 1200, "height": 800}
 PANEL_LEFT = 790  # x where the control panel starts (control_width="large" at 1200 px)
 NOTICE = (330, 160)  # the "software WebGL" notification covers this top-left box
 LEGEND = (270, 170)  # the on-canvas legend's bottom-left box (style.LEGEND_BOX and its margin)
+
+
+def thread_stacks() -> str:
+    """Every thread's stack, for an assertion message when the page's loop stops."""
+    names = {t.ident: t.name for t in threading.enumerate()}
+    parts = []
+    for ident, frame in sys._current_frames().items():
+        parts.append(f"--- thread {names.get(ident, ident)}\n" + "".join(traceback.format_stack(frame)))
+    return "\n".join(parts)
 
 
 def free_port() -> int:

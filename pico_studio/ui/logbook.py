@@ -36,7 +36,9 @@ class LogEntry:
 
 class LogBook:
     def __init__(self, max_entries: int = MAX_ENTRIES):
-        self.entries: deque[LogEntry] = deque(maxlen=max_entries)
+        # read only through the methods below: a callback thread adds while the loop's redraw
+        # reads, and iterating a deque another thread appends to raises
+        self._entries: deque[LogEntry] = deque(maxlen=max_entries)
         self._seen: set[tuple[str, str, int | None]] = set()  # one entry per message and frame
         self._lock = threading.Lock()
         self.version = 0  # bumped on every new entry (the panel redraws only then)
@@ -51,19 +53,29 @@ class LogBook:
                 return None
             self._seen.add(key)
             if len(self._seen) > 4 * MAX_ENTRIES:
-                self._seen = {(e.stage, e.message, e.frame) for e in self.entries}
+                self._seen = {(e.stage, e.message, e.frame) for e in self._entries}
             entry = LogEntry(level, stage, message, frame, t, time.time())
-            self.entries.append(entry)
+            self._entries.append(entry)
             self.version += 1
             return entry
 
     def newest(self, n: int = 50) -> list[LogEntry]:
         with self._lock:
-            return list(self.entries)[::-1][:n]
+            return list(self._entries)[::-1][:n]
+
+    def all(self) -> list[LogEntry]:
+        """Every entry kept, oldest first (a copy)."""
+        with self._lock:
+            return list(self._entries)
+
+    def counts(self) -> tuple[int, int]:
+        """(entries kept, warnings among them)."""
+        with self._lock:
+            return len(self._entries), sum(e.level == "warning" for e in self._entries)
 
     def clear(self) -> None:
         with self._lock:
-            self.entries.clear()
+            self._entries.clear()
             self._seen.clear()
             self.version += 1
 

@@ -99,7 +99,7 @@ class RecordingControls(Panel):
             self.recorder.stop()
         else:
             self.recorder.start()
-        self.refresh(None)
+        self.page.redraw()  # under the redraw's lock, like every panel's refresh
 
     def seek(self, index: int) -> None:
         """Show frame `index` of the recording (paused, the world model built up to it)."""

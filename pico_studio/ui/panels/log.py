@@ -30,7 +30,7 @@ class LogPanel(Panel):
     def clear(self) -> None:
         self.page.log.clear()
         self._version = -1
-        self.refresh(None)
+        self.page.redraw()  # the rows are rebuilt under the redraw's lock, not beside the loop's
 
     def refresh(self, shown: Shown | None) -> None:
         book = self.page.log
@@ -38,8 +38,7 @@ class LogPanel(Panel):
             return
         self._version = book.version
         entries = book.newest(200)
-        n = len(book.entries)
-        warnings = sum(e.level == "warning" for e in book.entries)
+        n, warnings = book.counts()
         self.summary.content = (f"**{n} entries**: {warnings} warning(s), {n - warnings} error(s)" if n
                                 else "No warnings or errors yet.")
         for row in self.rows:
