@@ -360,3 +360,40 @@ def test_the_log_is_read_while_another_thread_writes_to_it() -> None:
         sys.setswitchinterval(interval)
     assert not errors, errors
     assert book.counts() == (300, 150)
+
+
+def test_a_panel_that_fails_to_refresh_is_logged_and_the_others_still_refresh(tmp_path) -> None:  # noqa: ANN001
+    from pico_studio.cli.serve_cmd import build_app
+    from pico_studio.ui.page import Panel
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    app = build_app(argparse.Namespace(
+        map=None, sim_config=None, config=None, behaviour="wander", source="sim", host="127.0.0.1", port=port,
+        seed=1, export_dir=str(tmp_path), paused=True), verbose=False)
+    try:
+        refreshed: list[int] = []
+
+        class Broken(Panel):
+            name = "broken"
+
+            def refresh(self, shown) -> None:  # noqa: ANN001
+                raise RuntimeError("deque mutated during iteration")
+
+        class Counting(Panel):
+            name = "counting"
+
+            def refresh(self, shown) -> None:  # noqa: ANN001
+                refreshed.append(shown.length)
+
+        app.panels[:0] = [Broken(app.page)]
+        app.panels.append(Counting(app.page))
+        for _ in range(3):
+            app.studio.tick(0.05)
+            app.redraw()
+        assert len(refreshed) == 3  # the panels after the broken one were refreshed each time
+        (entry,) = [e for e in app.log.all() if e.stage == "broken panel"]
+        assert "RuntimeError: deque mutated during iteration" in entry.message
+    finally:
+        app.stop()

@@ -237,7 +237,11 @@ class StudioApp:
             self.layers.update(shown.prims)
             self.status_md.content = status_text(self.studio, shown.frame)
             for panel in self.panels:
-                panel.refresh(shown)
+                try:
+                    panel.refresh(shown)
+                except Exception as e:  # one panel's bug must not pause the run: that panel says so
+                    log.exception("the %s panel failed to refresh", panel.name)
+                    self.log.add("error", f"{panel.name} panel", f"refresh failed: {type(e).__name__}: {e}")
 
     def _snapshot(self) -> Shown:
         s = self.studio
