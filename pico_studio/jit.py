@@ -49,6 +49,8 @@ KERNEL_MODULES = (
     "pico_studio.core.perception.segment_ransac",
     "pico_studio.core.perception.corners",
     "pico_studio.core.perception.identify_kernels",
+    "pico_studio.core.perception.map_proven_kernels",
+    "pico_studio.core.perception.face_kernels",
     "pico_studio.core.perception.merge_kernels",
     "pico_studio.core.perception.objects",
     "pico_studio.core.perception.entrance",

@@ -21,6 +21,7 @@ from pico_studio.core.perception import (
     corners,
     gap_tests,
     identify,
+    map_proven,
     pcg64,
     scan,
     segment_angle,
@@ -35,8 +36,8 @@ from pico_studio.sim import Simulator
 from tests.conftest import MAPS
 from tests.jit_scenes import hospital_frames, recorded_calls
 
-KERNELS = {identify: ("door_pairs", "backed", "object_groups", "jamb_candidates", "extended_hits", "distinct_openings"),
-           gap_tests: ("ray_hits", "blocked_many")}
+KERNELS = {identify: ("door_pairs", "backed", "object_groups", "jamb_candidates", "distinct_openings", "face_gaps"),
+           map_proven: ("bay_gaps", "lone_cap_gaps"), gap_tests: ("ray_hits", "blocked_many")}
 
 
 @pytest.fixture(scope="module")

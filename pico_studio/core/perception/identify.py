@@ -34,7 +34,7 @@ whose far end turns into another wall in a concave corner (a room's wall) facing
 wall's face (at least `end_face_min_length` long) — and never ends on a
 block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
 cabinet's front; or, longer than an end cap, turning in a convex corner into a short wall that
-runs back to a wall in a concave corner: a table standing against a wall, `_against_a_wall`),
+runs back to a wall in a concave corner: a table standing against a wall, `face_kernels.against_a_wall`),
 nor meets a face within `jamb_cap_max` of its free end (a corner, not a face: a table's end). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
 A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
@@ -76,6 +76,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
+from pico_studio.core.perception.face_kernels import face_gaps
 from pico_studio.core.perception.gap_tests import gaps_blocked, nearest_hits
 from pico_studio.core.perception.identify_kernels import (
     SAME_OPENING_ANGLE,
@@ -83,7 +84,6 @@ from pico_studio.core.perception.identify_kernels import (
     backed,
     distinct_openings,
     door_pairs,
-    extended_hits,
     jamb_candidates,
     object_groups,
 )
@@ -298,70 +298,33 @@ def _doors(
         glimpse = ~building & ~cornered & ~weak & (prop[wi, 1 - we] == FLOATING)
         face = np.flatnonzero(is_convex & (building | cornered | weak | glimpse))
         if len(face):
-            hit_t, hit_k = nearest_hits(pts[face], out_dir[face], walls)
-            # the face may be seen in part: a building's wall whose floating end stops short of
-            # the ray (it runs on out of view, e.g. past the laser's field of view), within
-            # end_face_reach of it — unless the scan looks past where it would be
-            miss = (hit_k < 0) | (hit_t > params.door_max_width)
-            if params.end_face_reach > 0 and miss.any():
-                eligible = (lengths >= params.end_face_min_length) & ~objects
-                ext_t, ext_k = extended_hits(
-                    np.ascontiguousarray(pts[face][miss]), np.ascontiguousarray(out_dir[face][miss]),
-                    np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(prop == FLOATING),
-                    np.ascontiguousarray(eligible), float(params.end_face_reach))
-                for r, m in enumerate(np.flatnonzero(miss).tolist()):
-                    if ext_k[r] >= 0 and not _seen_past(pts[face[m]] + ext_t[r] * out_dir[face[m]], view, params):
-                        hit_t[m], hit_k[m] = ext_t[r], ext_k[r]
-            gaps, own, other_k, is_weak, is_glimpse, ends_short = [], [], [], [], [], []
-            # the face it meets is a building's too: not a small object, nor a block's face (both
-            # its ends convex, shorter than a building's wall: a table's or a cabinet's front)
-            block_face = (prop == CONVEX).all(axis=1) & (lengths < params.end_face_min_length)
-            # ...nor a wall whose free end (seen past) lies within an end cap of where the gap
-            # meets it: what the jamb faces there is a corner, not a face (a table's end)
-            block_face |= _against_a_wall(connected, prop, lengths, params.jamb_cap_max, params.end_face_min_length,
-                                          params.object_max_size)
-            for m, t, k in zip(face.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
-                if k < 0 or k == wi[m] or objects[k] or block_face[k] or connected[wi[m], we[m]] == k:
-                    continue
-                if (cornered[m] or weak[m] or glimpse[m]) and lengths[k] < params.end_face_min_length:
-                    continue
-                if not params.door_min_width <= t <= params.door_max_width:
-                    continue
-                meet = pts[m] + t * out_dir[m]
-                if any(prop[k, b] == CONVEX and connected[k, b] < 0
-                       and math.hypot(meet[0] - walls[k, 2 * b], meet[1] - walls[k, 2 * b + 1]) < params.jamb_cap_max
-                       for b in (0, 1)):
-                    continue
-                kd = walls[k, 2:4] - walls[k, 0:2]
-                across = abs(float(kd @ out_dir[m])) / max(float(np.hypot(*kd)), 1e-12)
-                if across > math.sin(params.door_angle):  # not facing: the wall runs along the gap
-                    continue
-                gaps.append(np.concatenate([pts[m], pts[m] + t * out_dir[m]]))
-                own.append(wi[m])
-                other_k.append(k)
-                # a short wall's far end that the scan looks past, in line with the wall, ends
-                # there: the wall is a block's side (a table's), however its end was cut
-                is_weak.append(bool(weak[m]))
-                is_glimpse.append(bool(glimpse[m]))
-                if weak[m]:
-                    ends_short.append(_beam_at(other[m] - params.end_face_continuation * out_dir[m], view, params))
-            if gaps:
-                g = np.array(gaps)
-                oa, ob = np.array(own), np.array(other_k)
+            # the ray from each end to the face it meets (a face seen in part reached past its
+            # floating end, within end_face_reach, unless the scan looks past there), kept when
+            # the face is a building's, square to the ray, a door's width on and no corner; the
+            # loop and its maths: face_kernels.face_gaps
+            g, oa, ob, wk, gl_, beyond = face_gaps(
+                np.ascontiguousarray(pts[face]), np.ascontiguousarray(out_dir[face]),
+                np.ascontiguousarray(other[face]), wi[face].astype(np.int64), we[face].astype(np.int64),
+                building[face], cornered[face], weak[face], glimpse[face], np.ascontiguousarray(walls, dtype=float),
+                np.ascontiguousarray(connected, dtype=np.int64), np.ascontiguousarray(prop, dtype=np.int64),
+                np.ascontiguousarray(objects, dtype=bool), np.ascontiguousarray(lengths, dtype=float),
+                *_view_arrays(view), float(params.door_min_width), float(params.door_max_width),
+                float(params.jamb_cap_max), float(params.end_face_min_length), float(params.object_max_size),
+                float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
+                float(params.end_face_continuation), FLOATING, CONVEX, CONCAVE)
+            if len(g):
                 bad = gaps_blocked(g, walls, oa, ob)
                 # seen edge-on a T-opening's rays end by its face and say nothing; its jamb (a
                 # building's wall end) and face were tested above, so no free ray is asked for
                 backed_g, _, deep_g = _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))
                 bad |= backed_g
-                wk = np.array(is_weak, dtype=bool)
                 if wk.any():
                     sure = ~bad & (deep_g >= max(params.door_min_free_rays, 1))
-                    beyond = np.array(ends_short, dtype=np.int64)
-                    against = bad[wk] | (beyond > 0)
+                    against = bad[wk] | (beyond[wk] > 0)
                     # support: rays through the gap into free space behind it, and no beam past
                     # the wall's far end (hidden, cut by the field of view, or on the wall: it may
                     # run on)
-                    evidence, count = _tally(evidence, g[wk], sure[wk] & (beyond <= 0) & ~against, against, params)
+                    evidence, count = _tally(evidence, g[wk], sure[wk] & (beyond[wk] <= 0) & ~against, against, params)
                     short = count < params.end_face_evidence_scans
                     waiting = np.flatnonzero(wk)[short]
                     # not proven yet (nor banned): a possible door, for the map to confirm once localised
@@ -369,7 +332,6 @@ def _doors(
                         possible.append(g[m])
                         kinds.append("end_face")
                     bad[waiting] = True
-                gl_ = np.array(is_glimpse, dtype=bool)
                 for m in np.flatnonzero(gl_ & ~bad).tolist():
                     possible.append(g[m])
                     kinds.append("end_face")
@@ -418,25 +380,6 @@ def _block_face(prop: np.ndarray, lengths: np.ndarray, params: IdentifyParams) -
     return (prop == CONVEX).all(axis=1) & (lengths > params.jamb_cap_max) & (lengths < params.end_face_min_length)
 
 
-def _against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, cap: float,
-                    short: float, depth: float) -> np.ndarray:
-    """(W,) bool: a wall longer than an end cap (`cap`) and shorter than a building's (`short`)
-    that turns at a convex corner into a wall at most an object's size (`depth`) long ending in
-    a concave corner: the front of a block standing against a wall (a table's front, its side
-    running back to the wall). A thick wall's end cap turning into a short piece T-joined to a
-    wall is none; nor a corridor's wall turning into a room's side (a room is deeper)."""
-    out = np.zeros(len(connected), dtype=bool)
-    for k in np.flatnonzero((lengths > cap) & (lengths < short)).tolist():
-        for e in (0, 1):
-            j = int(connected[k, e])
-            if j < 0 or prop[k, e] != CONVEX or lengths[j] > depth:
-                continue
-            back = connected[j].tolist()
-            if k in back and prop[j, 1 - back.index(k)] == CONCAVE:
-                out[k] = True
-    return out
-
-
 _BANNED = -1e6  # a contradicted gap's count: never promoted
 
 
@@ -480,12 +423,6 @@ def _tally(evidence: np.ndarray, gaps: np.ndarray, support: np.ndarray, against:
     if len(out) > params.end_face_evidence_max:
         out = out[np.argsort(-np.abs(out[:, 4]), kind="stable")[: params.end_face_evidence_max]]
     return out, counts
-
-
-def _seen_past(point: np.ndarray, view: View | None, params: IdentifyParams) -> bool:
-    """Did the current scan's beam towards `point` (zero frame) reach more than
-    `door_occlusion` beyond it? (Then nothing stands there.)"""
-    return _beam_at(point, view, params) > 0
 
 
 def _hidden(gap: np.ndarray, view: View | None, params: IdentifyParams) -> bool:
@@ -556,17 +493,24 @@ def _backed(
         return np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     face_end = np.zeros(g, dtype=bool) if face_end is None else face_end
     # the loop and its maths: identify_kernels.backed
-    has_view, ranges, valid, pose, a0, inc = False, np.zeros(0), np.zeros(0, dtype=bool), (0.0, 0.0, 0.0), 0.0, 0.0
-    if view is not None and len(view.ranges) > 1:
-        a0 = float(view.angles[0])
-        inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
-        has_view = inc != 0 and math.isfinite(inc)  # else no beam is in view
-        ranges, valid, pose = np.ascontiguousarray(view.ranges, dtype=float), np.ascontiguousarray(view.valid, dtype=bool), view.pose
     return backed(np.ascontiguousarray(segs, dtype=float), np.ascontiguousarray(walls, dtype=float),
                   np.ascontiguousarray(own_a, dtype=np.int64), np.ascontiguousarray(own_b, dtype=np.int64),
-                  float(robot[0]), float(robot[1]), bool(has_view), ranges, valid, float(pose[0]), float(pose[1]),
-                  float(pose[2]), a0, inc, np.ascontiguousarray(face_end, dtype=bool), float(params.door_occlusion),
-                  float(params.door_depth), float(params.jamb_cap_max), float(params.door_backed_share))
+                  float(robot[0]), float(robot[1]), *_view_arrays(view), np.ascontiguousarray(face_end, dtype=bool),
+                  float(params.door_occlusion), float(params.door_depth), float(params.jamb_cap_max),
+                  float(params.door_backed_share))
+
+
+def _view_arrays(view: View | None) -> tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float]:
+    """The current scan as the kernels take it: (in view at all, ranges, valid, the robot's
+    pose x, y, a in the zero frame, first beam's angle, angle increment); none in view without
+    a scan, with fewer than two beams or a zero or non-finite increment."""
+    if view is None or len(view.ranges) < 2:
+        return False, np.zeros(0), np.zeros(0, dtype=bool), 0.0, 0.0, 0.0, 0.0, 0.0
+    a0 = float(view.angles[0])
+    inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
+    x, y, a = view.pose
+    return (bool(inc != 0 and math.isfinite(inc)), np.ascontiguousarray(view.ranges, dtype=float),
+            np.ascontiguousarray(view.valid, dtype=bool), float(x), float(y), float(a), a0, inc)
 
 
 def _same_opening(a: list[float], b: list[float], max_angle: float = SAME_OPENING_ANGLE, tol: float = SAME_POINT) -> bool:

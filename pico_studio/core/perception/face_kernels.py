@@ -1,0 +1,167 @@
+"""The T-openings' compiled loops: a wall's end facing another wall's face (identify._doors says
+what counts and why).
+
+From a jamb candidate P (a wall's convex end, outward direction o) the ray P + t o meets a
+wall k first (identify_kernels.ray_hits). A face seen in part is reached past its floating
+end too (identify_kernels.extended_hits, within `reach`), unless the current scan's beam
+towards that point goes on beyond it (`beam_at`). The gap P -> M = P + t o is a T-opening
+candidate when
+
+* k is not P's own wall nor the wall P joins, no object, no block's face (both ends convex
+  and shorter than a building's wall, or the front of a block against a wall:
+  `against_a_wall`), and a building's wall (|k| >= building_min) unless P's wall is;
+* min_width <= t <= max_width, and M is no nearer than `cap_max` to a free convex end of k
+  (a corner there, not a face);
+* k is about square to the ray: |e_k . o| / |e_k| <= sin(angle).
+
+The current scan's beam towards a point Q (zero frame; robot at V, heading va): bearing
+b = atan2(-sin(va) dx + cos(va) dy, cos(va) dx + sin(va) dy), (dx, dy) = Q - V, beam
+rint((b - a0) / inc); it says 1 when it reaches more than `occlusion` beyond Q, -1 when it
+ends more than that before Q, 0 otherwise or out of view.
+
+The same floating-point operations in the same order as the Python they replace.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pico_studio.core.perception.identify_kernels import extended_hits, ray_hits
+from pico_studio.jit import kernel, njit
+
+
+@njit
+def beam_at(qx: float, qy: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float,
+            va: float, a0: float, inc: float, occlusion: float) -> int:
+    """1: the scan's beam towards Q reaches more than `occlusion` beyond it; -1: it ends more
+    than that before Q; 0: neither, or Q out of view."""
+    if not has_view:
+        return 0
+    dx, dy = qx - vx, qy - vy
+    bearing = math.atan2(-math.sin(va) * dx + math.cos(va) * dy, math.cos(va) * dx + math.sin(va) * dy)
+    beam = np.rint((bearing - a0) / inc)
+    if not (beam >= 0 and beam < ranges.shape[0]):
+        return 0
+    b = int(beam)
+    if not valid[b]:
+        return 0
+    r, dist = ranges[b], math.hypot(dx, dy)
+    if r > dist + occlusion:
+        return 1
+    if r < dist - occlusion:
+        return -1
+    return 0
+
+
+@njit
+def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, cap: float, short: float,
+                   depth: float, convex: int, concave: int) -> np.ndarray:
+    """(W,) bool: a wall longer than `cap`, shorter than `short`, turning at a convex corner into
+    a wall at most `depth` long whose other end is a concave corner: a block's front against a
+    wall (identify._doors)."""
+    n = connected.shape[0]
+    out = np.zeros(n, dtype=np.bool_)
+    for k in range(n):
+        if not (lengths[k] > cap and lengths[k] < short):
+            continue
+        for e in range(2):
+            j = connected[k, e]
+            if j < 0 or prop[k, e] != convex or lengths[j] > depth:
+                continue
+            if connected[j, 0] == k:
+                if prop[j, 1] == concave:
+                    out[k] = True
+            elif connected[j, 1] == k and prop[j, 0] == concave:
+                out[k] = True
+    return out
+
+
+def _example_faces() -> tuple:
+    walls = np.array([[0.0, 0.0, 0.0, 2.0], [0.0, 2.0, 0.2, 2.0], [1.0, -1.0, 1.0, 4.0]])
+    connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    prop = np.array([[0, 2], [2, 2], [0, 0]], dtype=np.int64)
+    lengths = np.array([2.0, 0.2, 5.0])
+    pts, out_dir, far = np.array([[0.2, 2.0]]), np.array([[1.0, 0.0]]), np.array([[0.0, 2.0]])
+    one, no = np.array([True]), np.array([False])
+    ranges, valid = np.array([2.0, 2.0, 2.0]), np.array([True, True, True])
+    return (pts, out_dir, far, np.array([1], dtype=np.int64), np.array([1], dtype=np.int64), one, no, no, no,
+            walls, connected, prop, np.zeros(3, dtype=np.bool_), lengths, True, ranges, valid, 0.0, 0.0, 0.0, -0.1,
+            0.1, 0.6, 1.2, 0.12, 1.5, 1.0, 0.3, 0.5, 0.1, 0.2, 0, 2, 3)
+
+
+@kernel(_example_faces)
+def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndarray, we: np.ndarray,
+              building: np.ndarray, cornered: np.ndarray, weak: np.ndarray, glimpse: np.ndarray, walls: np.ndarray,
+              connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, lengths: np.ndarray, has_view: bool,
+              ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float, inc: float,
+              min_width: float, max_width: float, cap_max: float, building_min: float, object_max: float,
+              angle: float, reach: float, occlusion: float, continuation: float, floating: int, convex: int,
+              concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The T-opening candidates from the ends `pts` (F, 2) (outward `out_dir`, far end `far`, wall
+    `wi`, end `we`; which rule each end passed: `building`, `cornered`, `weak`, `glimpse`):
+    (gaps (G, 4) from the end to the face, own wall (G,), face wall (G,), weak (G,), glimpse
+    (G,), beyond (G,) int64: for a weak end, the scan's beam at the wall's far end continued
+    by `continuation` (beam_at), else 0)."""
+    f, n_walls = pts.shape[0], walls.shape[0]
+    hit_t, hit_k = ray_hits(pts, out_dir, walls, np.full(f, -1, dtype=np.int64), np.full(f, -1, dtype=np.int64))
+    # a face seen in part: met past its floating end, unless the scan looks past that point
+    miss = np.empty(f, dtype=np.int64)
+    nm = 0
+    for r in range(f):
+        if hit_k[r] < 0 or hit_t[r] > max_width:
+            miss[nm] = r
+            nm += 1
+    if reach > 0 and nm > 0:
+        eligible = np.empty(n_walls, dtype=np.bool_)
+        floats = np.empty((n_walls, 2), dtype=np.bool_)
+        for k in range(n_walls):
+            eligible[k] = lengths[k] >= building_min and not objects[k]
+            floats[k, 0], floats[k, 1] = prop[k, 0] == floating, prop[k, 1] == floating
+        ext_t, ext_k = extended_hits(pts[miss[:nm]], out_dir[miss[:nm]], walls, floats, eligible, reach)
+        for q in range(nm):
+            r = miss[q]
+            if ext_k[q] >= 0:
+                px, py = pts[r, 0] + ext_t[q] * out_dir[r, 0], pts[r, 1] + ext_t[q] * out_dir[r, 1]
+                if beam_at(px, py, has_view, ranges, valid, vx, vy, va, a0, inc, occlusion) <= 0:
+                    hit_t[r], hit_k[r] = ext_t[q], ext_k[q]
+    # the face is a building's: no block's face, nor a block's front against a wall
+    block_face = against_a_wall(connected, prop, lengths, cap_max, building_min, object_max, convex, concave)
+    for k in range(n_walls):
+        if prop[k, 0] == convex and prop[k, 1] == convex and lengths[k] < building_min:
+            block_face[k] = True
+    gaps = np.empty((f, 4))
+    own, face = np.empty(f, dtype=np.int64), np.empty(f, dtype=np.int64)
+    is_weak, is_glimpse = np.empty(f, dtype=np.bool_), np.empty(f, dtype=np.bool_)
+    beyond = np.zeros(f, dtype=np.int64)
+    sin_a = math.sin(angle)
+    g = 0
+    for r in range(f):
+        k, t = hit_k[r], hit_t[r]
+        if k < 0 or k == wi[r] or objects[k] or block_face[k] or connected[wi[r], we[r]] == k:
+            continue
+        if (cornered[r] or weak[r] or glimpse[r]) and lengths[k] < building_min:
+            continue
+        if not (min_width <= t and t <= max_width):
+            continue
+        mx, my = pts[r, 0] + t * out_dir[r, 0], pts[r, 1] + t * out_dir[r, 1]
+        corner = False
+        for b in range(2):
+            if prop[k, b] == convex and connected[k, b] < 0 and \
+                    math.hypot(mx - walls[k, 2 * b], my - walls[k, 2 * b + 1]) < cap_max:
+                corner = True
+        if corner:
+            continue
+        kx, ky = walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]
+        across = abs(kx * out_dir[r, 0] + ky * out_dir[r, 1]) / max(math.hypot(kx, ky), 1e-12)
+        if across > sin_a:  # not facing: the wall runs along the gap
+            continue
+        gaps[g, 0], gaps[g, 1], gaps[g, 2], gaps[g, 3] = pts[r, 0], pts[r, 1], mx, my
+        own[g], face[g], is_weak[g], is_glimpse[g] = wi[r], k, weak[r], glimpse[r]
+        if weak[r]:
+            # a short wall's far end that the scan looks past, in line with the wall, ends there
+            beyond[g] = beam_at(far[r, 0] - continuation * out_dir[r, 0], far[r, 1] - continuation * out_dir[r, 1],
+                                has_view, ranges, valid, vx, vy, va, a0, inc, occlusion)
+        g += 1
+    return gaps[:g].copy(), own[:g].copy(), face[:g].copy(), is_weak[:g].copy(), is_glimpse[:g].copy(), beyond[:g].copy()

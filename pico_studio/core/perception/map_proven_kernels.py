@@ -1,0 +1,164 @@
+"""The map-proven candidates' compiled loops (map_proven.py says what they find and why).
+
+Bays. From the door-point candidates (identify_kernels.jamb_candidates with any cap a jamb
+and no block face) the convex ends P_i with outward direction o_i = (P_i - F_i) / |P_i - F_i|
+(F_i: the wall's far end) pair as identify_kernels.door_pairs's doors, or as a passage's
+mouth: two door frame's walls side by side (o_i . o_j > cos(angle)) with the gap across both
+(|u . o_i|, |u . o_j| < sin(angle), u = (P_j - P_i) / |P_j - P_i|), a door's width apart,
+scored |u . o_i| + |u . o_j|. A gap no other wall crosses (blocked_many) is kept, best scored
+first, one per opening (distinct_openings).
+
+Lone end caps. A cap from a to b (|b - a| = L <= cap_max, joined to nothing) looks along its
+normal n = (-d_y, d_x), d = (b - a) / L, turned towards the robot R ((R - M) . n >= 0, M the
+cap's middle); the first wall it meets (ray_hits, the cap itself left out) at t in
+[min_width, max_width] is a building's (|k| >= building_min, no object) about square to the
+ray (|e_k . n| / |e_k| <= sin(angle)), and no other wall crosses the gap M -> M + t n.
+
+The same floating-point operations in the same order as the numpy they replace, so the
+answers are the same to the last bit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pico_studio.core.perception.identify_kernels import (
+    SAME_OPENING_ANGLE,
+    SAME_POINT,
+    blocked_many,
+    distinct_openings,
+    door_pairs,
+    jamb_candidates,
+    ray_hits,
+)
+from pico_studio.jit import kernel
+
+
+def _example_bays() -> tuple:
+    walls = np.array([[0.0, 0.0, 2.0, 0.0], [2.9, 0.0, 5.0, 0.0], [0.0, 0.0, 0.0, 2.0]])
+    connected = np.array([[2, -1], [-1, -1], [0, -1]], dtype=np.int64)
+    prop = np.array([[1, 2], [2, 0], [1, 0]], dtype=np.int64)
+    return (walls, connected, prop, np.zeros(3, dtype=np.bool_), 1.0, 1.0, 0.35, 0.5, 0, 2, 0.6, 1.2, 0.3, 0.1,
+            0.05)
+
+
+@kernel(_example_bays)
+def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, rx: float, ry: float,
+             cap_max: float, frame_min: float, floating: int, convex: int, min_width: float, max_width: float,
+             angle: float, offset: float, offset_short: float) -> np.ndarray:
+    """The bays and passage mouths (K, 4) between convex ends, best aligned first."""
+    wi_all, we_all, _, long_all, stub_all, sized_all, seen_all, _ = jamb_candidates(
+        walls, connected, prop, objects, cap_max, frame_min, floating, convex, 0.0, rx, ry, 0.0)
+    keep = np.empty(wi_all.shape[0], dtype=np.int64)
+    n = 0
+    for r in range(wi_all.shape[0]):
+        if prop[wi_all[r], we_all[r]] == convex:
+            keep[n] = r
+            n += 1
+    if n < 2:
+        return np.zeros((0, 4))
+    keep = keep[:n]
+    wi, we = wi_all[keep], we_all[keep]
+    long, stub, cap_sized, cap_seen = long_all[keep], stub_all[keep], sized_all[keep], seen_all[keep]
+    pts = np.empty((n, 2))
+    out_dir = np.empty((n, 2))
+    for r in range(n):
+        e = we[r]
+        pts[r, 0], pts[r, 1] = walls[wi[r], 2 * e], walls[wi[r], 2 * e + 1]
+        dx, dy = pts[r, 0] - walls[wi[r], 2 * (1 - e)], pts[r, 1] - walls[wi[r], 2 * (1 - e) + 1]
+        norm = max(np.hypot(dx, dy), 1e-12)
+        out_dir[r, 0], out_dir[r, 1] = dx / norm, dy / norm
+    ia, ja, off_ij, off_ji, is_door, _ = door_pairs(
+        pts, out_dir, wi, we, np.ones(n, dtype=np.bool_), long, stub, cap_sized, cap_seen, connected,
+        np.zeros(n, dtype=np.bool_), min_width, max_width, angle, offset, offset_short)
+    # the door-shaped pairs, then the mouths (pairs of door frame's walls, in row order)
+    m_max = ia.shape[0] + n * (n - 1) // 2
+    gi, gj = np.empty(m_max, dtype=np.int64), np.empty(m_max, dtype=np.int64)
+    off = np.empty(m_max)
+    g = 0
+    for r in range(ia.shape[0]):
+        if is_door[r]:
+            gi[g], gj[g], off[g] = ia[r], ja[r], min(off_ij[r], off_ji[r])
+            g += 1
+    cos_a, sin_a = math.cos(angle), math.sin(angle)
+    for i in range(n):
+        if not long[i]:
+            continue
+        for j in range(i + 1, n):
+            if not long[j]:
+                continue
+            dx, dy = pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1]
+            dist = np.hypot(dx, dy)
+            ux, uy = dx / max(dist, 1e-12), dy / max(dist, 1e-12)
+            ui = abs(ux * out_dir[i, 0] + uy * out_dir[i, 1])
+            uj = abs(ux * out_dir[j, 0] + uy * out_dir[j, 1])
+            if (min_width <= dist <= max_width and out_dir[i, 0] * out_dir[j, 0] + out_dir[i, 1] * out_dir[j, 1] > cos_a
+                    and ui < sin_a and uj < sin_a and wi[i] != wi[j] and connected[wi[i], we[i]] != wi[j]):
+                gi[g], gj[g], off[g] = i, j, ui + uj
+                g += 1
+    if g == 0:
+        return np.zeros((0, 4))
+    segs = np.empty((g, 4))
+    own_a, own_b = np.empty(g, dtype=np.int64), np.empty(g, dtype=np.int64)
+    for r in range(g):
+        segs[r, 0], segs[r, 1] = pts[gi[r], 0], pts[gi[r], 1]
+        segs[r, 2], segs[r, 3] = pts[gj[r], 0], pts[gj[r], 1]
+        own_a[r], own_b[r] = wi[gi[r]], wi[gj[r]]
+    clear = ~blocked_many(segs, walls, own_a, own_b)
+    order = np.argsort(off[:g], kind="mergesort")  # stable: equal scores keep their row order
+    kept = distinct_openings(segs, order, clear, SAME_OPENING_ANGLE, SAME_POINT)
+    return segs[kept]
+
+
+def _example_caps() -> tuple:
+    walls = np.array([[0.0, 1.0, 0.2, 1.0], [-2.0, 0.0, 2.0, 0.0]])
+    connected = np.full((2, 2), -1, dtype=np.int64)
+    lengths = np.array([0.2, 4.0])
+    return walls, connected, np.zeros(2, dtype=np.bool_), lengths, 0.1, 3.0, 0.35, 0.6, 1.2, 1.5, 0.3
+
+
+@kernel(_example_caps)
+def lone_cap_gaps(walls: np.ndarray, connected: np.ndarray, objects: np.ndarray, lengths: np.ndarray, rx: float,
+                  ry: float, cap_max: float, min_width: float, max_width: float, building_min: float,
+                  angle: float) -> np.ndarray:
+    """The possible T-openings (K, 4) from lone end caps, from the cap's middle to the face."""
+    n = walls.shape[0]
+    caps = np.empty(n, dtype=np.int64)
+    c = 0
+    for i in range(n):
+        if connected[i, 0] < 0 and connected[i, 1] < 0 and lengths[i] <= cap_max and lengths[i] > 1e-6 and not objects[i]:
+            caps[c] = i
+            c += 1
+    if c == 0:
+        return np.zeros((0, 4))
+    caps = caps[:c]
+    mid, normal = np.empty((c, 2)), np.empty((c, 2))
+    for r in range(c):
+        k = caps[r]
+        ax, ay, bx, by = walls[k, 0], walls[k, 1], walls[k, 2], walls[k, 3]
+        mid[r, 0], mid[r, 1] = (ax + bx) / 2, (ay + by) / 2
+        dx, dy = (bx - ax) / lengths[k], (by - ay) / lengths[k]
+        nx, ny = -dy, dx
+        if (rx - mid[r, 0]) * nx + (ry - mid[r, 1]) * ny < 0:
+            nx, ny = -nx, -ny
+        normal[r, 0], normal[r, 1] = nx, ny
+    t, hit = ray_hits(mid, normal, walls, caps, np.full(c, -1, dtype=np.int64))
+    sin_a = math.sin(angle)
+    gaps = np.empty((c, 4))
+    own, other = np.empty(c, dtype=np.int64), np.empty(c, dtype=np.int64)
+    g = 0
+    for r in range(c):
+        k = hit[r]
+        if k < 0 or not min_width <= t[r] <= max_width or objects[k] or lengths[k] < building_min:
+            continue
+        ex, ey = walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]
+        if abs(ex * normal[r, 0] + ey * normal[r, 1]) / max(np.hypot(ex, ey), 1e-12) > sin_a:
+            continue  # not facing: the wall runs along the gap
+        gaps[g, 0], gaps[g, 1] = mid[r, 0], mid[r, 1]
+        gaps[g, 2], gaps[g, 3] = mid[r, 0] + t[r] * normal[r, 0], mid[r, 1] + t[r] * normal[r, 1]
+        own[g], other[g] = caps[r], k
+        g += 1
+    blocked = blocked_many(gaps[:g], walls, own[:g], other[:g])
+    return gaps[:g][~blocked]
