@@ -76,17 +76,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
+from pico_studio.core.perception.door_kernels import away_from, jamb_doors, loose_gaps
 from pico_studio.core.perception.face_kernels import face_gaps
-from pico_studio.core.perception.gap_tests import gaps_blocked, nearest_hits
+from pico_studio.core.perception.gap_tests import gaps_blocked
 from pico_studio.core.perception.identify_kernels import (
-    SAME_OPENING_ANGLE,
-    SAME_POINT,
     backed,
-    distinct_openings,
-    door_pairs,
-    jamb_candidates,
     object_groups,
 )
+from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven import bays, lone_caps
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
@@ -128,45 +125,18 @@ def identify(
     `view`: the current scan and the robot's pose (zero frame), for looking through gaps;
     `evidence`: the previous scan's `Identified.evidence` (T-openings on a short wall, counted
     over scans)."""
-    n = len(walls)
-    prop = np.full((n, 2), FLOATING, dtype=np.int64)
-    prop[seen_end] = CONVEX
-    corners: list[tuple[float, float]] = []
-    convex: list[bool] = []
-    # a few dozen walls: plain-float Python beats numpy's per-call cost on 2-vectors here
+    # each end floating or convex (seen), each junction a convex or concave corner (the loop
+    # and its maths: junction_kernels.junctions)
     rx, ry = float(robot_xy[0]), float(robot_xy[1])
-    wl = walls.tolist()
-    cl = connected.tolist()
-    for i in range(n):
-        for a in (0, 1):
-            k = cl[i][a]
-            if k < 0:
-                continue
-            cx, cy = wl[i][2 * a], wl[i][2 * a + 1]
-            back = cl[k]
-            if back[0] == i or back[1] == i:  # end to end: one corner for the pair
-                b = 0 if back[0] == i else 1
-                if k < i:
-                    continue
-                fix, fiy = wl[i][2 * (1 - a)], wl[i][2 * (1 - a) + 1]
-                fkx, fky = wl[k][2 * (1 - b)], wl[k][2 * (1 - b) + 1]
-                is_convex = not _in_wedge((rx - cx, ry - cy), (fix - cx, fiy - cy), (fkx - cx, fky - cy))
-                prop[i, a] = prop[k, b] = CONVEX if is_convex else CONCAVE
-            else:  # a T: i's end on k's inside
-                is_convex = False
-                prop[i, a] = CONCAVE
-            corners.append((cx, cy))
-            convex.append(is_convex)
-    for i, a in zip(*np.nonzero(seen_end & (connected < 0)), strict=True):
-        corners.append((wl[i][2 * a], wl[i][2 * a + 1]))
-        convex.append(True)
+    prop, corners, convex = junctions(np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
+                                      np.ascontiguousarray(seen_end, dtype=bool), rx, ry, FLOATING, CONVEX, CONCAVE)
     objects = object_walls(walls, connected, prop, params.object_max_size, params.object_min_depth)
     ev = np.zeros((0, 5)) if evidence is None else evidence
     doors, door_kinds, possible, kinds, ev = _doors(walls, prop, connected, objects, (rx, ry), view, params, ev)
     return Identified(
         prop,
-        np.array(corners, dtype=float).reshape(-1, 2),
-        np.array(convex, dtype=bool),
+        corners,
+        convex,
         doors,
         possible,
         kinds,
@@ -174,13 +144,6 @@ def identify(
         objects,
         ev,
     )
-
-
-def _in_wedge(r: tuple[float, float], u: tuple[float, float], v: tuple[float, float]) -> bool:
-    uv = u[0] * v[1] - u[1] * v[0]
-    ur = u[0] * r[1] - u[1] * r[0]
-    rv = r[0] * v[1] - r[1] * v[0]
-    return bool(uv * ur > 0 and uv * rv > 0)
 
 
 def object_walls(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float,
@@ -223,58 +186,28 @@ def _doors(
     # table's between two tables standing in a row by a wall). The wall a door continues is
     # long (`door_wall_min_length`), or a short stub whose far end joins a long wall (a
     # cabinet's side is short and joins another short side; then the gap must continue it
-    # closely: `door_offset_short`). The loop: identify_kernels.jamb_candidates
-    wi, we, capped, long, stub, cap_sized, cap_seen, lengths = jamb_candidates(
-        np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
-        np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
-        float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX,
-        float(params.end_face_min_length), float(robot[0]), float(robot[1]), float(params.object_max_size))
-    if len(wi) < 1:
-        return empty, [], empty, [], evidence
-    ends = walls.reshape(-1, 2)  # row 2 i + e: end e of wall i
-    pts = ends[2 * wi + we]
-    other = ends[2 * wi + 1 - we]
-    out_dir = pts - other
-    out_dir /= np.maximum(np.hypot(out_dir[:, 0], out_dir[:, 1]), 1e-12)[:, None]
-    is_convex = prop[wi, we] == CONVEX
+    # closely: `door_offset_short`). The loop: identify_kernels.jamb_candidates.
     # the pairs (ia, ja), ia < ja, a door's width apart that may be a door or a possible door:
     # the gap continues one wall's line (the other point ahead of its end, within door_angle
     # and door_offset), and the other point's wall either comes back along that line or
     # stands across it (the end cap of a thick wall seen from the side, when the face beyond
     # the gap is out of view); the tests and their maths: identify_kernels.door_pairs
-    ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
-        np.ascontiguousarray(pts), np.ascontiguousarray(out_dir), wi.astype(np.int64), we.astype(np.int64),
-        np.ascontiguousarray(is_convex), np.ascontiguousarray(long), np.ascontiguousarray(stub),
-        np.ascontiguousarray(cap_sized), np.ascontiguousarray(cap_seen),
-        np.ascontiguousarray(connected, dtype=np.int64),
-        np.ascontiguousarray(_block_face(prop, lengths, params)[wi]), float(params.door_min_width),
+    # a door is an opening some ray was seen to pass (a possible door is the unknown case), best
+    # aligned first, one per opening; the pipeline and its maths: door_kernels.jamb_doors
+    wi, we, capped, long, pts, out_dir, other, is_convex, lengths, jamb_gaps, maybe, maybe_convex = jamb_doors(
+        np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
+        np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool), float(robot[0]),
+        float(robot[1]), *_view_arrays(view), float(params.jamb_cap_max), float(params.door_wall_min_length),
+        float(params.end_face_min_length), float(params.object_max_size), float(params.door_min_width),
         float(params.door_max_width), float(params.door_angle), float(params.door_offset),
-        float(params.door_offset_short))
-    doors: list[list[float]] = []
-    door_kinds: list[str] = []
-    possible: list[np.ndarray] = []
-    kinds: list[str] = []
-    if len(ia):
-        segs = np.concatenate([pts[ia], pts[ja]], axis=1)
-        blocked = gaps_blocked(segs, walls, wi[ia], wi[ja])
-        some = np.flatnonzero(~blocked)
-        backed_some, free_some, _ = _backed(segs[some], walls, wi[ia[some]], wi[ja[some]], robot, view, params)
-        blocked[some] = backed_some
-        # a door is an opening some ray was seen to pass (a possible door is the unknown case)
-        unseen = np.ones(len(segs), dtype=bool)
-        unseen[some] = free_some < params.door_min_free_rays
-        # best aligned first; a later door from the same point in about the same direction is
-        # the same opening seen from another corner of the jamb (e.g. both corners of an end cap)
-        cand = np.flatnonzero(is_door & ~blocked & ~unseen)
-        seg_list = segs.tolist()
-        order = cand[np.argsort(np.minimum(off_ij[cand], off_ji[cand]))].astype(np.int64)
-        for m in distinct_openings(np.ascontiguousarray(segs), order, np.ones(len(segs), dtype=bool),
-                                   SAME_OPENING_ANGLE, SAME_POINT).tolist():
-            doors.append(seg_list[m])
-            door_kinds.append("jambs")
-        for m in np.flatnonzero(is_possible & ~blocked).tolist():
-            possible.append(segs[m])
-            kinds.append("convex_loose" if is_convex[ia[m]] or is_convex[ja[m]] else "loose_loose")
+        float(params.door_offset_short), int(params.door_min_free_rays), float(params.door_occlusion),
+        float(params.door_depth), float(params.door_backed_share), FLOATING, CONVEX)
+    if len(wi) < 1:
+        return empty, [], empty, [], evidence
+    doors: list[list[float]] = jamb_gaps.tolist()
+    door_kinds: list[str] = ["jambs"] * len(doors)
+    possible: list[np.ndarray] = list(maybe)
+    kinds: list[str] = ["convex_loose" if c else "loose_loose" for c in maybe_convex.tolist()]
     # a wall's end facing another wall: the wall's continuation hits another wall's face. From
     # a convex end (the laser saw the end) within a door's width that is a door, a T-opening;
     # from a loose end a possible door
@@ -344,40 +277,31 @@ def _doors(
                         doors.append(gl)
                         door_kinds.append("end_face")
     if params.bay_doors:
-        for gap in bays(walls, prop, connected, objects, robot, params):
-            if not any(_same_opening(gap, d) for d in doors):
-                possible.append(np.array(gap))
-                kinds.append("bay")
+        for gap in bays(walls, prop, connected, objects, np.array(doors), robot, params):
+            possible.append(gap)
+            kinds.append("bay")
     if params.end_face_doors:
         for t_gap in lone_caps(walls, connected, objects, lengths, robot, params):
             possible.append(t_gap)
             kinds.append("end_face")
+    # from a loose end, the wall it faces (door_kernels.loose_gaps)
     loose = np.flatnonzero(~is_convex)
     if len(loose):
-        hit_t, hit_k = nearest_hits(pts[loose], out_dir[loose], walls)
-        for m, t, k in zip(loose.tolist(), hit_t.tolist(), hit_k.tolist(), strict=True):
-            if k < 0 or k == wi[m] or not params.door_min_width <= t <= params.facing_distance:
-                continue
-            if connected[wi[m], we[m]] == k or objects[k]:
-                continue
-            possible.append(np.concatenate([pts[m], pts[m] + t * out_dir[m]]))
+        for gap in loose_gaps(np.ascontiguousarray(pts[loose]), np.ascontiguousarray(out_dir[loose]),
+                              wi[loose].astype(np.int64), we[loose].astype(np.int64),
+                              np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
+                              np.ascontiguousarray(objects, dtype=bool), float(params.door_min_width),
+                              float(params.facing_distance)):
+            possible.append(gap)
             kinds.append("loose_wall")
     d = np.array(doors).reshape(-1, 4)
     p = np.array(possible).reshape(-1, 4)
     if len(d) and len(p):  # a possible door where a door was found already is that door
-        mid_d = (d[:, 0:2] + d[:, 2:4]) / 2
-        mid_p = (p[:, 0:2] + p[:, 2:4]) / 2
-        near = np.hypot(*(mid_p[:, None, :] - mid_d[None, :, :]).transpose(2, 0, 1)).min(axis=1)
-        keep = near > params.door_min_width / 2
+        keep = away_from(np.ascontiguousarray(p, dtype=float), np.ascontiguousarray(d, dtype=float),
+                         float(params.door_min_width) / 2)
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
     return d, door_kinds, p, kinds, evidence
-
-
-def _block_face(prop: np.ndarray, lengths: np.ndarray, params: IdentifyParams) -> np.ndarray:
-    """(W,) bool: a wall seen whole with both ends free or corners (convex), longer than an end
-    cap and shorter than a building's wall: a block's face (a table's front)."""
-    return (prop == CONVEX).all(axis=1) & (lengths > params.jamb_cap_max) & (lengths < params.end_face_min_length)
 
 
 _BANNED = -1e6  # a contradicted gap's count: never promoted
@@ -511,19 +435,6 @@ def _view_arrays(view: View | None) -> tuple[bool, np.ndarray, np.ndarray, float
     x, y, a = view.pose
     return (bool(inc != 0 and math.isfinite(inc)), np.ascontiguousarray(view.ranges, dtype=float),
             np.ascontiguousarray(view.valid, dtype=bool), float(x), float(y), float(a), a0, inc)
-
-
-def _same_opening(a: list[float], b: list[float], max_angle: float = SAME_OPENING_ANGLE, tol: float = SAME_POINT) -> bool:
-    """Two gaps (x0, y0, x1, y1) from one point (either end) leaving in about the same direction."""
-    cos_max = math.cos(max_angle)
-    for pa, qa in ((a[0:2], a[2:4]), (a[2:4], a[0:2])):
-        for pb, qb in ((b[0:2], b[2:4]), (b[2:4], b[0:2])):
-            if max(abs(pa[0] - pb[0]), abs(pa[1] - pb[1])) < tol:
-                ux, uy, vx, vy = qa[0] - pa[0], qa[1] - pa[1], qb[0] - pb[0], qb[1] - pb[1]
-                cos = (ux * vx + uy * vy) / max(math.hypot(ux, uy) * math.hypot(vx, vy), 1e-12)
-                if cos > cos_max:
-                    return True
-    return False
 
 
 def wall_len_of(walls: np.ndarray, idx: np.ndarray) -> np.ndarray:

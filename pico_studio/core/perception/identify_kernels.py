@@ -451,7 +451,7 @@ def _step(walls: np.ndarray, connected: np.ndarray, i: int, e: int, k: int) -> b
 
 
 # one opening, not two: two gaps sharing an end point (within SAME_POINT) and leaving it within
-# SAME_OPENING_ANGLE of each other (distinct_openings, identify._same_opening)
+# SAME_OPENING_ANGLE of each other (same_opening)
 SAME_OPENING_ANGLE = 0.5  # rad
 SAME_POINT = 1e-6  # m
 
@@ -461,12 +461,28 @@ def _example_distinct() -> tuple:
     return segs, np.array([0, 1, 2], dtype=np.int64), np.array([True, True, True]), SAME_OPENING_ANGLE, SAME_POINT
 
 
+@njit
+def same_opening(a: np.ndarray, m: int, b: np.ndarray, k: int, cos_max: float, tol: float) -> bool:
+    """Are gaps a[m] and b[k] one opening: sharing an end point (within `tol`) and leaving it
+    with cos of the angle between them above `cos_max`?"""
+    for ea in range(2):
+        for eb in range(2):
+            pax, pay = a[m, 2 * ea], a[m, 2 * ea + 1]
+            pbx, pby = b[k, 2 * eb], b[k, 2 * eb + 1]
+            if max(abs(pax - pbx), abs(pay - pby)) < tol:
+                ux, uy = a[m, 2 * (1 - ea)] - pax, a[m, 2 * (1 - ea) + 1] - pay
+                vx, vy = b[k, 2 * (1 - eb)] - pbx, b[k, 2 * (1 - eb) + 1] - pby
+                cos = (ux * vx + uy * vy) / max(math.hypot(ux, uy) * math.hypot(vx, vy), 1e-12)
+                if cos > cos_max:
+                    return True
+    return False
+
+
 @kernel(_example_distinct)
 def distinct_openings(segs: np.ndarray, order: np.ndarray, usable: np.ndarray, max_angle: float,
                       tol: float) -> np.ndarray:
-    """The `usable` gaps in `order`, each kept unless it is the same opening as one kept before:
-    the two share an end point (within `tol`) and leave it within `max_angle` of each other
-    (identify._same_opening's test). The kept rows, in order (K,) int64."""
+    """The `usable` gaps in `order`, each kept unless it is the same opening as one kept before
+    (`same_opening`). The kept rows, in order (K,) int64."""
     cos_max = math.cos(max_angle)
     kept = np.empty(order.shape[0], dtype=np.int64)
     n = 0
@@ -476,18 +492,8 @@ def distinct_openings(segs: np.ndarray, order: np.ndarray, usable: np.ndarray, m
             continue
         same = False
         for q in range(n):
-            k = kept[q]
-            for ea in range(2):
-                for eb in range(2):
-                    pax, pay = segs[m, 2 * ea], segs[m, 2 * ea + 1]
-                    pbx, pby = segs[k, 2 * eb], segs[k, 2 * eb + 1]
-                    if max(abs(pax - pbx), abs(pay - pby)) < tol:
-                        ux, uy = segs[m, 2 * (1 - ea)] - pax, segs[m, 2 * (1 - ea) + 1] - pay
-                        vx, vy = segs[k, 2 * (1 - eb)] - pbx, segs[k, 2 * (1 - eb) + 1] - pby
-                        cos = (ux * vx + uy * vy) / max(math.hypot(ux, uy) * math.hypot(vx, vy), 1e-12)
-                        if cos > cos_max:
-                            same = True
-            if same:
+            if same_opening(segs, m, segs, kept[q], cos_max, tol):
+                same = True
                 break
         if not same:
             kept[n] = m

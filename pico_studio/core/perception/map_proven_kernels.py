@@ -32,6 +32,7 @@ from pico_studio.core.perception.identify_kernels import (
     door_pairs,
     jamb_candidates,
     ray_hits,
+    same_opening,
 )
 from pico_studio.jit import kernel
 
@@ -40,15 +41,17 @@ def _example_bays() -> tuple:
     walls = np.array([[0.0, 0.0, 2.0, 0.0], [2.9, 0.0, 5.0, 0.0], [0.0, 0.0, 0.0, 2.0]])
     connected = np.array([[2, -1], [-1, -1], [0, -1]], dtype=np.int64)
     prop = np.array([[1, 2], [2, 0], [1, 0]], dtype=np.int64)
-    return (walls, connected, prop, np.zeros(3, dtype=np.bool_), 1.0, 1.0, 0.35, 0.5, 0, 2, 0.6, 1.2, 0.3, 0.1,
-            0.05)
+    return (walls, connected, prop, np.zeros(3, dtype=np.bool_), np.zeros((1, 4)), 1.0, 1.0, 0.35, 0.5, 0, 2, 0.6,
+            1.2, 0.3, 0.1, 0.05)
 
 
 @kernel(_example_bays)
-def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, rx: float, ry: float,
+def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, doors: np.ndarray,
+             rx: float, ry: float,
              cap_max: float, frame_min: float, floating: int, convex: int, min_width: float, max_width: float,
              angle: float, offset: float, offset_short: float) -> np.ndarray:
-    """The bays and passage mouths (K, 4) between convex ends, best aligned first."""
+    """The bays and passage mouths (K, 4) between convex ends, best aligned first, but those
+    that are the same opening as one of `doors` (D, 4) (identify_kernels.same_opening)."""
     wi_all, we_all, _, long_all, stub_all, sized_all, seen_all, _ = jamb_candidates(
         walls, connected, prop, objects, cap_max, frame_min, floating, convex, 0.0, rx, ry, 0.0)
     keep = np.empty(wi_all.shape[0], dtype=np.int64)
@@ -109,7 +112,14 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
     clear = ~blocked_many(segs, walls, own_a, own_b)
     order = np.argsort(off[:g], kind="mergesort")  # stable: equal scores keep their row order
     kept = distinct_openings(segs, order, clear, SAME_OPENING_ANGLE, SAME_POINT)
-    return segs[kept]
+    cos_max = math.cos(SAME_OPENING_ANGLE)
+    new = np.ones(kept.shape[0], dtype=np.bool_)
+    for q in range(kept.shape[0]):
+        for d in range(doors.shape[0]):
+            if same_opening(segs, kept[q], doors, d, cos_max, SAME_POINT):
+                new[q] = False
+                break
+    return segs[kept[new]]
 
 
 def _example_caps() -> tuple:

@@ -1,0 +1,73 @@
+"""The local map's wall ends as corners, compiled (identify.identify's first step).
+
+Each wall end is floating (nothing seen there), or convex when the laser saw the end itself.
+Where wall i's end P joins wall k:
+
+* end to end (k's end joins i back): one corner for the pair. With u = F_i - P, v = F_k - P
+  (the walls' far ends) and r = R - P (R: the robot), the robot lies inside the wedge between
+  the walls when (u x v)(u x r) > 0 and (u x v)(r x v) > 0; then the corner points away from
+  it, concave; else convex (both ends get it);
+* a T (i's end on k's inside): concave.
+
+Corners are listed in wall order (i, then its end), then every seen free end, convex.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pico_studio.jit import kernel
+
+
+def _example_junctions() -> tuple:
+    walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 1.0, 1.0], [0.0, 0.5, 0.5, 0.5]])
+    connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    seen_end = np.array([[True, True], [True, False], [False, True]])
+    return walls, connected, seen_end, 0.5, -1.0, 0, 2, 3
+
+
+@kernel(_example_junctions)
+def junctions(walls: np.ndarray, connected: np.ndarray, seen_end: np.ndarray, rx: float, ry: float, floating: int,
+              convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(prop (W, 2) int64: each end's property, corners (C, 2), convex (C,) bool)."""
+    n = walls.shape[0]
+    prop = np.full((n, 2), floating, dtype=np.int64)
+    for i in range(n):
+        for a in range(2):
+            if seen_end[i, a]:
+                prop[i, a] = convex
+    corners = np.empty((2 * n, 2))
+    is_convex = np.empty(2 * n, dtype=np.bool_)
+    c = 0
+    for i in range(n):
+        for a in range(2):
+            k = connected[i, a]
+            if k < 0:
+                continue
+            cx, cy = walls[i, 2 * a], walls[i, 2 * a + 1]
+            if connected[k, 0] == i or connected[k, 1] == i:  # end to end: one corner for the pair
+                b = 0 if connected[k, 0] == i else 1
+                if k < i:
+                    continue
+                ux, uy = walls[i, 2 * (1 - a)] - cx, walls[i, 2 * (1 - a) + 1] - cy
+                vx, vy = walls[k, 2 * (1 - b)] - cx, walls[k, 2 * (1 - b) + 1] - cy
+                qx, qy = rx - cx, ry - cy
+                uv = ux * vy - uy * vx
+                ur = ux * qy - uy * qx
+                rv = qx * vy - qy * vx
+                out = not (uv * ur > 0 and uv * rv > 0)
+                prop[i, a] = convex if out else concave
+                prop[k, b] = prop[i, a]
+            else:  # a T: i's end on k's inside
+                out = False
+                prop[i, a] = concave
+            corners[c, 0], corners[c, 1] = cx, cy
+            is_convex[c] = out
+            c += 1
+    for i in range(n):
+        for a in range(2):
+            if seen_end[i, a] and connected[i, a] < 0:
+                corners[c, 0], corners[c, 1] = walls[i, 2 * a], walls[i, 2 * a + 1]
+                is_convex[c] = True
+                c += 1
+    return prop, corners[:c].copy(), is_convex[:c].copy()
