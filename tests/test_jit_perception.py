@@ -37,7 +37,7 @@ from pico_studio.sim.sim_config import load_sim_config
 from tests.conftest import MAPS
 from tests.jit_scenes import hospital_frames, recorded_calls
 
-KERNELS = {identify: ("backed", "object_groups", "face_gaps", "junctions", "jamb_doors", "loose_gaps", "away_from"),
+KERNELS = {identify: ("backed", "small_objects", "face_gaps", "junctions", "jamb_doors", "loose_gaps", "away_from"),
            map_proven: ("lone_cap_gaps",), gap_tests: ("blocked_many",)}
 # on restaurant_2024's tables (the hospital's turning scans see no bays)
 TABLE_KERNELS = {map_proven: ("bay_gaps",)}

@@ -79,10 +79,7 @@ from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.door_kernels import away_from, jamb_doors, loose_gaps
 from pico_studio.core.perception.face_kernels import face_gaps
 from pico_studio.core.perception.gap_tests import gaps_blocked
-from pico_studio.core.perception.identify_kernels import (
-    backed,
-    object_groups,
-)
+from pico_studio.core.perception.identify_kernels import backed, small_objects
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven import bays, lone_caps
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
@@ -156,20 +153,10 @@ def object_walls(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max
     n = len(walls)
     if n == 0 or max_size <= 0:
         return np.zeros(n, dtype=bool)
-    # the groups of connected walls, and which are small with no floating end (the loop:
-    # identify_kernels.object_groups); the depth across the main direction by SVD here
-    group, candidate = object_groups(np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
-                                     np.ascontiguousarray(prop, dtype=np.int64), float(max_size), FLOATING)
-    pts = walls.reshape(n, 2, 2)
-    out = np.zeros(n, dtype=bool)
-    for g in np.unique(group[candidate]):
-        members = group == g
-        p = pts[members].reshape(-1, 2)
-        centred = p - p.mean(axis=0)
-        minor = np.linalg.svd(centred, full_matrices=False)[2][-1]  # the main direction's normal
-        depth = float(np.ptp(centred @ minor))
-        out[members] = depth >= min_depth
-    return out
+    # the groups of connected walls that are small with no floating end, and deep enough (the
+    # loops and the principal axis: identify_kernels.small_objects)
+    return small_objects(np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
+                         np.ascontiguousarray(prop, dtype=np.int64), float(max_size), float(min_depth), FLOATING)
 
 
 def _doors(

@@ -336,6 +336,59 @@ def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, ma
     return group, candidate
 
 
+def _example_objects() -> tuple:
+    walls, connected, prop, max_size, floating = _example_groups()
+    return walls, connected, prop, max_size, 0.1, floating
+
+
+@kernel(_example_objects)
+def small_objects(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float, min_depth: float,
+                  floating: int) -> np.ndarray:
+    """(W,) bool: the wall belongs to a candidate group (`object_groups`) at least `min_depth`
+    deep across its main direction. The group's wall ends p_k, centred on their mean, have the
+    second moments sxx, sxy, syy; the main direction is at theta = atan2(2 sxy, sxx - syy) / 2
+    (the principal axis), its normal m = (-sin theta, cos theta), and the depth is the spread
+    max - min of p_k . m."""
+    group, candidate = object_groups(walls, connected, prop, max_size, floating)
+    n = walls.shape[0]
+    out = np.zeros(n, dtype=np.bool_)
+    done = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        g = group[i]
+        if not candidate[i] or done[g]:
+            continue
+        done[g] = True
+        mx, my, c = 0.0, 0.0, 0
+        for k in range(n):
+            if group[k] == g:
+                for e in range(2):
+                    mx += walls[k, 2 * e]
+                    my += walls[k, 2 * e + 1]
+                    c += 1
+        mx, my = mx / c, my / c
+        sxx, sxy, syy = 0.0, 0.0, 0.0
+        for k in range(n):
+            if group[k] == g:
+                for e in range(2):
+                    dx, dy = walls[k, 2 * e] - mx, walls[k, 2 * e + 1] - my
+                    sxx += dx * dx
+                    sxy += dx * dy
+                    syy += dy * dy
+        theta = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
+        nx, ny = -math.sin(theta), math.cos(theta)
+        lo, hi = math.inf, -math.inf
+        for k in range(n):
+            if group[k] == g:
+                for e in range(2):
+                    v = (walls[k, 2 * e] - mx) * nx + (walls[k, 2 * e + 1] - my) * ny
+                    lo, hi = min(lo, v), max(hi, v)
+        deep = hi - lo >= min_depth
+        for k in range(n):
+            if group[k] == g:
+                out[k] = deep
+    return out
+
+
 def _example_candidates() -> tuple:
     walls = np.array([[0.0, 0.0, 2.0, 0.0], [2.0, 0.0, 2.0, 0.2], [3.0, 0.0, 5.0, 0.0]])
     connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
