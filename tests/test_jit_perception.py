@@ -19,7 +19,6 @@ from pico_studio.core.behaviours.registry import Drive
 from pico_studio.core.perception import (
     Perceptor,
     corners,
-    gap_tests,
     identify,
     map_proven,
     pcg64,
@@ -37,10 +36,11 @@ from pico_studio.sim.sim_config import load_sim_config
 from tests.conftest import MAPS
 from tests.jit_scenes import hospital_frames, recorded_calls
 
-KERNELS = {identify: ("backed", "small_objects", "face_gaps", "junctions", "jamb_doors", "loose_gaps", "away_from"),
-           map_proven: ("lone_cap_gaps",), gap_tests: ("blocked_many",)}
-# on restaurant_2024's tables (the hospital's turning scans see no bays)
-TABLE_KERNELS = {map_proven: ("bay_gaps",)}
+KERNELS = {identify: ("small_objects", "junctions", "jamb_doors", "loose_gaps", "away_from"),
+           map_proven: ("lone_cap_gaps",)}
+# on restaurant_2024's tables and partitions (the hospital's turning scans see no bays and
+# find no T-opening)
+TABLE_KERNELS = {map_proven: ("bay_gaps",), identify: ("t_openings",)}
 
 
 @pytest.fixture(scope="module")
@@ -103,7 +103,7 @@ def test_doors_found_on_real_scans(calls: dict[str, list[tuple]]):
 
 @pytest.fixture(scope="module")
 def table_calls() -> dict[str, list[tuple]]:
-    """Every call of the bays' kernel while a perceptor follows the robot turning among
+    """Every call of the bays' and T-openings' kernels while a perceptor follows the robot turning among
     restaurant_2024's tables for 60 frames."""
     with recorded_calls(TABLE_KERNELS) as recorded:
         cfg = Config()
@@ -119,7 +119,7 @@ def table_calls() -> dict[str, list[tuple]]:
 @pytest.mark.parametrize("module,name", [(m, n) for m, names in TABLE_KERNELS.items() for n in names])
 def test_table_kernels_equal_their_python_on_real_scans(table_calls: dict[str, list[tuple]], module: Any, name: str):
     assert table_calls[name], f"{name} was never called on the restaurant scans"
-    assert _answered_alike(getattr(module, name), name, table_calls[name]) > 0  # some bays found
+    assert _answered_alike(getattr(module, name), name, table_calls[name]) > 0  # some found
 
 
 SCAN_KERNELS = {scan: ("scan_points",), segment_split_merge: ("_douglas_peucker",), segment_angle: ("_walk",),

@@ -28,7 +28,12 @@ import math
 
 import numpy as np
 
-from pico_studio.core.perception.identify_kernels import extended_hits, ray_hits
+from pico_studio.core.perception.identify_kernels import (
+    backed,
+    blocked_many,
+    extended_hits,
+    ray_hits,
+)
 from pico_studio.jit import kernel, njit
 
 
@@ -165,3 +170,172 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
                                 has_view, ranges, valid, vx, vy, va, a0, inc, occlusion)
         g += 1
     return gaps[:g].copy(), own[:g].copy(), face[:g].copy(), is_weak[:g].copy(), is_glimpse[:g].copy(), beyond[:g].copy()
+
+
+BANNED = -1e6  # a contradicted T-opening's count: never promoted
+
+
+@njit
+def tally(evidence: np.ndarray, gaps: np.ndarray, support: np.ndarray, against: np.ndarray, min_width: float,
+          angle: float, keep: int) -> tuple[np.ndarray, np.ndarray]:
+    """Count scans for the T-openings on a short wall: `evidence` (E, 5) rows (middle x, y, unit
+    gap direction x, y, supporting scans), `gaps` (G, 4) this scan's candidates, `support` (G,)
+    free rays seen through the gap, `against` (G,) blocked or backed now. A gap is the first
+    record whose middle lies within min_width / 2 of its middle, about parallel (|u_r . u| >
+    cos(angle)); a supporting scan adds one (the record follows the latest view), a
+    contradicting one bans the place for good (BANNED). Returns the records (at most `keep`,
+    the largest |count| first, stable) and each gap's count."""
+    e, g = evidence.shape[0], gaps.shape[0]
+    rows = np.empty((e + g, 5))
+    rows[:e] = evidence
+    n = e
+    counts = np.zeros(g, dtype=np.int64)
+    cos_a = math.cos(angle)
+    for m in range(g):
+        mx, my = (gaps[m, 0] + gaps[m, 2]) / 2, (gaps[m, 1] + gaps[m, 3]) / 2
+        ln = max(math.hypot(gaps[m, 2] - gaps[m, 0], gaps[m, 3] - gaps[m, 1]), 1e-12)
+        ux, uy = (gaps[m, 2] - gaps[m, 0]) / ln, (gaps[m, 3] - gaps[m, 1]) / ln
+        hit = -1
+        for r in range(n):
+            if math.hypot(rows[r, 0] - mx, rows[r, 1] - my) <= min_width / 2 and \
+                    abs(rows[r, 2] * ux + rows[r, 3] * uy) > cos_a:
+                hit = r
+                break
+        if against[m]:
+            if hit < 0:
+                hit = n
+                n += 1
+            rows[hit, 0], rows[hit, 1], rows[hit, 2], rows[hit, 3], rows[hit, 4] = mx, my, ux, uy, BANNED
+            counts[m] = int(BANNED)
+            continue
+        if not support[m]:
+            counts[m] = int(rows[hit, 4]) if hit >= 0 else 0
+            continue
+        if hit < 0:
+            hit = n
+            n += 1
+            rows[hit, 4] = 0.0
+        rows[hit, 0], rows[hit, 1], rows[hit, 2], rows[hit, 3], rows[hit, 4] = mx, my, ux, uy, rows[hit, 4] + 1.0
+        counts[m] = int(rows[hit, 4])
+    out = rows[:n]
+    if n > keep:
+        out = out[np.argsort(-np.abs(out[:, 4]), kind="mergesort")[:keep]]
+    return out.copy(), counts
+
+
+@njit
+def _hidden(gap: np.ndarray, has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float,
+            va: float, a0: float, inc: float, occlusion: float) -> bool:
+    """Do the scan's beams towards two of the gap's points at a quarter, half and three quarters
+    end more than `occlusion` before them (something stands in front)?"""
+    n = 0
+    for f in (0.25, 0.5, 0.75):
+        qx, qy = gap[0] + f * (gap[2] - gap[0]), gap[1] + f * (gap[3] - gap[1])
+        if beam_at(qx, qy, has_view, ranges, valid, vx, vy, va, a0, inc, occlusion) < 0:
+            n += 1
+    return n >= 2
+
+
+@njit
+def _same_place(a: np.ndarray, b: np.ndarray, min_width: float, angle: float) -> bool:
+    """Two gaps about parallel whose middles lie within min_width / 2: one opening."""
+    max_, may = (a[0] + a[2]) / 2, (a[1] + a[3]) / 2
+    mbx, mby = (b[0] + b[2]) / 2, (b[1] + b[3]) / 2
+    if math.hypot(max_ - mbx, may - mby) > min_width / 2:
+        return False
+    ux, uy, vx, vy = a[2] - a[0], a[3] - a[1], b[2] - b[0], b[3] - b[1]
+    cos = abs(ux * vx + uy * vy) / max(math.hypot(ux, uy) * math.hypot(vx, vy), 1e-12)
+    return cos > math.cos(angle)
+
+
+def _example_openings() -> tuple:
+    (pts, out_dir, far, wi, we, _, _, _, _, walls, connected, prop, objects, lengths, has_view, ranges, valid, vx, vy,
+     va, a0, inc, *_) = _example_faces()
+    one = np.array([True])
+    return (pts, out_dir, far, wi, we, one, one, one, walls, connected, prop, objects, lengths, np.zeros((0, 4)),
+            np.zeros((0, 5)), 0.0, 0.0, has_view, ranges, valid, vx, vy, va, a0, inc, 0.6, 1.2, 0.12, 1.5, 1.0, 0.3, 0.5,
+            0.1, 0.2, 0.3, 0.5, 1, 3, 16, 0, 2, 3)
+
+
+@kernel(_example_openings)
+def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndarray, we: np.ndarray,
+               is_convex: np.ndarray, long: np.ndarray, capped: np.ndarray, walls: np.ndarray, connected: np.ndarray,
+               prop: np.ndarray, objects: np.ndarray, lengths: np.ndarray, doors: np.ndarray, evidence: np.ndarray,
+               rx: float, ry: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
+               inc: float, min_width: float, max_width: float, cap_max: float, building_min: float,
+               object_max: float, angle: float, reach: float, occlusion: float, continuation: float, depth: float,
+               backed_share: float, min_free_rays: int, evidence_scans: int, evidence_max: int, floating: int,
+               convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The T-openings from the jamb candidates (identify._doors says which ends count and why):
+    (doors (N, 4) new ones, not the same place as one of `doors` nor one found before; possible
+    (P, 4): weak ends still counting scans, then glimpses; evidence: the records after this
+    scan, `evidence` itself when no weak end was tested)."""
+    c = wi.shape[0]
+    building = np.empty(c, dtype=np.bool_)
+    cornered, weak, glimpse = np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_)
+    face = np.empty(c, dtype=np.int64)
+    f = 0
+    for r in range(c):
+        i, far_end = wi[r], prop[wi[r], 1 - we[r]]
+        building[r] = lengths[i] >= building_min or (long[r] and capped[r])
+        cornered[r] = long[r] and far_end == concave and not building[r]
+        weak[r] = (long[r] or capped[r]) and not building[r] and far_end == floating and evidence_scans > 0
+        glimpse[r] = not building[r] and not cornered[r] and not weak[r] and far_end == floating
+        if is_convex[r] and (building[r] or cornered[r] or weak[r] or glimpse[r]):
+            face[f] = r
+            f += 1
+    empty = np.zeros((0, 4))
+    if f == 0:
+        return empty, empty, evidence
+    face = face[:f]
+    g, oa, ob, wk, gl_, beyond = face_gaps(
+        pts[face], out_dir[face], far[face], wi[face], we[face], building[face], cornered[face], weak[face],
+        glimpse[face], walls, connected, prop, objects, lengths, has_view, ranges, valid, vx, vy, va, a0, inc,
+        min_width, max_width, cap_max, building_min, object_max, angle, reach, occlusion, continuation, floating,
+        convex, concave)
+    n = g.shape[0]
+    if n == 0:
+        return empty, empty, evidence
+    bad = blocked_many(g, walls, oa, ob)
+    # seen edge-on a T-opening's rays end by its face and say nothing; its jamb and face were
+    # tested already, so no free ray is asked for
+    backed_g, _, deep_g = backed(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
+                                 np.ones(n, dtype=np.bool_), occlusion, depth, cap_max, backed_share)
+    bad |= backed_g
+    possible = np.empty((n, 4))
+    p = 0
+    weak_rows = np.flatnonzero(wk)
+    if weak_rows.shape[0] > 0:
+        sure = ~bad & (deep_g >= max(min_free_rays, 1))
+        against = bad[weak_rows] | (beyond[weak_rows] > 0)
+        support = sure[weak_rows] & (beyond[weak_rows] <= 0) & ~against
+        evidence, count = tally(evidence, g[weak_rows], support, against, min_width, angle, evidence_max)
+        for q in range(weak_rows.shape[0]):
+            m = weak_rows[q]
+            if count[q] < evidence_scans:  # not proven yet (nor banned): for the map to confirm
+                if count[q] >= 0 and not bad[m]:
+                    possible[p] = g[m]
+                    p += 1
+                bad[m] = True
+    for m in range(n):
+        if gl_[m] and not bad[m]:
+            possible[p] = g[m]
+            p += 1
+        bad[m] = bad[m] or gl_[m]
+    found = np.empty((n, 4))
+    d = 0
+    for m in range(n):
+        if bad[m] or _hidden(g[m], has_view, ranges, valid, vx, vy, va, a0, inc, occlusion):
+            continue
+        same = False
+        for k in range(doors.shape[0]):
+            if _same_place(g[m], doors[k], min_width, angle):
+                same = True
+                break
+        for k in range(d):
+            if not same and _same_place(g[m], found[k], min_width, angle):
+                same = True
+        if not same:
+            found[d] = g[m]
+            d += 1
+    return found[:d].copy(), possible[:p].copy(), evidence

@@ -77,9 +77,8 @@ import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.door_kernels import away_from, jamb_doors, loose_gaps
-from pico_studio.core.perception.face_kernels import face_gaps
-from pico_studio.core.perception.gap_tests import gaps_blocked
-from pico_studio.core.perception.identify_kernels import backed, small_objects
+from pico_studio.core.perception.face_kernels import t_openings
+from pico_studio.core.perception.identify_kernels import small_objects
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven import bays, lone_caps
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
@@ -199,70 +198,36 @@ def _doors(
     # a convex end (the laser saw the end) within a door's width that is a door, a T-opening;
     # from a loose end a possible door
     if params.end_face_doors:
-        # the end is a building wall's: a long wall, or a door frame's length ending in a whole
+        # the convex ends that count: a building wall's end (a long wall, or a door frame's length ending in a whole
         # end cap of a wall's thickness (a thick wall's end seen with its cap; a table's end is
-        # as wide as the table, a person's side too short)
-        building = (lengths[wi] >= params.end_face_min_length) | (long & capped)
-        # or a door frame's length whose far end turns into another wall in a concave corner (a
+        # as wide as the table, a person's side too short); or a door frame's length whose far end turns into another wall in a concave corner (a
         # room's wall), when the face it meets is a building wall's (end_face_min_length long)
-        cornered = long & (prop[wi, 1 - we] == CONCAVE) & ~building
         # or a door frame's length seen short, its far end floating (it runs on out of view; a
         # table's side ends in a seen corner or a seen end), facing a building wall's face: from
         # one scan as likely a table's side, so a door only after `end_face_evidence_scans` scans
         # saw free rays through the gap; so too a whole end cap's side seen shorter than a door
         # frame's (the rest hidden: a thick wall's end; a person's or a chair's side has no cap)
-        weak = (long | capped) & ~building & (prop[wi, 1 - we] == FLOATING) & (params.end_face_evidence_scans > 0)
         # or any shorter piece seen so (a thick wall's side glimpsed, its cap edge-on; or a
         # person's, a chair's side): never a door from the local map, a possible door for the
         # map to prove
-        glimpse = ~building & ~cornered & ~weak & (prop[wi, 1 - we] == FLOATING)
-        face = np.flatnonzero(is_convex & (building | cornered | weak | glimpse))
-        if len(face):
-            # the ray from each end to the face it meets (a face seen in part reached past its
-            # floating end, within end_face_reach, unless the scan looks past there), kept when
-            # the face is a building's, square to the ray, a door's width on and no corner; the
-            # loop and its maths: face_kernels.face_gaps
-            g, oa, ob, wk, gl_, beyond = face_gaps(
-                np.ascontiguousarray(pts[face]), np.ascontiguousarray(out_dir[face]),
-                np.ascontiguousarray(other[face]), wi[face].astype(np.int64), we[face].astype(np.int64),
-                building[face], cornered[face], weak[face], glimpse[face], np.ascontiguousarray(walls, dtype=float),
-                np.ascontiguousarray(connected, dtype=np.int64), np.ascontiguousarray(prop, dtype=np.int64),
-                np.ascontiguousarray(objects, dtype=bool), np.ascontiguousarray(lengths, dtype=float),
-                *_view_arrays(view), float(params.door_min_width), float(params.door_max_width),
-                float(params.jamb_cap_max), float(params.end_face_min_length), float(params.object_max_size),
-                float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
-                float(params.end_face_continuation), FLOATING, CONVEX, CONCAVE)
-            if len(g):
-                bad = gaps_blocked(g, walls, oa, ob)
-                # seen edge-on a T-opening's rays end by its face and say nothing; its jamb (a
-                # building's wall end) and face were tested above, so no free ray is asked for
-                backed_g, _, deep_g = _backed(g, walls, oa, ob, robot, view, params, np.ones(len(g), dtype=bool))
-                bad |= backed_g
-                if wk.any():
-                    sure = ~bad & (deep_g >= max(params.door_min_free_rays, 1))
-                    against = bad[wk] | (beyond[wk] > 0)
-                    # support: rays through the gap into free space behind it, and no beam past
-                    # the wall's far end (hidden, cut by the field of view, or on the wall: it may
-                    # run on)
-                    evidence, count = _tally(evidence, g[wk], sure[wk] & (beyond[wk] <= 0) & ~against, against, params)
-                    short = count < params.end_face_evidence_scans
-                    waiting = np.flatnonzero(wk)[short]
-                    # not proven yet (nor banned): a possible door, for the map to confirm once localised
-                    for m in waiting[(count[short] >= 0) & ~bad[waiting]].tolist():
-                        possible.append(g[m])
-                        kinds.append("end_face")
-                    bad[waiting] = True
-                for m in np.flatnonzero(gl_ & ~bad).tolist():
-                    possible.append(g[m])
-                    kinds.append("end_face")
-                bad |= gl_
-                for m in np.flatnonzero(~bad).tolist():
-                    gl = g[m].tolist()
-                    if _hidden(g[m], view, params):
-                        continue
-                    if not any(_same_place(gl, d, params) for d in doors):
-                        doors.append(gl)
-                        door_kinds.append("end_face")
+        # then the ray from each such convex end to the face it meets, the gap's tests, the weak
+        # ends' evidence over scans (end_face_evidence_scans) and the doors not found already
+        # (the loops and their maths: face_kernels.t_openings, face_gaps, tally)
+        found, maybe_t, evidence = t_openings(
+            pts, out_dir, other, wi, we, is_convex, long, capped, np.ascontiguousarray(walls, dtype=float),
+            np.ascontiguousarray(connected, dtype=np.int64), np.ascontiguousarray(prop, dtype=np.int64),
+            np.ascontiguousarray(objects, dtype=bool), lengths, np.array(doors, dtype=float).reshape(-1, 4),
+            np.ascontiguousarray(evidence, dtype=float).reshape(-1, 5), float(robot[0]), float(robot[1]),
+            *_view_arrays(view), float(params.door_min_width), float(params.door_max_width),
+            float(params.jamb_cap_max), float(params.end_face_min_length), float(params.object_max_size),
+            float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
+            float(params.end_face_continuation), float(params.door_depth), float(params.door_backed_share),
+            int(params.door_min_free_rays), int(params.end_face_evidence_scans), int(params.end_face_evidence_max),
+            FLOATING, CONVEX, CONCAVE)
+        possible.extend(maybe_t)
+        kinds.extend(["end_face"] * len(maybe_t))
+        doors.extend(found.tolist())
+        door_kinds.extend(["end_face"] * len(found))
     if params.bay_doors:
         for gap in bays(walls, prop, connected, objects, np.array(doors), robot, params):
             possible.append(gap)
@@ -291,124 +256,6 @@ def _doors(
     return d, door_kinds, p, kinds, evidence
 
 
-_BANNED = -1e6  # a contradicted gap's count: never promoted
-
-
-def _tally(evidence: np.ndarray, gaps: np.ndarray, support: np.ndarray, against: np.ndarray,
-           params: IdentifyParams) -> tuple[np.ndarray, np.ndarray]:
-    """Count scans for the T-openings on a short wall: `evidence` (E, 5) rows (middle x, y, unit
-    gap direction x, y, supporting scans); `gaps` (G, 4) this scan's candidates, `support` (G,)
-    free rays seen through the gap, `against` (G,) blocked or backed now. A gap is the record
-    whose middle lies within half a door's minimum width, about parallel (`_same_place`); a
-    supporting scan adds one, a contradicting one bans the place for good (a table's side seen
-    once to end short stays a table's). Returns the new records (at most
-    `end_face_evidence_max`, the surest kept) and each gap's count."""
-    rows = evidence.tolist()
-    counts = np.zeros(len(gaps), dtype=np.int64)
-    for m, gap in enumerate(gaps.tolist()):
-        mx, my = (gap[0] + gap[2]) / 2, (gap[1] + gap[3]) / 2
-        ln = max(math.hypot(gap[2] - gap[0], gap[3] - gap[1]), 1e-12)
-        ux, uy = (gap[2] - gap[0]) / ln, (gap[3] - gap[1]) / ln
-        hit = -1
-        for r, row in enumerate(rows):
-            if math.hypot(row[0] - mx, row[1] - my) <= params.door_min_width / 2 and \
-                    abs(row[2] * ux + row[3] * uy) > math.cos(params.door_angle):
-                hit = r
-                break
-        if against[m]:
-            if hit < 0:
-                rows.append([])
-                hit = len(rows) - 1
-            rows[hit] = [mx, my, ux, uy, _BANNED]
-            counts[m] = int(_BANNED)
-            continue
-        if not support[m]:
-            counts[m] = int(rows[hit][4]) if hit >= 0 else 0
-            continue
-        if hit < 0:
-            rows.append([mx, my, ux, uy, 0.0])
-            hit = len(rows) - 1
-        rows[hit] = [mx, my, ux, uy, rows[hit][4] + 1.0]  # follow the latest view of the gap
-        counts[m] = int(rows[hit][4])
-    out = np.array(rows, dtype=float).reshape(-1, 5)
-    if len(out) > params.end_face_evidence_max:
-        out = out[np.argsort(-np.abs(out[:, 4]), kind="stable")[: params.end_face_evidence_max]]
-    return out, counts
-
-
-def _hidden(gap: np.ndarray, view: View | None, params: IdentifyParams) -> bool:
-    """Is the gap (4,) hidden from the current scan: do the beams towards two of its points at
-    a quarter, half and three quarters end more than `door_occlusion` before them (something
-    stands in front: a box before a wall's face, not a T-opening seen edge-on, whose beams
-    reach its face)?"""
-    a, b = gap[:2], gap[2:]
-    return sum(_beam_at(a + f * (b - a), view, params) < 0 for f in (0.25, 0.5, 0.75)) >= 2
-
-
-def _beam_at(point: np.ndarray, view: View | None, params: IdentifyParams) -> int:
-    """The current scan's beam towards `point` (zero frame): 1 reaching more than
-    `door_occlusion` beyond it (nothing stands there), -1 ending more than that before it
-    (something in front hides it), 0 neither or out of view."""
-    if view is None or len(view.ranges) < 2:
-        return 0
-    a0 = float(view.angles[0])
-    inc = (float(view.angles[-1]) - a0) / (len(view.angles) - 1)
-    if inc == 0 or not math.isfinite(inc):
-        return 0
-    px, py, pa = view.pose
-    dx, dy = float(point[0]) - px, float(point[1]) - py
-    bearing = math.atan2(-math.sin(pa) * dx + math.cos(pa) * dy, math.cos(pa) * dx + math.sin(pa) * dy)
-    beam = round((bearing - a0) / inc)
-    if not 0 <= beam < len(view.ranges) or not view.valid[beam]:
-        return 0
-    r, dist = float(view.ranges[beam]), math.hypot(dx, dy)
-    return 1 if r > dist + params.door_occlusion else -1 if r < dist - params.door_occlusion else 0
-
-
-def _same_place(a: list[float], b: list[float], params: IdentifyParams) -> bool:
-    """Two gaps about parallel whose middles lie within half a door's minimum width: one
-    opening (e.g. found from both corners of a thick wall's end cap)."""
-    ma = ((a[0] + a[2]) / 2, (a[1] + a[3]) / 2)
-    mb = ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
-    if math.hypot(ma[0] - mb[0], ma[1] - mb[1]) > params.door_min_width / 2:
-        return False
-    ux, uy, vx, vy = a[2] - a[0], a[3] - a[1], b[2] - b[0], b[3] - b[1]
-    cos = abs(ux * vx + uy * vy) / max(math.hypot(ux, uy) * math.hypot(vx, vy), 1e-12)
-    return cos > math.cos(params.door_angle)
-
-
-def _backed(
-    segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, robot: tuple[float, float],
-    view: View | None, params: IdentifyParams, face_end: np.ndarray | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(G,) bool: is there no seeing through the gap? Rays from the robot through five points of
-    the middle of each gap: the current scan's beam when the point is in view, else the local
-    map's first wall along the ray (the gap's own two walls left out). A ray stopping more
-    than `door_occlusion` before the gap says nothing. One that stops behind the gap is
-    *closed* when its end lies in the gap's shadow — within `door_depth` of the gap line and
-    between the jambs' normals: the back of a bay between two tables, a panel in the gap. A
-    ray ending within `door_occlusion` of a jamb's normal says nothing (a bay's side looks like
-    the face a T-opening ends on) unless deeper than `jamb_cap_max` behind a jamb that is a
-    wall's end (`face_end` (G,): the gap's second point lies on a wall's face instead). A ray that goes on, returns nothing, or ends beside the gap
-    (the free space behind a door opens sideways, e.g. a corridor seen through a door at an
-    angle) is free. Backed when at least `door_backed_share` of the informative
-    rays are closed and none reached free space, `door_depth` past the line (then what closed
-    the others are a passage's sides: a hallway seen at an angle, not a bay's back). Also (G,) how many rays were seen to pass the gap (known, and ending more
-    than `door_occlusion` beyond its line, or never): a door needs `door_min_free_rays` of
-    them (a bay between two counters seen edge-on, each ray ending on the far counter's side
-    right by the gap line, shows none; a thick wall's cap seen at an angle ends rays a few dm
-    beyond it); and (G,) how many of those reached free space, `door_depth` beyond the line or
-    never ending (what a T-opening on a short wall needs as evidence)."""
-    g = len(segs)
-    if g == 0:
-        return np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    face_end = np.zeros(g, dtype=bool) if face_end is None else face_end
-    # the loop and its maths: identify_kernels.backed
-    return backed(np.ascontiguousarray(segs, dtype=float), np.ascontiguousarray(walls, dtype=float),
-                  np.ascontiguousarray(own_a, dtype=np.int64), np.ascontiguousarray(own_b, dtype=np.int64),
-                  float(robot[0]), float(robot[1]), *_view_arrays(view), np.ascontiguousarray(face_end, dtype=bool),
-                  float(params.door_occlusion), float(params.door_depth), float(params.jamb_cap_max),
-                  float(params.door_backed_share))
 
 
 def _view_arrays(view: View | None) -> tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float]:
