@@ -14,7 +14,8 @@ def random_free_poses(segments: np.ndarray, start: tuple[float, float], k: int, 
     """K poses the robot could drive to from `start`: every segment is drawn into a grid
     grown by `clearance`, the free cells connected to the start cell are flood-filled, and K
     of them are drawn (a random point in the cell, a random heading). So poses lie inside the
-    building, outside objects and thick walls, whatever way the map draws its walls."""
+    building, outside objects and thick walls, whatever way the map draws its walls; never
+    outside `bounds` (the map's extent), even where an open exit leads out."""
     x0, y0, x1, y1 = bounds
     x0, y0 = x0 - 2 * clearance, y0 - 2 * clearance
     w = int(math.ceil((x1 + 2 * clearance - x0) / resolution)) + 1
@@ -25,6 +26,14 @@ def random_free_poses(segments: np.ndarray, start: tuple[float, float], k: int, 
     thick = max(1, int(math.ceil(2 * clearance / resolution)))
     cv2.polylines(img, list(cells), False, 255, thick)
     grid[1:-1, 1:-1] = img
+    # nothing outside the map's extent: through an open exit (an escape room's) the fill would
+    # run round the building's outside, where the map has nothing to localise against
+    inside_x0, inside_y0 = int(round(2 * clearance / resolution)), int(round(2 * clearance / resolution))
+    inside_x1, inside_y1 = int(round((x1 - x0) / resolution)), int(round((y1 - y0) / resolution))
+    grid[1:-1, 1:-1][:, :inside_x0] = 1
+    grid[1:-1, 1:-1][:, inside_x1 + 1:] = 1
+    grid[1:-1, 1:-1][:inside_y0, :] = 1
+    grid[1:-1, 1:-1][inside_y1 + 1:, :] = 1
     sx, sy = (int(round((start[0] - x0) / resolution)), int(round((start[1] - y0) / resolution)))
     if not (0 <= sx < w and 0 <= sy < h):
         return []
