@@ -338,3 +338,22 @@ def test_a_lone_end_cap_facing_a_wall_is_a_possible_t_opening():
         out = identify(np.array([cap, other]), np.full((2, 2), -1, dtype=np.int64),
                        np.array([[True, True], [False, False]]), robot, PARAMS)
         assert "end_face" not in out.possible_door_kind
+
+
+def test_a_t_opening_onto_a_side_wall_behind_a_stubs_fragment():
+    """ward:9's door right by a side wall: the corridor wall's end (1.12, 0.1) faces the side
+    wall x = 0 across 1.12 m, but the ray first meets a 0.14 m piece askew to it (the 5 cm stub
+    left of the corridor wall, seen in fragments), 4 cm before the side wall. The side wall's
+    face behind it, within a wall's thickness, is the face. With the side wall farther behind
+    the piece than that, or none, there is no door."""
+    robot = (3.29, 0.68)
+    corridor = [1.12, 0.1, 3.62, 0.1]
+    fragment = [0.0, 0.18, 0.07, 0.06]
+    connected = [[-1, -1]] * 3
+    seen = [[True, True], [False, False], [False, True]]
+    doors, kind = _doors([corridor, [0.0, 2.19, 0.0, -0.19], fragment], connected, seen, robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [1.12, 0.1, 0.0, 0.1], atol=1e-6)
+    doors, _ = _doors([corridor, [-0.4, 2.19, -0.4, -0.19], fragment], connected, seen, robot)
+    assert len(doors) == 0
+    doors, _ = _doors([corridor, fragment], connected[:2], [seen[0], seen[2]], robot)
+    assert len(doors) == 0

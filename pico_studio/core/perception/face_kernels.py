@@ -14,6 +14,11 @@ candidate when
   (a corner there, not a face);
 * k is about square to the ray: |e_k . o| / |e_k| <= sin(angle).
 
+Where k fails the last two at a free corner, or is a piece no longer than `cap_max` askew to
+the ray (a stub or a trim against a wall, a corner seen in fragments), the face may be a
+building's wall just behind it, within `cap_max` further along the ray (`_face_behind`),
+meeting the same tests.
+
 The current scan's beam towards a point Q (zero frame; robot at V, heading va): bearing
 b = atan2(-sin(va) dx + cos(va) dy, cos(va) dx + sin(va) dy), (dx, dy) = Q - V, beam
 rint((b - a0) / inc); it says 1 when it reaches more than `occlusion` beyond Q, -1 when it
@@ -32,6 +37,7 @@ from pico_studio.core.perception.identify_kernels import (
     backed,
     blocked_many,
     extended_hits,
+    line_hit,
     ray_hits,
 )
 from pico_studio.jit import kernel, njit
@@ -81,6 +87,41 @@ def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
             elif connected[j, 1] == k and prop[j, 0] == concave:
                 out[k] = True
     return out
+
+
+@njit
+def _at_a_corner(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, k: int, mx: float, my: float,
+                 cap_max: float, convex: int) -> bool:
+    """Does M lie within `cap_max` of one of wall k's free convex ends?"""
+    for b in range(2):
+        if prop[k, b] == convex and connected[k, b] < 0 and \
+                math.hypot(mx - walls[k, 2 * b], my - walls[k, 2 * b + 1]) < cap_max:
+            return True
+    return False
+
+
+@njit
+def _square(walls: np.ndarray, k: int, ox: float, oy: float, sin_a: float) -> bool:
+    """Is wall k about square to the ray's direction o: |e_k . o| / |e_k| <= sin_a?"""
+    kx, ky = walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]
+    return abs(kx * ox + ky * oy) / max(math.hypot(kx, ky), 1e-12) <= sin_a
+
+
+@njit
+def _face_behind(px: float, py: float, ox: float, oy: float, walls: np.ndarray, lengths: np.ndarray,
+                 objects: np.ndarray, block_face: np.ndarray, t0: float, depth: float, building_min: float,
+                 own: int, joined: int) -> tuple[int, float]:
+    """The first building wall (at least `building_min`, no object, no block's face, neither the
+    ray's own wall nor the wall it joins) the ray P + t o meets at t0 < t <= t0 + depth: (its
+    index, t), or (-1, inf)."""
+    best_k, best_t = -1, math.inf
+    for j in range(walls.shape[0]):
+        if j == own or j == joined or objects[j] or block_face[j] or lengths[j] < building_min:
+            continue
+        t, u = line_hit(px, py, ox, oy, walls, j)
+        if t > t0 and t <= t0 + depth and u >= 0 and u <= 1 and t < best_t:
+            best_k, best_t = j, t
+    return best_k, best_t
 
 
 def _example_faces() -> tuple:
@@ -151,17 +192,23 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
         if not (min_width <= t and t <= max_width):
             continue
         mx, my = pts[r, 0] + t * out_dir[r, 0], pts[r, 1] + t * out_dir[r, 1]
-        corner = False
-        for b in range(2):
-            if prop[k, b] == convex and connected[k, b] < 0 and \
-                    math.hypot(mx - walls[k, 2 * b], my - walls[k, 2 * b + 1]) < cap_max:
-                corner = True
-        if corner:
-            continue
-        kx, ky = walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]
-        across = abs(kx * out_dir[r, 0] + ky * out_dir[r, 1]) / max(math.hypot(kx, ky), 1e-12)
-        if across > sin_a:  # not facing: the wall runs along the gap
-            continue
+        corner = _at_a_corner(walls, prop, connected, k, mx, my, cap_max, convex)
+        if corner or not _square(walls, k, out_dir[r, 0], out_dir[r, 1], sin_a):
+            # a piece's free corner where the ray meets it (a table's end), or a piece no longer
+            # than a wall's thickness askew to it (a stub or a trim against a wall, a corner seen
+            # in fragments): the face is a building wall's just behind it, within a wall's
+            # thickness, or none (what stands in the gap itself is blocked_many's to find);
+            # any other wall askew runs along the gap
+            if not (corner or lengths[k] <= cap_max):
+                continue
+            k, t = _face_behind(pts[r, 0], pts[r, 1], out_dir[r, 0], out_dir[r, 1], walls, lengths, objects,
+                                block_face, t, cap_max, building_min, wi[r], connected[wi[r], we[r]])
+            if k < 0 or t > max_width:
+                continue
+            mx, my = pts[r, 0] + t * out_dir[r, 0], pts[r, 1] + t * out_dir[r, 1]
+            if _at_a_corner(walls, prop, connected, k, mx, my, cap_max, convex) or \
+                    not _square(walls, k, out_dir[r, 0], out_dir[r, 1], sin_a):
+                continue
         gaps[g, 0], gaps[g, 1], gaps[g, 2], gaps[g, 3] = pts[r, 0], pts[r, 1], mx, my
         own[g], face[g], is_weak[g], is_glimpse[g] = wi[r], k, weak[r], glimpse[r]
         if weak[r]:

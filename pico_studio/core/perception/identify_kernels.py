@@ -28,7 +28,7 @@ from pico_studio.jit import kernel, njit
 
 
 @njit
-def _line_hit(ox: float, oy: float, rx: float, ry: float, walls: np.ndarray, k: int) -> tuple[float, float]:
+def line_hit(ox: float, oy: float, rx: float, ry: float, walls: np.ndarray, k: int) -> tuple[float, float]:
     """(t, u) where the ray o + t r meets wall k's line a_k + u e_k; (-inf, nan) when parallel
     (|den| <= 1e-12: never a hit)."""
     ax, ay = walls[k, 0], walls[k, 1]
@@ -60,7 +60,7 @@ def ray_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray, ex_a:
         for k in range(n_walls):
             if k == ex_a[i] or k == ex_b[i]:
                 continue
-            t, u = _line_hit(ox, oy, rx, ry, walls, k)
+            t, u = line_hit(ox, oy, rx, ry, walls, k)
             if t > 1e-6 and u >= 0 and u <= 1 and t < best[i]:  # strict: the first smallest
                 best[i] = t
                 best_k[i] = k
@@ -578,7 +578,7 @@ def extended_hits(origin: np.ndarray, direction: np.ndarray, walls: np.ndarray, 
         for k in range(n_walls):
             if not eligible[k] or not (floating[k, 0] or floating[k, 1]):
                 continue
-            t, u = _line_hit(ox, oy, rx, ry, walls, k)
+            t, u = line_hit(ox, oy, rx, ry, walls, k)
             extra = reach / max(np.hypot(walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]), 1e-12)
             past = (floating[k, 1] and u > 1 and u <= 1 + extra) or (floating[k, 0] and u < 0 and u >= -extra)
             if t > 1e-6 and past and t < best[i]:
