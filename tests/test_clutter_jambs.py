@@ -357,3 +357,17 @@ def test_a_t_opening_onto_a_side_wall_behind_a_stubs_fragment():
     assert len(doors) == 0
     doors, _ = _doors([corridor, fragment], connected[:2], [seen[0], seen[2]], robot)
     assert len(doors) == 0
+
+
+def test_a_t_opening_along_a_wall_piece_beside_an_exit_is_none():
+    """escape:0's false door: the room wall's end by the exit corridor faces the side wall 1.24 m
+    on, its ray running along the 0.62 m wall piece between the exit and the side wall. That
+    piece lies on the gap's line: no crossing wall, but nothing passes there either; the door is
+    the exit's mouth between the wall's end and the piece's. Without the piece the gap is open."""
+    robot = (3.89, 1.16)
+    room_wall, side_wall, piece = [0.0, 0.0, 3.67, 0.0], [4.91, 0.0, 4.91, 3.81], [4.29, 0.0, 4.91, 0.0]
+    doors, kind = _doors([room_wall, side_wall, piece], [[-1, -1], [2, -1], [-1, 1]],
+                         [[False, True], [False, False], [True, False]], robot)
+    assert kind == ["jambs"] and np.allclose(doors[0], [3.67, 0.0, 4.29, 0.0], atol=1e-6)
+    doors, kind = _doors([room_wall, side_wall], [[-1, -1], [-1, -1]], [[False, True], [False, False]], robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [3.67, 0.0, 4.91, 0.0], atol=1e-6)

@@ -101,6 +101,28 @@ def _at_a_corner(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, k: 
 
 
 @njit
+def _along_a_wall(gap: np.ndarray, walls: np.ndarray, own: int, face: int, tol: float) -> bool:
+    """Does a wall other than the gap's own two lie on the gap's line (both its ends within
+    `tol` of it) over part of the gap's middle 80%? (blocked_many counts only walls crossing
+    the gap: one lying along it closes it as well.)"""
+    dx, dy = gap[2] - gap[0], gap[3] - gap[1]
+    length = math.hypot(dx, dy)
+    if length <= 1e-12:
+        return False
+    ux, uy = dx / length, dy / length
+    for k in range(walls.shape[0]):
+        if k == own or k == face:
+            continue
+        s0 = (walls[k, 0] - gap[0]) * ux + (walls[k, 1] - gap[1]) * uy
+        s1 = (walls[k, 2] - gap[0]) * ux + (walls[k, 3] - gap[1]) * uy
+        n0 = abs((walls[k, 0] - gap[0]) * uy - (walls[k, 1] - gap[1]) * ux)
+        n1 = abs((walls[k, 2] - gap[0]) * uy - (walls[k, 3] - gap[1]) * ux)
+        if n0 <= tol and n1 <= tol and max(s0, s1) > 0.1 * length and min(s0, s1) < 0.9 * length:
+            return True
+    return False
+
+
+@njit
 def _square(walls: np.ndarray, k: int, ox: float, oy: float, sin_a: float) -> bool:
     """Is wall k about square to the ray's direction o: |e_k . o| / |e_k| <= sin_a?"""
     kx, ky = walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]
@@ -343,7 +365,10 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     n = g.shape[0]
     if n == 0:
         return empty, empty, evidence
+    # no wall across the gap (blocked_many)...
     bad = blocked_many(g, walls, oa, ob)
+    for m in range(n):  # ...or closed by a wall lying on its line (a wall piece beside an exit)
+        bad[m] = bad[m] or _along_a_wall(g[m], walls, oa[m], ob[m], occlusion)
     # seen edge-on a T-opening's rays end by its face and say nothing; its jamb and face were
     # tested already, so no free ray is asked for
     backed_g, _, deep_g = backed(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
