@@ -371,3 +371,17 @@ def test_a_t_opening_along_a_wall_piece_beside_an_exit_is_none():
     assert kind == ["jambs"] and np.allclose(doors[0], [3.67, 0.0, 4.29, 0.0], atol=1e-6)
     doors, kind = _doors([room_wall, side_wall], [[-1, -1], [-1, -1]], [[False, True], [False, False]], robot)
     assert kind == ["end_face"] and np.allclose(doors[0], [3.67, 0.0, 4.91, 0.0], atol=1e-6)
+
+
+def test_a_building_walls_end_with_nothing_ahead_is_a_lone_jamb():
+    """A 3 m wall's seen end with no wall within a door's greatest width ahead: no door from the
+    local map, a possible door "jamb" from the end along the wall's line, for the map to prove
+    (combined.opening_at_jamb). A table's 1.4 m front end is none."""
+    far_wall = [-3.0, 5.0, 6.0, 5.0]  # (identify needs two walls)
+    out = identify(np.array([[0.0, 0.0, 3.0, 0.0], far_wall]), np.full((2, 2), -1, dtype=np.int64),
+                   np.array([[False, True], [False, False]]), (2.0, -1.0), PARAMS)
+    assert len(out.doors) == 0 and out.possible_door_kind == ["jamb"]
+    assert np.allclose(out.possible_doors[0], [3.0, 0.0, 3.0 + PARAMS.door_max_width, 0.0])
+    out = identify(np.array([TABLE_FRONT, far_wall]), np.full((2, 2), -1, dtype=np.int64),
+                   np.array([[True, True], [False, False]]), (4.0, 3.0), PARAMS)
+    assert "jamb" not in out.possible_door_kind

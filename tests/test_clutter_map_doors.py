@@ -99,3 +99,28 @@ def test_the_maps_opening_parameters_are_its_loaders():
     assert (widths > 0.9).any() and len(narrow) < len(wide)
     assert all(any(np.allclose(n, w) for w in wide) for n in narrow)
     assert any(np.allclose(n, [3.6, 1.9, 4.6, 1.9]) for n in narrow)  # the door leaf's line
+
+
+def test_a_jamb_whose_other_side_is_out_of_view_becomes_the_map_opening_at_its_end():
+    """restaurant_2024 seeds 7 and 11's missed door: the partition's end (4.8, 1.2) is seen, the
+    floor wall's face 1 m below it only as a fragment. The jamb alone (possible kind "jamb", from
+    the end a door's greatest width on along the wall) is the door of the map opening at that
+    end, leaving its way; a jamb where the map has no opening stays possible, and one where a
+    door already stands adds none."""
+    lmap = build_localisation_map(load_map(str(RESTAURANT)), PARAMS)
+    pose = (1.0, 1.0, 0.0)
+    jamb = [4.79, 1.2, 4.79, -0.1]
+    nowhere = [2.0, 3.0, 3.3, 3.0]
+    opening = [4.7, 1.2, 4.7, 0.2]
+    args = (pose, pose, np.zeros((0, 4)), lmap.field, np.zeros(len(lmap.field.segments), dtype=np.int64),
+            lmap.n_walls, PARAMS.combined)
+    cm = combine(*args, possible_doors=np.array([jamb, nowhere]), possible_door_kind=["jamb", "jamb"],
+                 map_openings=lmap.openings)
+    assert len(cm.doors) == 1 and confirmed_by_map(cm.doors, np.array([opening]), PARAMS.combined).all()
+    assert cm.door_promoted.tolist() == [True] and np.allclose(cm.possible_doors, [nowhere])
+    turned = [4.79, 1.2, 6.09, 1.2]  # the same end, leaving across the opening: not its door
+    cm = combine(*args, possible_doors=np.array([turned]), possible_door_kind=["jamb"], map_openings=lmap.openings)
+    assert len(cm.doors) == 0
+    cm = combine(*args, doors=np.array([opening]), possible_doors=np.array([jamb]), possible_door_kind=["jamb"],
+                 map_openings=lmap.openings)
+    assert len(cm.doors) == 1 and cm.door_promoted.tolist() == [False]

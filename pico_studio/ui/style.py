@@ -45,6 +45,7 @@ POSSIBLE_DOOR_KIND: dict[str, RGB] = {  # core.perception.identify.POSSIBLE_DOOR
     "loose_wall": (236, 157, 226),  # pink
     "end_face": (60, 0, 120),  # deep indigo
     "bay": (100, 210, 80),  # leaf green: a door's shape, for the map to prove
+    "jamb": (250, 40, 140),  # rose: one jamb, its other side out of view, for the map to prove
 }
 POSSIBLE_DOOR_KIND_NAMES = {
     "convex_loose": "possible door: convex corner - loose end",
@@ -52,6 +53,7 @@ POSSIBLE_DOOR_KIND_NAMES = {
     "loose_wall": "possible door: loose end - wall",
     "end_face": "possible door: wall end - wall face, not yet seen through over enough scans (or for the map)",
     "bay": "possible door: a door's shape between block corners (a bay, or a thin-walled room's mouth)",
+    "jamb": "possible door: a building wall's end with nothing ahead (its other jamb out of view)",
 }
 SPIKE_CORNER: RGB = (90, 50, 0)  # dark brown
 VECTOR_CORNER_INNER: RGB = (0, 200, 200)  # cyan

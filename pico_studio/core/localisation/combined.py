@@ -14,7 +14,9 @@ rest are unconfirmed (a gap between two tables, a person beside a wall, a table'
 a wall). A possible door of
 kind "end_face" (a T-opening still waiting for the evidence of several scans) or "bay" (a
 door's shape between block corners: a table bay or a thin-walled room's mouth) that the map
-confirms is *promoted* to a door (`door_promoted`): the map is that evidence.
+confirms is *promoted* to a door (`door_promoted`): the map is that evidence. A "jamb" (a
+building wall's end with nothing ahead, its other side out of view) is promoted to the map
+opening at its end, leaving along it (`opening_at_jamb`), unless a door stands there already.
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from pico_studio.core.geometry import compose, door_matches, invert, transform_s
 from pico_studio.core.localisation.combined_kernels import walls_on_map as on_map_kernel
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose
-from pico_studio.core.perception.identify import MAP_PROVEN_KINDS
+from pico_studio.core.perception.identify import JAMB_KIND, MAP_PROVEN_KINDS
 
 
 @dataclass
@@ -112,11 +114,24 @@ def combine(
     # opening there: the map is the evidence
     promote = (possible_ok & np.isin(kinds, MAP_PROVEN_KINDS) if len(kinds) == len(possible)
                else np.zeros(len(possible), dtype=bool))
+    # a jamb whose other side is out of view is the door of the map opening at its end, leaving
+    # along it, unless a door already stands there
+    promoted = possible[promote]
+    if len(kinds) == len(possible) and len(openings):
+        for m in np.flatnonzero(kinds == JAMB_KIND).tolist():
+            opening = opening_at_jamb(possible[m], openings, params)
+            if opening is None:
+                continue
+            known = np.concatenate([found, promoted])
+            if len(known) and confirmed_by_map(known, opening[None], params).any():
+                continue
+            promote[m], possible_ok[m] = True, True
+            promoted = np.concatenate([promoted, opening[None]])
     return CombinedMap(
         walls=walls,
         wall_matched=walls_on_map(walls, dfield, params),
         map_wall_seen=np.asarray(seen_hits[:n_map_walls] >= params.seen_hits, dtype=bool),
-        doors=np.concatenate([found, possible[promote]]),
+        doors=np.concatenate([found, promoted]),
         possible_doors=possible[~promote],
         possible_door_kind=kinds[~promote] if len(kinds) == len(possible) else kinds,
         door_confirmed=np.concatenate([door_ok, np.ones(int(promote.sum()), dtype=bool)]),
@@ -125,10 +140,31 @@ def combine(
     )
 
 
+def opening_at_jamb(jamb: np.ndarray, openings: np.ndarray, params: CombinedParams) -> np.ndarray | None:
+    """The map opening (4,), from the end nearest the jamb's point P (within
+    `door_confirm_distance`) to its other end, leaving P's way: within `door_confirm_angle` of
+    the jamb's direction (P to its far point); None when there is none."""
+    p, q = jamb[:2], jamb[2:]
+    d = q - p
+    norm = float(np.hypot(*d))
+    if norm <= 1e-12:
+        return None
+    u = d / norm
+    best, best_dist = None, float(params.door_confirm_distance)
+    cos_max = math.cos(params.door_confirm_angle)
+    for a, b in ((openings[:, :2], openings[:, 2:]), (openings[:, 2:], openings[:, :2])):
+        dist = np.hypot(*(a - p).T)
+        v = b - a
+        along = (v @ u) / np.maximum(np.hypot(*v.T), 1e-12)
+        for k in np.flatnonzero((dist <= best_dist) & (along >= cos_max)).tolist():
+            best, best_dist = np.concatenate([a[k], b[k]]), float(dist[k])
+    return best
+
+
 def _carry(segments: np.ndarray | None, t: Pose) -> np.ndarray:
     if segments is None:
         return np.zeros((0, 4))
     return transform_segments(np.asarray(segments, dtype=float).reshape(-1, 4), t)
 
 
-__all__ = ["CombinedMap", "combine", "confirmed_by_map", "walls_on_map", "zero_to_global"]
+__all__ = ["CombinedMap", "combine", "confirmed_by_map", "opening_at_jamb", "walls_on_map", "zero_to_global"]

@@ -166,12 +166,14 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
               ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float, inc: float,
               min_width: float, max_width: float, cap_max: float, building_min: float, object_max: float,
               angle: float, reach: float, occlusion: float, continuation: float, floating: int, convex: int,
-              concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+              concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                     np.ndarray]:
     """The T-opening candidates from the ends `pts` (F, 2) (outward `out_dir`, far end `far`, wall
     `wi`, end `we`; which rule each end passed: `building`, `cornered`, `weak`, `glimpse`):
     (gaps (G, 4) from the end to the face, own wall (G,), face wall (G,), weak (G,), glimpse
     (G,), beyond (G,) int64: for a weak end, the scan's beam at the wall's far end continued
-    by `continuation` (beam_at), else 0)."""
+    by `continuation` (beam_at), else 0; and missed (F,): the end's ray met no wall within
+    `max_width`, not even past a floating end)."""
     f, n_walls = pts.shape[0], walls.shape[0]
     hit_t, hit_k = ray_hits(pts, out_dir, walls, np.full(f, -1, dtype=np.int64), np.full(f, -1, dtype=np.int64))
     # a face seen in part: met past its floating end, unless the scan looks past that point
@@ -194,6 +196,9 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
                 px, py = pts[r, 0] + ext_t[q] * out_dir[r, 0], pts[r, 1] + ext_t[q] * out_dir[r, 1]
                 if beam_at(px, py, has_view, ranges, valid, vx, vy, va, a0, inc, occlusion) <= 0:
                     hit_t[r], hit_k[r] = ext_t[q], ext_k[q]
+    missed = np.empty(f, dtype=np.bool_)
+    for r in range(f):
+        missed[r] = hit_k[r] < 0 or hit_t[r] > max_width
     # the face is a building's: no block's face, nor a block's front against a wall
     block_face = against_a_wall(connected, prop, lengths, cap_max, building_min, object_max, convex, concave)
     for k in range(n_walls):
@@ -238,7 +243,8 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
             beyond[g] = beam_at(far[r, 0] - continuation * out_dir[r, 0], far[r, 1] - continuation * out_dir[r, 1],
                                 has_view, ranges, valid, vx, vy, va, a0, inc, occlusion)
         g += 1
-    return gaps[:g].copy(), own[:g].copy(), face[:g].copy(), is_weak[:g].copy(), is_glimpse[:g].copy(), beyond[:g].copy()
+    return (gaps[:g].copy(), own[:g].copy(), face[:g].copy(), is_weak[:g].copy(), is_glimpse[:g].copy(),
+            beyond[:g].copy(), missed)
 
 
 BANNED = -1e6  # a contradicted T-opening's count: never promoted
@@ -334,11 +340,13 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
                inc: float, min_width: float, max_width: float, cap_max: float, building_min: float,
                object_max: float, angle: float, reach: float, occlusion: float, continuation: float, depth: float,
                backed_share: float, min_free_rays: int, evidence_scans: int, evidence_max: int, floating: int,
-               convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+               convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The T-openings from the jamb candidates (identify._doors says which ends count and why):
     (doors (N, 4) new ones, not the same place as one of `doors` nor one found before; possible
     (P, 4): weak ends still counting scans, then glimpses; evidence: the records after this
-    scan, `evidence` itself when no weak end was tested)."""
+    scan, `evidence` itself when no weak end was tested; lone jambs (J, 4): a building wall's
+    end whose ray meets no wall within `max_width`, from the end `max_width` on along it — a
+    jamb whose other side is out of view, for the map to prove)."""
     c = wi.shape[0]
     building = np.empty(c, dtype=np.bool_)
     cornered, weak, glimpse = np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_)
@@ -355,16 +363,25 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
             f += 1
     empty = np.zeros((0, 4))
     if f == 0:
-        return empty, empty, evidence
+        return empty, empty, evidence, empty
     face = face[:f]
-    g, oa, ob, wk, gl_, beyond = face_gaps(
+    g, oa, ob, wk, gl_, beyond, missed = face_gaps(
         pts[face], out_dir[face], far[face], wi[face], we[face], building[face], cornered[face], weak[face],
         glimpse[face], walls, connected, prop, objects, lengths, has_view, ranges, valid, vx, vy, va, a0, inc,
         min_width, max_width, cap_max, building_min, object_max, angle, reach, occlusion, continuation, floating,
         convex, concave)
+    lone = np.empty((f, 4))
+    j = 0
+    for q in range(f):
+        r = face[q]
+        if building[r] and missed[q]:
+            lone[j, 0], lone[j, 1] = pts[r, 0], pts[r, 1]
+            lone[j, 2], lone[j, 3] = pts[r, 0] + max_width * out_dir[r, 0], pts[r, 1] + max_width * out_dir[r, 1]
+            j += 1
+    lone = lone[:j].copy()
     n = g.shape[0]
     if n == 0:
-        return empty, empty, evidence
+        return empty, empty, evidence, lone
     # no wall across the gap (blocked_many)...
     bad = blocked_many(g, walls, oa, ob)
     for m in range(n):  # ...or closed by a wall lying on its line (a wall piece beside an exit)
@@ -410,4 +427,4 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         if not same:
             found[d] = g[m]
             d += 1
-    return found[:d].copy(), possible[:p].copy(), evidence
+    return found[:d].copy(), possible[:p].copy(), evidence, lone

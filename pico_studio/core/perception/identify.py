@@ -83,11 +83,14 @@ from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven import bays, lone_caps
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
-POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall", "end_face", "bay")
+POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall", "end_face", "bay", "jamb")
 DOOR_KINDS = ("jambs", "end_face")
 # the possible doors that a door's shape makes and only the global map can prove: once
 # localised, the combined map makes them doors where it has an opening (combined.combine)
 MAP_PROVEN_KINDS = ("end_face", "bay")
+# a jamb whose other side is out of view (a building wall's end with nothing ahead): once
+# localised, the map's opening at that end is the door (combined.combine)
+JAMB_KIND = "jamb"
 
 
 @dataclass(frozen=True)
@@ -213,7 +216,7 @@ def _doors(
         # then the ray from each such convex end to the face it meets, the gap's tests, the weak
         # ends' evidence over scans (end_face_evidence_scans) and the doors not found already
         # (the loops and their maths: face_kernels.t_openings, face_gaps, tally)
-        found, maybe_t, evidence = t_openings(
+        found, maybe_t, evidence, lone = t_openings(
             pts, out_dir, other, wi, we, is_convex, long, capped, np.ascontiguousarray(walls, dtype=float),
             np.ascontiguousarray(connected, dtype=np.int64), np.ascontiguousarray(prop, dtype=np.int64),
             np.ascontiguousarray(objects, dtype=bool), lengths, np.array(doors, dtype=float).reshape(-1, 4),
@@ -228,6 +231,8 @@ def _doors(
         kinds.extend(["end_face"] * len(maybe_t))
         doors.extend(found.tolist())
         door_kinds.extend(["end_face"] * len(found))
+        possible.extend(lone)
+        kinds.extend(["jamb"] * len(lone))
     if params.bay_doors:
         for gap in bays(walls, prop, connected, objects, np.array(doors), robot, params):
             possible.append(gap)
