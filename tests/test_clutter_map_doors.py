@@ -124,3 +124,15 @@ def test_a_jamb_whose_other_side_is_out_of_view_becomes_the_map_opening_at_its_e
     cm = combine(*args, doors=np.array([opening]), possible_doors=np.array([jamb]), possible_door_kind=["jamb"],
                  map_openings=lmap.openings)
     assert len(cm.doors) == 1 and cm.door_promoted.tolist() == [False]
+
+
+def test_a_jambs_opening_is_the_nearest_leaving_its_way():
+    from pico_studio.core.localisation.combined import opening_at_jamb
+
+    jamb = np.array([0.0, 0.0, 0.0, -1.3])
+    near, farther, across = [0.05, 0.02, 0.05, -0.98], [0.0, 0.25, 0.0, -0.75], [0.0, 0.01, 1.0, 0.01]
+    got = opening_at_jamb(jamb, np.array([across, near, farther]), PARAMS.combined)
+    assert got is not None and np.allclose(got, near)
+    got = opening_at_jamb(jamb, np.array([[0.05, -0.98, 0.05, 0.02]]), PARAMS.combined)  # drawn the other way
+    assert got is not None and np.allclose(got, near)
+    assert opening_at_jamb(jamb, np.array([across]), PARAMS.combined) is None

@@ -125,7 +125,7 @@ def combine(
             known = np.concatenate([found, promoted])
             if len(known) and confirmed_by_map(known, opening[None], params).any():
                 continue
-            promote[m], possible_ok[m] = True, True
+            promote[m] = True
             promoted = np.concatenate([promoted, opening[None]])
     return CombinedMap(
         walls=walls,
@@ -150,13 +150,15 @@ def opening_at_jamb(jamb: np.ndarray, openings: np.ndarray, params: CombinedPara
     if norm <= 1e-12:
         return None
     u = d / norm
-    best, best_dist = None, float(params.door_confirm_distance)
     cos_max = math.cos(params.door_confirm_angle)
+    best, best_dist = None, float(params.door_confirm_distance)
     for a, b in ((openings[:, :2], openings[:, 2:]), (openings[:, 2:], openings[:, :2])):
         dist = np.hypot(*(a - p).T)
         v = b - a
         along = (v @ u) / np.maximum(np.hypot(*v.T), 1e-12)
-        for k in np.flatnonzero((dist <= best_dist) & (along >= cos_max)).tolist():
+        dist[along < cos_max] = np.inf  # leaving another way
+        k = int(np.argmin(dist))
+        if dist[k] <= best_dist:
             best, best_dist = np.concatenate([a[k], b[k]]), float(dist[k])
     return best
 

@@ -276,8 +276,4 @@ def _view_arrays(view: View | None) -> tuple[bool, np.ndarray, np.ndarray, float
             np.ascontiguousarray(view.valid, dtype=bool), float(x), float(y), float(a), a0, inc)
 
 
-def wall_len_of(walls: np.ndarray, idx: np.ndarray) -> np.ndarray:
-    return np.hypot(walls[idx, 2] - walls[idx, 0], walls[idx, 3] - walls[idx, 1])
-
-
 __all__ = ["CONNECTED", "DOOR_KINDS", "POSSIBLE_DOOR_KINDS", "Identified", "View", "identify", "object_walls"]
