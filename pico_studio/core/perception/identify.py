@@ -168,6 +168,7 @@ def _doors(
     empty = np.zeros((0, 4))
     if len(walls) < 2:
         return empty, [], empty, [], evidence
+    scan = _view_arrays(view)  # the current scan as the kernels take it
     # door-point candidates: (wall, end) with a convex or floating property, not on an object.
     # A jamb is a wall's end: joined to nothing there, or to an end cap no longer than a wall's
     # thickness (`jamb_cap_max`; a longer wall there makes a block's corner, a table against a
@@ -186,7 +187,7 @@ def _doors(
     wi, we, capped, long, pts, out_dir, other, is_convex, lengths, jamb_gaps, maybe, maybe_convex = jamb_doors(
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool), float(robot[0]),
-        float(robot[1]), *_view_arrays(view), float(params.jamb_cap_max), float(params.door_wall_min_length),
+        float(robot[1]), *scan, float(params.jamb_cap_max), float(params.door_wall_min_length),
         float(params.end_face_min_length), float(params.object_max_size), float(params.door_min_width),
         float(params.door_max_width), float(params.door_angle), float(params.door_offset),
         float(params.door_offset_short), int(params.door_min_free_rays), float(params.door_occlusion),
@@ -221,7 +222,7 @@ def _doors(
             np.ascontiguousarray(connected, dtype=np.int64), np.ascontiguousarray(prop, dtype=np.int64),
             np.ascontiguousarray(objects, dtype=bool), lengths, np.array(doors, dtype=float).reshape(-1, 4),
             np.ascontiguousarray(evidence, dtype=float).reshape(-1, 5), float(robot[0]), float(robot[1]),
-            *_view_arrays(view), float(params.door_min_width), float(params.door_max_width),
+            *scan, float(params.door_min_width), float(params.door_max_width),
             float(params.jamb_cap_max), float(params.end_face_min_length), float(params.object_max_size),
             float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
             float(params.end_face_continuation), float(params.door_depth), float(params.door_backed_share),
