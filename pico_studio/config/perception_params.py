@@ -356,6 +356,12 @@ class IdentifyParams:
         True, help="A gap of a door's shape that the jamb rules refuse (a block's corner or face: a bay between "
         "two tables, or a side room's mouth in thin walls) is a possible door, for the map to prove once localised",
     )
+    bay_deep_rays: int = param(
+        0, lo=0, hi=5, step=1,
+        help="A bay is a door when at least this many of the five rays through it reach door_depth past its "
+        "line, or never end: free space behind it (a side room, a hallway), not the pocket between two tables "
+        "by a wall (0: a bay is only ever a possible door)",
+    )
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="Connected local walls spanning at most this (bounding-box diagonal) are an object (a cabinet, "

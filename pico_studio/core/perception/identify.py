@@ -48,7 +48,9 @@ tables by a wall; or backed, or never seen through), and a passage's mouth (two 
 walls side by side, the gap across both ends: a hallway's far end), are possible doors of kind
 "bay". In thin walls a side room's mouth between two 1 m wall pieces has exactly a table bay's
 shape: only the global map can tell them apart, and once localised the combined map makes a
-bay a door where its walls have an opening there.
+bay a door where its walls have an opening there. With `bay_deep_rays` > 0 a bay seen through
+to free space (that many rays reaching `door_depth` past its line) is a door of kind "bay": right
+where nothing but walls stands (an escape room), wrong by a table's corner, so off by default.
 
 Evidence over scans (`Identified.evidence`, handed back in by the perceptor): a T-opening
 from a door frame's length seen shorter than `end_face_min_length` (or a whole end cap's side
@@ -78,13 +80,13 @@ import numpy as np
 from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.door_kernels import away_from, jamb_doors, loose_gaps
 from pico_studio.core.perception.face_kernels import t_openings
-from pico_studio.core.perception.identify_kernels import small_objects
+from pico_studio.core.perception.identify_kernels import backed, small_objects
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven import bays, lone_caps
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall", "end_face", "bay", "jamb")
-DOOR_KINDS = ("jambs", "end_face")
+DOOR_KINDS = ("jambs", "end_face", "bay")
 # the possible doors that a door's shape makes and only the global map can prove: once
 # localised, the combined map makes them doors where it has an opening (combined.combine)
 MAP_PROVEN_KINDS = ("end_face", "bay")
@@ -235,9 +237,18 @@ def _doors(
         possible.extend(lone)
         kinds.extend(["jamb"] * len(lone))
     if params.bay_doors:
-        for gap in bays(walls, prop, connected, objects, np.array(doors), robot, params):
-            possible.append(gap)
-            kinds.append("bay")
+        # a bay seen through to free space (`bay_deep_rays` of its rays reaching `door_depth`
+        # past its line) is a door where nothing but walls stands: a hallway's mouth. Among
+        # furniture the gap between a table's corner and a wall is seen through as well, so
+        # the option is off by default and the map proves bays once localised
+        gaps, own_a, own_b = bays(walls, prop, connected, objects, np.array(doors), robot, params)
+        through = np.zeros(len(gaps), dtype=bool)
+        if params.bay_deep_rays > 0:
+            through = _deep_rays(gaps, own_a, own_b, walls, robot, scan, params) >= params.bay_deep_rays
+        doors.extend(gaps[through].tolist())
+        door_kinds.extend(["bay"] * int(through.sum()))
+        possible.extend(gaps[~through])
+        kinds.extend(["bay"] * int((~through).sum()))
     if params.end_face_doors:
         for t_gap in lone_caps(walls, connected, objects, lengths, robot, params):
             possible.append(t_gap)
@@ -262,6 +273,21 @@ def _doors(
     return d, door_kinds, p, kinds, evidence
 
 
+
+
+def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np.ndarray,
+               robot: tuple[float, float],
+               scan: tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float],
+               params: IdentifyParams) -> np.ndarray:
+    """(K,) how many of each gap's five rays reached `door_depth` past its line, or never ended
+    (identify_kernels.backed); none when the gap is backed (most rays ending in its shadow)."""
+    if len(gaps) == 0:
+        return np.zeros(0, dtype=np.int64)
+    out, _, deep = backed(np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float),
+                          own_a, own_b, float(robot[0]), float(robot[1]), *scan,
+                          np.zeros(len(gaps), dtype=bool), float(params.door_occlusion), float(params.door_depth),
+                          float(params.jamb_cap_max), float(params.door_backed_share))
+    return np.where(out, 0, deep)
 
 
 def _view_arrays(view: View | None) -> tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float]:

@@ -21,23 +21,23 @@ from pico_studio.core.world_model import CONVEX, FLOATING
 
 
 def bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np.ndarray, doors: np.ndarray,
-         robot: tuple[float, float], params: IdentifyParams) -> list[np.ndarray]:
-    """Gaps of a door's shape between two convex corners that the jamb rules refuse: a block's
+         robot: tuple[float, float], params: IdentifyParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Gaps (K, 4) of a door's shape between two convex corners that the jamb rules refuse: a block's
     corner or face (its cap longer than a wall's thickness, the wall shorter than a building's),
     or the gap backed or never seen through. Between two tables by a wall that is a bay; in a
     thin-walled building it is a room's mouth (a side room between two wall pieces, a hallway's
     inner end) — from the local map alone the two look the same, so it is a possible door ("bay")
     for the map to prove. The door's shape: `door_pairs` with every convex end a jamb (any cap,
     no block face), and no wall across the gap; none that is the same opening as one of `doors`
-    (D, 4) (found from the same corner in about the same direction)."""
-    out = bay_gaps(
+    (D, 4) (found from the same corner in about the same direction); with each gap's two jambs'
+    walls (K,), (K,), for looking through it."""
+    return bay_gaps(
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
         np.ascontiguousarray(np.reshape(doors, (-1, 4)), dtype=float), float(robot[0]),
         float(robot[1]), float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX,
         float(params.door_min_width), float(params.door_max_width), float(params.door_angle),
         float(params.door_offset), float(params.door_offset_short))
-    return list(out)
 
 
 def lone_caps(walls: np.ndarray, connected: np.ndarray, objects: np.ndarray, lengths: np.ndarray,

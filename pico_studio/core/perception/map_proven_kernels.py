@@ -49,9 +49,11 @@ def _example_bays() -> tuple:
 def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, doors: np.ndarray,
              rx: float, ry: float,
              cap_max: float, frame_min: float, floating: int, convex: int, min_width: float, max_width: float,
-             angle: float, offset: float, offset_short: float) -> np.ndarray:
+             angle: float, offset: float, offset_short: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The bays and passage mouths (K, 4) between convex ends, best aligned first, but those
-    that are the same opening as one of `doors` (D, 4) (identify_kernels.same_opening)."""
+    that are the same opening as one of `doors` (D, 4) (identify_kernels.same_opening), and
+    each one's two jambs' walls (K,), (K,)."""
+    none = np.zeros(0, dtype=np.int64)
     wi_all, we_all, _, long_all, stub_all, sized_all, seen_all, _ = jamb_candidates(
         walls, connected, prop, objects, cap_max, frame_min, floating, convex, 0.0, rx, ry, 0.0)
     keep = np.empty(wi_all.shape[0], dtype=np.int64)
@@ -61,7 +63,7 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
             keep[n] = r
             n += 1
     if n < 2:
-        return np.zeros((0, 4))
+        return np.zeros((0, 4)), none, none
     keep = keep[:n]
     wi, we = wi_all[keep], we_all[keep]
     long, stub, cap_sized, cap_seen = long_all[keep], stub_all[keep], sized_all[keep], seen_all[keep]
@@ -102,7 +104,7 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
                 gi[g], gj[g], off[g] = i, j, ui + uj
                 g += 1
     if g == 0:
-        return np.zeros((0, 4))
+        return np.zeros((0, 4)), none, none
     segs = np.empty((g, 4))
     own_a, own_b = np.empty(g, dtype=np.int64), np.empty(g, dtype=np.int64)
     for r in range(g):
@@ -119,7 +121,8 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
             if same_opening(segs, kept[q], doors, d, cos_max, SAME_POINT):
                 new[q] = False
                 break
-    return segs[kept[new]]
+    out = kept[new]
+    return segs[out], own_a[out], own_b[out]
 
 
 def _example_caps() -> tuple:
