@@ -103,7 +103,10 @@ def _vertices_near_segments(
         p = points[v_idx][:, None, :]
         t = ((p - a) * ab).sum(-1) / length2
         d = p - (a + np.clip(t, 0.0, 1.0)[..., None] * ab)
-        on = ((d * d).sum(-1) < tol * tol) & (length[None, :] > tol)
+        # within `tol`, the bound included, with a micrometre of slack: a map written to the mm
+        # puts a vertex exactly `tol` off a segment (a table 3 cm off a wall, abut = 0.03) a hair
+        # beyond it in floating point
+        on = ((d * d).sum(-1) <= (tol + 1e-6) ** 2) & (length[None, :] > tol)
         on &= (seg_ends[None, :, 0] != v_idx[:, None]) & (seg_ends[None, :, 1] != v_idx[:, None])
         for v, k in zip(*np.nonzero(on), strict=True):
             along = t[v, k] * length[k]
