@@ -76,6 +76,26 @@ def test_a_bay_seen_edge_on_is_no_door():
     assert doors(FRONTS) == 1
 
 
+def test_a_gap_out_of_the_lasers_view_with_nothing_behind_it_in_the_local_map_is_no_door():
+    """restaurant_2024 seed 11's false door: two table fronts in a line, the gap between them at
+    the edge of the laser's field of view, and the local map knowing nothing behind it (the wall
+    behind the tables never seen). A ray out of view that meets no local wall says nothing: it
+    is not free space. The same gap in view, the scan looking through it, is a door."""
+    from pico_studio.core.perception.identify import View
+
+    conn = np.full((2, 2), -1, dtype=np.int64)
+
+    def doors(heading: float) -> int:
+        robot = (0.0, -2.0, heading)
+        scan, _ = process_scan(cast(FRONTS, robot), PARAMS.scan, PARAMS.proximity)
+        fov = np.abs(scan.angles) <= 2.0  # PICO's laser: about 230 degrees
+        view = View(scan.ranges[fov], scan.angles[fov], scan.valid[fov], robot)
+        return len(identify(FRONTS, conn, FRONTS_SEEN, robot[:2], PARAMS.identify, view).doors)
+
+    assert doors(np.pi / 2) == 1  # facing the gap: the scan sees through it
+    assert doors(-np.pi / 2) == 0  # facing away: the gap behind the robot, out of view
+
+
 def test_a_t_opening_is_a_door():
     """A wall's seen end facing the face of a wall across it, a door's width away."""
     walls = np.array([[-3.0, 0.0, 0.0, 0.0], [0.9, -2.5, 0.9, 2.5]])
