@@ -8,14 +8,19 @@ division by zero gives inf or NaN as numpy's float64 does instead of raising), a
 uncompiled function
 stays reachable as `f.py_func` — the reference the tests and benchmarks compare against.
 
-The cache. numba keeps compiled code next to the source (`__pycache__`) when that folder is
-writable, else in the user's cache folder; it reads `NUMBA_CACHE_DIR` once, when it is
-imported. So this module settles the folder *before* importing numba:
+The cache. numba reads `NUMBA_CACHE_DIR` once, when it is imported, so this module settles
+the folder *before* importing numba. numba checks a cached function against its own source
+file only: a kernel that calls a helper from another module (door_kernels.jamb_doors calls
+identify_kernels.backed) keeps the helper's old code when only the helper's file changed — a
+`git pull` could leave a checkout silently computing with yesterday's rule (numba/numba#1833).
+So every folder below ends in the `source_digest()` of every kernel module and this file:
+changed code is a new folder, compiled afresh.
 
 1. `NUMBA_CACHE_DIR` already set: used as is (the user knows best);
-2. `PICO_STUDIO_CACHE` set: `$PICO_STUDIO_CACHE/numba`;
-3. the package folder writable (a checkout, a user install): numba's own `__pycache__`;
-4. else (a read-only checkout, a system install): `$XDG_CACHE_HOME/pico_studio/numba`
+2. `PICO_STUDIO_CACHE` set: `$PICO_STUDIO_CACHE/numba/<digest>`;
+3. the package folder writable (a checkout, a user install): `<package>/__pycache__/numba/<digest>`,
+   the other digests' folders there removed once a day old;
+4. else (a read-only checkout, a system install): `$XDG_CACHE_HOME/pico_studio/numba/<digest>`
    (`~/.cache/...`), or a per-user folder in the temp directory when that is not writable.
 
 `warm_up()` compiles (or loads from the cache) every kernel on tiny inputs of the types the
@@ -26,8 +31,10 @@ real calls use: `./dev setup` runs it once, the tests once per session (tests/co
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import importlib
 import os
+import shutil
 import sys
 import tempfile
 import threading
@@ -80,20 +87,50 @@ def _writable(folder: Path) -> bool:
         return False
 
 
+def source_digest(files: list[Path]) -> str:
+    """12 hex digits of the SHA-256 of `files`' names and bytes (a missing file counts as empty)."""
+    h = hashlib.sha256()
+    for f in files:
+        h.update(f.name.encode() + b"\0")
+        with contextlib.suppress(OSError):
+            h.update(f.read_bytes())
+        h.update(b"\0")
+    return h.hexdigest()[:12]
+
+
+def kernel_sources(package_dir: Path = PACKAGE_DIR) -> list[Path]:
+    """This file and every module of `KERNEL_MODULES`, as files of `package_dir`."""
+    return [package_dir / "jit.py"] + [package_dir.joinpath(*name.split(".")[1:]).with_suffix(".py")
+                                       for name in KERNEL_MODULES]
+
+
+def _prune(folder: Path, keep: str, age: float = 86400.0) -> None:
+    """Remove `folder`'s other digests' caches untouched for `age` seconds (best effort: another
+    process of another version may be using a younger one)."""
+    now = time.time()
+    with contextlib.suppress(OSError):
+        for old in folder.iterdir():
+            if old.name != keep and old.is_dir() and now - old.stat().st_mtime > age:
+                shutil.rmtree(old, ignore_errors=True)
+
+
 def choose_cache_dir(env: dict[str, str] | os._Environ[str], package_dir: Path = PACKAGE_DIR) -> str | None:
-    """The folder for NUMBA_CACHE_DIR by the rules above; None: leave it to numba (in-tree)."""
+    """The folder for NUMBA_CACHE_DIR by the rules above; None: nowhere to write (numba compiles
+    in memory)."""
     if env.get("NUMBA_CACHE_DIR"):
         return env["NUMBA_CACHE_DIR"]
+    digest = source_digest(kernel_sources(package_dir))
     if env.get("PICO_STUDIO_CACHE"):
-        return str(Path(env["PICO_STUDIO_CACHE"]) / "numba")
+        return str(Path(env["PICO_STUDIO_CACHE"]) / "numba" / digest)
     if _writable(package_dir / "__pycache__"):
-        return None
+        _prune(package_dir / "__pycache__" / "numba", digest)
+        return str(package_dir / "__pycache__" / "numba" / digest)
     xdg = Path(env.get("XDG_CACHE_HOME") or Path.home() / ".cache")
     for folder in (xdg / "pico_studio" / "numba",
                    Path(tempfile.gettempdir()) / f"pico_studio-{os.getuid() if hasattr(os, 'getuid') else 'user'}" / "numba"):
-        if _writable(folder):
-            return str(folder)
-    return None  # nowhere to write: numba compiles in memory (and warns)
+        if _writable(folder / digest):
+            return str(folder / digest)
+    return None
 
 
 _chosen = choose_cache_dir(os.environ)
@@ -200,7 +237,7 @@ def py_func(f: Any) -> Callable:
 def main() -> None:
     """`python -m pico_studio.jit`: warm the cache (./dev setup runs it)."""
     print(f"compiled {len(kernels())} kernels in {warm_up(verbose=True):.1f} s "
-          f"(cache: {numba.config.CACHE_DIR or 'next to the sources'})")
+          f"(cache: {numba.config.CACHE_DIR or 'in memory only'})")
 
 
 if __name__ == "__main__":  # run as a script this file is `__main__`: use the real module's registry

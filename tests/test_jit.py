@@ -37,17 +37,44 @@ def test_every_module_with_a_kernel_is_warmed_up():
 
 def test_cache_folder_rules(tmp_path: Path):
     writable = tmp_path / "pkg"
+    digest = jit.source_digest(jit.kernel_sources(writable))
     assert jit.choose_cache_dir({"NUMBA_CACHE_DIR": "/x"}, writable) == "/x"
-    assert jit.choose_cache_dir({"PICO_STUDIO_CACHE": "/y"}, writable) == str(Path("/y") / "numba")
-    assert jit.choose_cache_dir({}, writable) is None  # numba's own __pycache__ beside the sources
+    assert jit.choose_cache_dir({"PICO_STUDIO_CACHE": "/y"}, writable) == str(Path("/y") / "numba" / digest)
+    assert jit.choose_cache_dir({}, writable) == str(writable / "__pycache__" / "numba" / digest)  # beside the sources
     # a package folder nothing can be written in (below a file: fails even for root)
     blocker = tmp_path / "file"
     blocker.write_text("")
     got = jit.choose_cache_dir({"XDG_CACHE_HOME": str(tmp_path / "xdg")}, blocker / "pkg")
-    assert got == str(tmp_path / "xdg" / "pico_studio" / "numba")
+    assert got == str(tmp_path / "xdg" / "pico_studio" / "numba" / jit.source_digest(jit.kernel_sources(blocker / "pkg")))
     # and no writable user cache either: a per-user folder in the temp directory
     got = jit.choose_cache_dir({"XDG_CACHE_HOME": str(blocker / "xdg")}, blocker / "pkg")
-    assert got is not None and got.endswith("numba") and Path(got).is_dir()
+    assert got is not None and Path(got).parent.name == "numba" and Path(got).is_dir()
+
+
+def test_changed_kernel_code_gets_a_cache_of_its_own(tmp_path: Path):
+    """numba checks a cached kernel against its own file only: a helper changed in another
+    module would run old (numba/numba#1833). The folder is named by every kernel module's code."""
+    import os
+    import time
+
+    pkg = tmp_path / "pkg"
+    for f in jit.kernel_sources(pkg):
+        f.parent.mkdir(parents=True, exist_ok=True)
+        f.write_text("x = 1\n")
+    before = jit.choose_cache_dir({}, pkg)
+    helper = pkg / "core" / "perception" / "identify_kernels.py"  # a helper's module, not its caller's
+    helper.write_text("x = 2\n")
+    after = jit.choose_cache_dir({}, pkg)
+    assert before is not None and after is not None and before != after
+    Path(before).mkdir(parents=True)  # (numba makes them as it writes)
+    Path(after).mkdir(parents=True)
+    jit.choose_cache_dir({}, pkg)
+    assert Path(before).is_dir()  # a day old, and only then, the other version's folder goes
+    old = time.time() - 2 * 86400
+    os.utime(before, (old, old))
+    helper.write_text("x = 3\n")
+    newest = jit.choose_cache_dir({}, pkg)
+    assert newest is not None and not Path(before).exists() and Path(after).is_dir()
 
 
 @pytest.fixture(scope="module")
