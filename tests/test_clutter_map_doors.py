@@ -118,9 +118,12 @@ def test_a_jamb_whose_other_side_is_out_of_view_becomes_the_map_opening_at_its_e
                  map_openings=lmap.openings)
     assert len(cm.doors) == 1 and confirmed_by_map(cm.doors, np.array([opening]), PARAMS.combined).all()
     assert cm.door_promoted.tolist() == [True] and np.allclose(cm.possible_doors, [nowhere])
-    turned = [4.79, 1.2, 6.09, 1.2]  # the same end, leaving across the opening: not its door
-    cm = combine(*args, possible_doors=np.array([turned]), possible_door_kind=["jamb"], map_openings=lmap.openings)
+    askew = [4.79, 1.2, 5.71, 0.28]  # the same end leaving at 45 degrees to the opening: not its door
+    cm = combine(*args, possible_doors=np.array([askew]), possible_door_kind=["jamb"], map_openings=lmap.openings)
     assert len(cm.doors) == 0
+    turned = [4.79, 1.2, 6.09, 1.2]  # a wall along y = 1.2 ending there: the opening is its passage's mouth
+    cm = combine(*args, possible_doors=np.array([turned]), possible_door_kind=["jamb"], map_openings=lmap.openings)
+    assert len(cm.doors) == 1 and confirmed_by_map(cm.doors, np.array([opening]), PARAMS.combined).all()
     cm = combine(*args, doors=np.array([opening]), possible_doors=np.array([jamb]), possible_door_kind=["jamb"],
                  map_openings=lmap.openings)
     assert len(cm.doors) == 1 and cm.door_promoted.tolist() == [False]
@@ -135,4 +138,8 @@ def test_a_jambs_opening_is_the_nearest_leaving_its_way():
     assert got is not None and np.allclose(got, near)
     got = opening_at_jamb(jamb, np.array([[0.05, -0.98, 0.05, 0.02]]), PARAMS.combined)  # drawn the other way
     assert got is not None and np.allclose(got, near)
-    assert opening_at_jamb(jamb, np.array([across]), PARAMS.combined) is None
+    # no opening leaves along it: the one across its end, a passage's mouth (escape rooms' exits
+    # seen from the room, the hallway's far end); none leaving askew
+    got = opening_at_jamb(jamb, np.array([across]), PARAMS.combined)
+    assert got is not None and np.allclose(got, across)
+    assert opening_at_jamb(jamb, np.array([[0.0, 0.01, 0.7, -0.7]]), PARAMS.combined) is None

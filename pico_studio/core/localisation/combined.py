@@ -16,7 +16,8 @@ kind "end_face" (a T-opening still waiting for the evidence of several scans) or
 door's shape between block corners: a table bay or a thin-walled room's mouth) that the map
 confirms is *promoted* to a door (`door_promoted`): the map is that evidence. A "jamb" (a
 building wall's end with nothing ahead, its other side out of view) is promoted to the map
-opening at its end, leaving along it (`opening_at_jamb`), unless a door stands there already.
+opening at its end, leaving along it or, failing that, across its end (a passage's mouth)
+(`opening_at_jamb`), unless a door stands there already.
 """
 
 from __future__ import annotations
@@ -143,24 +144,29 @@ def combine(
 def opening_at_jamb(jamb: np.ndarray, openings: np.ndarray, params: CombinedParams) -> np.ndarray | None:
     """The map opening (4,), from the end nearest the jamb's point P (within
     `door_confirm_distance`) to its other end, leaving P's way: within `door_confirm_angle` of
-    the jamb's direction (P to its far point); None when there is none."""
+    the jamb's direction (P to its far point: a door in the wall's line); failing that, across
+    it, within that angle of square to it (a passage's mouth: the wall is a hallway's side
+    ending there); None when there is none."""
     p, q = jamb[:2], jamb[2:]
     d = q - p
     norm = float(np.hypot(*d))
     if norm <= 1e-12:
         return None
     u = d / norm
-    cos_max = math.cos(params.door_confirm_angle)
-    best, best_dist = None, float(params.door_confirm_distance)
-    for a, b in ((openings[:, :2], openings[:, 2:]), (openings[:, 2:], openings[:, :2])):
-        dist = np.hypot(*(a - p).T)
-        v = b - a
-        along = (v @ u) / np.maximum(np.hypot(*v.T), 1e-12)
-        dist[along < cos_max] = np.inf  # leaving another way
-        k = int(np.argmin(dist))
-        if dist[k] <= best_dist:
-            best, best_dist = np.concatenate([a[k], b[k]]), float(dist[k])
-    return best
+    cos_max, sin_max = math.cos(params.door_confirm_angle), math.sin(params.door_confirm_angle)
+    for way in ("along", "across"):
+        best, best_dist = None, float(params.door_confirm_distance)
+        for a, b in ((openings[:, :2], openings[:, 2:]), (openings[:, 2:], openings[:, :2])):
+            dist = np.hypot(*(a - p).T)
+            v = b - a
+            along = (v @ u) / np.maximum(np.hypot(*v.T), 1e-12)
+            dist[(along < cos_max) if way == "along" else (np.abs(along) > sin_max)] = np.inf  # leaving another way
+            k = int(np.argmin(dist))
+            if dist[k] <= best_dist:
+                best, best_dist = np.concatenate([a[k], b[k]]), float(dist[k])
+        if best is not None:
+            return best
+    return None
 
 
 def _carry(segments: np.ndarray | None, t: Pose) -> np.ndarray:
