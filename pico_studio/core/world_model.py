@@ -56,7 +56,8 @@ class WorldModel:
     corners: np.ndarray = field(default_factory=lambda: _empty(2))  # (C, 2)
     corner_convex: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (C,)
     doors: np.ndarray = field(default_factory=lambda: _empty(4))  # (D, 4)
-    door_kind: list[str] = field(default_factory=list)  # (D,) "jambs" (two convex ends), "end_face" (T-opening) or "bay" (seen through, identify.bay_deep_rays)
+    # (D,) "jambs" (two convex ends), "end_face" (T-opening) or "bay" (seen through: identify.bay_deep_rays)
+    door_kind: list[str] = field(default_factory=list)
     object_walls: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (W,) local wall is a small object's
     objects: np.ndarray = field(default_factory=lambda: _empty(4))  # (O, 4) static objects' boxes xmin, ymin, xmax, ymax
     dynamic_obstacles: np.ndarray = field(default_factory=lambda: _empty(4))  # (K, 4) moving objects' boxes

@@ -280,14 +280,13 @@ def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np
                scan: tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float],
                params: IdentifyParams) -> np.ndarray:
     """(K,) how many of each gap's five rays reached `door_depth` past its line, or never ended
-    (identify_kernels.backed); none when the gap is backed (most rays ending in its shadow)."""
+    (identify_kernels.backed: a backed gap has none)."""
     if len(gaps) == 0:
         return np.zeros(0, dtype=np.int64)
-    out, _, deep = backed(np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float),
-                          own_a, own_b, float(robot[0]), float(robot[1]), *scan,
-                          np.zeros(len(gaps), dtype=bool), float(params.door_occlusion), float(params.door_depth),
-                          float(params.jamb_cap_max), float(params.door_backed_share))
-    return np.where(out, 0, deep)
+    return backed(np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float),
+                  own_a, own_b, float(robot[0]), float(robot[1]), *scan,
+                  np.zeros(len(gaps), dtype=bool), float(params.door_occlusion), float(params.door_depth),
+                  float(params.jamb_cap_max), float(params.door_backed_share))[2]
 
 
 def _view_arrays(view: View | None) -> tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float]:

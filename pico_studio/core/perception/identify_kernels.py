@@ -201,7 +201,8 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     circle; an invalid beam reaches far when it returned nothing or beyond q, else says
     nothing: nan) when that beam exists, else the first wall along the ray (ray_hits' maths,
     the gap's two walls left out; with a scan but out of its view and no wall along it, the ray
-    says nothing: the local map not knowing a wall there is no free space). A ray stopping short of |q - R| - occlusion says nothing.
+    says nothing: the local map not knowing a wall there is no free space). A ray stopping
+    short of |q - R| - occlusion says nothing.
     Where the others end, in the gap's frame (s along from p, n across): a ray ending within
     `occlusion` of a jamb's normal (|s| or |s - L|) says nothing unless deeper than
     `jamb_cap_max` behind a jamb that is a wall's end; a ray is closed when it ends within
