@@ -1,19 +1,23 @@
-"""A bay seen through to free space (`identify.bay_deep_rays`, off by default). In a building
-without furniture (an escape room) a hallway's mouth whose side wall is seen edge-on is a bay to
-the jamb rules (its corner is a short wall turning into the hallway's side, as a table's corner
-against a wall), but the rays through it run on down the hallway and out: with the option on it
-is a door of kind "bay". The same local walls with a wall 0.7 m behind the gap (the pocket
-between a table and a wall) stay a possible bay: the rays end in the gap's shadow."""
+"""A bay seen through to free space (`identify.bay_deep_rays`) that opens a building's walls
+(`bay_jamb_span`, `map_proven_kernels.wall_shaped`). In a building without furniture (an escape
+room) a hallway's mouth whose side wall is seen edge-on is a bay to the jamb rules (its corner is
+a short wall turning into the hallway's side, as a table's corner against a wall), but the rays
+through it run on down the hallway and out: it is a door of kind "bay". The same local walls with
+a wall 0.7 m behind the gap (the pocket between a table and a wall) stay a possible bay: the rays
+end in the gap's shadow. A table's corner beside a wall's end is seen through as well: its walls
+span no more than the table; joined to a wall, a wall lies in the gap's line on one side only."""
 
 from __future__ import annotations
 
 from dataclasses import replace
 
 import numpy as np
+import pytest
 
 from pico_studio.config import load_config
 from pico_studio.core.perception.identify import View, identify
-from pico_studio.core.perception.identify_kernels import ray_hits
+from pico_studio.core.perception.identify_kernels import group_spans, ray_hits
+from pico_studio.core.perception.map_proven_kernels import wall_shaped
 
 PARAMS = load_config(None).perception.identify
 ROBOT = (4.54, 2.12)
@@ -22,7 +26,7 @@ ROBOT = (4.54, 2.12)
 TOP = [5.5, 3.64, 0.0, 3.64]
 ABOVE = [0.0, 3.64, 0.0, 3.04]  # the room wall above the mouth, from the room's corner
 SIDE = [0.0, 3.04, -1.18, 3.04]  # the hallway's upper side, its far end free
-BELOW = [0.0, 2.11, 0.0, 0.75]  # the room wall below the mouth, running on out of view
+BELOW = [0.0, 2.11, 0.0, 0.0]  # the room wall below the mouth, running on out of view
 WALLS = np.array([TOP, ABOVE, SIDE, BELOW])
 CONNECTED = np.array([[-1, 1], [0, 2], [1, -1], [-1, -1]], dtype=np.int64)
 SEEN = np.array([[False, False], [False, False], [False, True], [True, False]])
@@ -51,33 +55,77 @@ def _identify(view: View, params=PARAMS):
 HALLWAY = [TOP, ABOVE, SIDE, [0.0, 2.11, -1.18, 2.11], [0.0, 2.11, 0.0, 0.0]]
 
 
-def test_a_hallways_mouth_seen_through_is_a_door_with_the_option_on():
+def test_a_hallways_mouth_seen_through_is_a_door():
     view = _view(HALLWAY)
-    off = _identify(view)
-    assert PARAMS.bay_deep_rays == 0 and len(off.doors) == 0
-    assert _is(off.possible_doors[[k == "bay" for k in off.possible_door_kind]], MOUTH)
-    on = _identify(view, replace(PARAMS, bay_deep_rays=1))
-    assert on.door_kind == ["bay"] and _is(on.doors, MOUTH)
+    on = _identify(view)
+    assert PARAMS.bay_deep_rays == 1 and on.door_kind == ["bay"] and _is(on.doors, MOUTH)
     assert "bay" not in on.possible_door_kind  # the door, not a possible door as well
+    off = _identify(view, replace(PARAMS, bay_deep_rays=0))
+    assert len(off.doors) == 0
+    assert _is(off.possible_doors[[k == "bay" for k in off.possible_door_kind]], MOUTH)
 
 
 def test_a_pocket_behind_the_same_walls_stays_a_possible_bay():
     pocket = HALLWAY + [[-0.7, 2.11, -0.7, 3.04]]  # a wall 0.7 m behind the gap: a table's pocket
-    on = _identify(_view(pocket), replace(PARAMS, bay_deep_rays=1))
+    on = _identify(_view(pocket))
     assert len(on.doors) == 0
     assert _is(on.possible_doors[[k == "bay" for k in on.possible_door_kind]], MOUTH)
 
 
 def test_without_a_scan_the_local_maps_walls_decide():
-    params = replace(PARAMS, bay_deep_rays=1)
-    assert identify(WALLS, CONNECTED, SEEN, ROBOT, params, None).door_kind == ["bay"]
+    assert identify(WALLS, CONNECTED, SEEN, ROBOT, PARAMS, None).door_kind == ["bay"]
     back = np.vstack([WALLS, [[-0.7, 2.11, -0.7, 3.04]]])  # the pocket's back wall in the local map
-    out = identify(back, np.vstack([CONNECTED, [[-1, -1]]]), np.vstack([SEEN, [[True, True]]]), ROBOT, params, None)
+    out = identify(back, np.vstack([CONNECTED, [[-1, -1]]]), np.vstack([SEEN, [[True, True]]]), ROBOT, PARAMS, None)
     assert len(out.doors) == 0
 
 
-def test_the_unfurnished_example_config_turns_it_on():
+# a table (0.7 x 1.6 m) in place of the room wall below the mouth: its front in the wall's line,
+# its side turning away along the hallway; seen through just the same
+TABLE = [[0.0, 2.11, 0.0, 0.5], [0.0, 2.11, -0.7, 2.11], [0.0, 0.5, -0.7, 0.5]]
+TABLE_WALLS = np.array([TOP, ABOVE, SIDE] + TABLE)
+TABLE_CONNECTED = np.array([[-1, 1], [0, 2], [1, -1], [4, 5], [3, -1], [3, -1]], dtype=np.int64)
+TABLE_SEEN = np.array([[False, False], [False, False], [False, True], [True, True], [True, False], [True, False]])
+
+
+def test_a_tables_corner_beside_a_walls_end_is_no_door():
+    view = _view([TOP, ABOVE, SIDE] + TABLE)
+    out = identify(TABLE_WALLS, TABLE_CONNECTED, TABLE_SEEN, ROBOT, PARAMS, view)
+    assert len(out.doors) == 0  # the table's walls span 1.75 m, less than bay_jamb_span
+    assert _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTH)
+    _, span = group_spans(TABLE_WALLS, TABLE_CONNECTED)
+    assert span[3] == pytest.approx(np.hypot(0.7, 1.61)) and span[0] > PARAMS.bay_jamb_span
+    anywhere = identify(TABLE_WALLS, TABLE_CONNECTED, TABLE_SEEN, ROBOT, replace(PARAMS, bay_jamb_span=0.0), view)
+    assert anywhere.door_kind == ["bay"] and _is(anywhere.doors, MOUTH)  # an unfurnished building's
+
+
+# wall_shaped: a gap from A = (0, 0) to B = (0.9, 0)
+def _shaped(walls: list[list[float]], connected: list[list[int]], own_a: int, own_b: int) -> bool:
+    return bool(wall_shaped(np.array([[0.0, 0.0, 0.9, 0.0]]), np.array(walls, dtype=float),
+                            np.array(connected, dtype=np.int64), np.array([own_a]), np.array([own_b]), 0.3, 0.5)[0])
+
+
+def test_a_gap_in_a_walls_line_or_across_a_passage_is_wall_shaped():
+    assert _shaped([[-2.0, 0.0, 0.0, 0.0], [0.9, 0.0, 3.0, 0.0]], [[-1, -1], [-1, -1]], 0, 1)  # in line
+    # a side room's mouth: each jamb a corner, the wall in line joined to the room's side
+    assert _shaped([[-2.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0], [0.9, 0.0, 0.9, 1.0], [0.9, 0.0, 3.0, 0.0]],
+                   [[-1, 1], [0, -1], [3, -1], [2, -1]], 1, 2)
+    # a hallway's far end: both sides across the gap, on the same side
+    assert _shaped([[0.0, 0.0, 0.0, -2.0], [0.9, 0.0, 0.9, -2.0]], [[-1, -1], [-1, -1]], 0, 1)
+
+
+def test_a_tables_corner_by_a_partitions_end_is_not():
+    # the partition runs down from A, the table's side up from B to the wall: opposite sides
+    assert not _shaped([[0.0, 0.0, 0.0, -1.5], [0.9, 0.0, 0.9, 1.0]], [[-1, -1], [-1, -1]], 0, 1)
+    # the table's front in line at B, the partition across at A
+    assert not _shaped([[0.0, 0.0, 0.0, -1.5], [0.9, 0.0, 2.1, 0.0], [0.9, 0.0, 0.9, 1.0]],
+                       [[-1, -1], [2, -1], [1, -1]], 0, 1)
+    # in line at A only by a door frame's end cap (shorter than a door frame's length)
+    assert not _shaped([[-0.1, 0.0, 0.0, 0.0], [0.9, 0.0, 3.0, 0.0]], [[-1, -1], [-1, -1]], 0, 1)
+
+
+def test_the_unfurnished_example_config_takes_any_span():
     from pathlib import Path
 
     path = Path(__file__).resolve().parents[1] / "examples" / "configs" / "unfurnished.yaml"
-    assert load_config(path).perception.identify.bay_deep_rays == 1
+    ident = load_config(path).perception.identify
+    assert ident.bay_jamb_span == 0.0 and ident.bay_deep_rays == 1

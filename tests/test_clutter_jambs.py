@@ -204,13 +204,16 @@ def test_a_mouth_into_a_hallway_seen_at_an_angle_is_a_door():
     """escape:5's exit: a room's wall (x = 0) with a 0.8 m mouth into a hallway 1.4 m long, open
     at its far end. Seen from the side most rays through the mouth end on the hallway's walls
     within door_depth — the shape of a bay — but one reaches the free space past its end, so
-    it is a passage, not a bay's back. Closed 0.6 m in (shallower than door_depth), it is a bay."""
+    it is a passage, not a bay's back. The hallway's far end, nothing behind it in the local map
+    (no scan here), is a passage's mouth seen through: a door of kind "bay". Closed 0.6 m in
+    (shallower than door_depth), the mouth is a bay, no door."""
     robot = (2.73, 2.95)
     walls = [[0.0, 0.0, 0.0, 2.78], [0.0, 2.78, -1.43, 2.78], [0.0, 3.58, -1.43, 3.58], [0.0, 5.43, 0.0, 3.58]]
     connected = [[-1, 1], [0, -1], [3, -1], [-1, 2]]
     seen = [[False, False], [False, True], [False, True], [False, False]]
     doors, kind = _doors(walls, connected, seen, robot)
-    assert kind == ["jambs"] and np.allclose(sorted(doors[0][[1, 3]]), [2.78, 3.58], atol=1e-6)
+    assert kind == ["jambs", "bay"] and np.allclose(sorted(doors[0][[1, 3]]), [2.78, 3.58], atol=1e-6)
+    assert np.allclose(doors[1][[0, 2]], -1.43) and np.allclose(sorted(doors[1][[1, 3]]), [2.78, 3.58])
     back = [[-0.6, 2.78, -0.6, 3.58]]
     walls[1][2], walls[2][2] = -0.6, -0.6
     doors, _ = _doors(walls + back, [[-1, 1], [0, 4], [3, 4], [-1, 2], [1, 2]], seen + [[False, False]], robot)

@@ -357,10 +357,17 @@ class IdentifyParams:
         "two tables, or a side room's mouth in thin walls) is a possible door, for the map to prove once localised",
     )
     bay_deep_rays: int = param(
-        0, lo=0, hi=5, step=1,
+        1, lo=0, hi=5, step=1,
         help="A bay is a door when at least this many of the five rays through it reach door_depth past its "
         "line, or never end: free space behind it (a side room, a hallway), not the pocket between two tables "
-        "by a wall (0: a bay is only ever a possible door)",
+        "by a wall; and it opens a building's walls (bay_jamb_span; in a wall's line or across a passage) "
+        "(0: a bay is only ever a possible door)",
+    )
+    bay_jamb_span: float = param(
+        2.0, lo=0.0, hi=20.0, step=0.05, unit="m",
+        help="...and each of its jambs' connected walls spans at least this (their bounding box's diagonal): a "
+        "building's walls run on, a table with its sides spans no more than its own diagonal (0.7 x 1.6 m: "
+        "1.75 m; the passage between a table's corner and a partition's end is seen through too; 0: any)",
     )
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",

@@ -48,9 +48,14 @@ tables by a wall; or backed, or never seen through), and a passage's mouth (two 
 walls side by side, the gap across both ends: a hallway's far end), are possible doors of kind
 "bay". In thin walls a side room's mouth between two 1 m wall pieces has exactly a table bay's
 shape: only the global map can tell them apart, and once localised the combined map makes a
-bay a door where its walls have an opening there. With `bay_deep_rays` > 0 a bay seen through
-to free space (that many rays reaching `door_depth` past its line) is a door of kind "bay": right
-where nothing but walls stands (an escape room), wrong by a table's corner, so off by default.
+bay a door where its walls have an opening there. A bay seen through to free space
+(`bay_deep_rays` rays reaching `door_depth` past its line) is a door of kind "bay" when it opens
+a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
+sides spans no more than its diagonal), and the gap lies in a wall's line (a wall a door frame's
+length in line at both jambs: a side room's mouth) or across a passage (walls across it at both
+jambs, on the same side: a hallway's far end). The passage between a table's corner and a
+partition's end is seen through too, but fails one or the other (the table's walls span the
+table; joined to a wall, it has a wall in line on one side only).
 
 Evidence over scans (`Identified.evidence`, handed back in by the perceptor): a T-opening
 from a door frame's length seen shorter than `end_face_min_length` (or a whole end cap's side
@@ -80,9 +85,10 @@ import numpy as np
 from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.door_kernels import away_from, jamb_doors, loose_gaps
 from pico_studio.core.perception.face_kernels import t_openings
-from pico_studio.core.perception.identify_kernels import backed, small_objects
+from pico_studio.core.perception.identify_kernels import backed, group_spans, small_objects
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven import bays, lone_caps
+from pico_studio.core.perception.map_proven_kernels import wall_shaped
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall", "end_face", "bay", "jamb")
@@ -238,13 +244,21 @@ def _doors(
         kinds.extend(["jamb"] * len(lone))
     if params.bay_doors:
         # a bay seen through to free space (`bay_deep_rays` of its rays reaching `door_depth`
-        # past its line) is a door where nothing but walls stands: a hallway's mouth. Among
-        # furniture the gap between a table's corner and a wall is seen through as well, so
-        # the option is off by default and the map proves bays once localised
+        # past its line) is a door where it opens a building's walls: a hallway's mouth, a side
+        # room's. The rest stay possible doors; once localised the map proves them
         gaps, own_a, own_b = bays(walls, prop, connected, objects, np.array(doors), robot, params)
         through = np.zeros(len(gaps), dtype=bool)
-        if params.bay_deep_rays > 0:
-            through = _deep_rays(gaps, own_a, own_b, walls, robot, scan, params) >= params.bay_deep_rays
+        if params.bay_deep_rays > 0 and len(gaps):
+            # ...and only an opening of a building's walls: the passage between a table's corner
+            # and a partition's end is seen through as well, but the table's walls span no more
+            # than the table (identify_kernels.group_spans), and a table's corner by a wall has a
+            # wall in line on one side only (map_proven_kernels.wall_shaped)
+            w = np.ascontiguousarray(walls, dtype=float)
+            c = np.ascontiguousarray(connected, dtype=np.int64)
+            _, span = group_spans(w, c)
+            through = (_deep_rays(gaps, own_a, own_b, walls, robot, scan, params) >= params.bay_deep_rays) \
+                & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
+                & wall_shaped(gaps, w, c, own_a, own_b, float(params.door_angle), float(params.door_wall_min_length))
         doors.extend(gaps[through].tolist())
         door_kinds.extend(["bay"] * int(through.sum()))
         possible.extend(gaps[~through])

@@ -288,19 +288,17 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     return out, free, deep
 
 
-def _example_groups() -> tuple:
+def _example_spans() -> tuple:
     walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 1.0, 1.0], [3.0, 3.0, 4.0, 3.0]])
     connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
-    prop = np.array([[1, 2], [2, 1], [0, 0]], dtype=np.int64)
-    return walls, connected, prop, 2.0, 0
+    return walls, connected
 
 
-@kernel(_example_groups)
-def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float,
-                  floating: int) -> tuple[np.ndarray, np.ndarray]:
-    """(group (W,) int64: a label shared by connected walls, candidate (W,) bool: the wall's
-    group spans at most `max_size` (its bounding box's diagonal) and none of its ends has the
-    property `floating`). Groups by union-find over the connections (path halving)."""
+@kernel(_example_spans)
+def group_spans(walls: np.ndarray, connected: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(group (W,) int64: a label shared by connected walls, span (W,): the diagonal of the
+    bounding box of the wall's group). Groups by union-find over the connections (path
+    halving)."""
     n = walls.shape[0]
     root = np.arange(n)
     for i in range(n):
@@ -320,7 +318,6 @@ def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, ma
     group = np.empty(n, dtype=np.int64)
     lo_x, lo_y = np.full(n, np.inf), np.full(n, np.inf)
     hi_x, hi_y = np.full(n, -np.inf), np.full(n, -np.inf)
-    loose = np.zeros(n, dtype=np.bool_)
     for i in range(n):
         a = i
         while root[a] != a:
@@ -331,12 +328,35 @@ def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, ma
             x, y = walls[i, 2 * e], walls[i, 2 * e + 1]
             lo_x[a], hi_x[a] = min(lo_x[a], x), max(hi_x[a], x)
             lo_y[a], hi_y[a] = min(lo_y[a], y), max(hi_y[a], y)
-            if prop[i, e] == floating:
-                loose[a] = True
-    candidate = np.empty(n, dtype=np.bool_)
+    span = np.empty(n)
     for i in range(n):
         g = group[i]
-        candidate[i] = not (np.hypot(hi_x[g] - lo_x[g], hi_y[g] - lo_y[g]) > max_size) and not loose[g]
+        span[i] = np.hypot(hi_x[g] - lo_x[g], hi_y[g] - lo_y[g])
+    return group, span
+
+
+def _example_groups() -> tuple:
+    walls, connected = _example_spans()
+    prop = np.array([[1, 2], [2, 1], [0, 0]], dtype=np.int64)
+    return walls, connected, prop, 2.0, 0
+
+
+@kernel(_example_groups)
+def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float,
+                  floating: int) -> tuple[np.ndarray, np.ndarray]:
+    """(group (W,) int64: a label shared by connected walls, candidate (W,) bool: the wall's
+    group spans at most `max_size` (its bounding box's diagonal, `group_spans`) and none of its
+    ends has the property `floating`)."""
+    group, span = group_spans(walls, connected)
+    n = walls.shape[0]
+    loose = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        for e in range(2):
+            if prop[i, e] == floating:
+                loose[group[i]] = True
+    candidate = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        candidate[i] = not (span[i] > max_size) and not loose[group[i]]
     return group, candidate
 
 

@@ -125,6 +125,59 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
     return segs[out], own_a[out], own_b[out]
 
 
+def _example_shapes() -> tuple:
+    walls = np.array([[-2.0, 0.0, 0.0, 0.0], [0.9, 0.0, 3.0, 0.0], [0.9, 0.0, 0.9, 1.0]])
+    connected = np.array([[-1, -1], [2, -1], [1, -1]], dtype=np.int64)
+    gaps = np.array([[0.0, 0.0, 0.9, 0.0]])
+    return gaps, walls, connected, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), 0.3, 0.5
+
+
+@kernel(_example_shapes)
+def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, own_a: np.ndarray, own_b: np.ndarray,
+                angle: float, frame_min: float) -> np.ndarray:
+    """(K,) bool: the bay lies in a wall's line or across a passage, as an opening in a building's
+    walls does. At each jamb J (the gap's end point, an end of its wall) the walls there (its own,
+    and the one joined at that end) run from J towards their far ends F, d = (F - J) / |F - J|;
+    with u = (B - A) / |B - A| the gap's direction a wall at least `frame_min` long at A is in line when d . u < -cos(angle)
+    (at B: d . u > cos(angle)), across it when |d . u| < sin(angle), on the side sign(u x d). A
+    wall's opening has a wall in line at both jambs (a side room's mouth, a hallway's seen from
+    the room); a passage's mouth has walls across it at both, on the same side (a hallway's far
+    end). A table's corner beside a partition's end has one of each, or sides running opposite
+    ways: no opening of a wall."""
+    k = gaps.shape[0]
+    out = np.zeros(k, dtype=np.bool_)
+    cos_a, sin_a = math.cos(angle), math.sin(angle)
+    for q in range(k):
+        ax, ay, bx, by = gaps[q, 0], gaps[q, 1], gaps[q, 2], gaps[q, 3]
+        ln = max(math.hypot(bx - ax, by - ay), 1e-12)
+        ux, uy = (bx - ax) / ln, (by - ay) / ln
+        inline = np.zeros(2, dtype=np.bool_)
+        side = np.zeros(2, dtype=np.int64)  # +1 / -1: a wall across, on that side; 0: none (2: both)
+        for j in range(2):
+            own = own_a[q] if j == 0 else own_b[q]
+            jx, jy = (ax, ay) if j == 0 else (bx, by)
+            sign = -1.0 if j == 0 else 1.0  # in line: running away from the gap
+            e = 0 if math.hypot(walls[own, 0] - jx, walls[own, 1] - jy) <= math.hypot(walls[own, 2] - jx, walls[own, 3] - jy) else 1
+            for w in (own, connected[own, e]):
+                if w < 0:
+                    continue
+                # the wall's end farther from the jamb
+                f = 1 if math.hypot(walls[w, 0] - jx, walls[w, 1] - jy) <= math.hypot(walls[w, 2] - jx, walls[w, 3] - jy) else 0
+                dx, dy = walls[w, 2 * f] - jx, walls[w, 2 * f + 1] - jy
+                dn = math.hypot(dx, dy)
+                if dn < frame_min:  # a door frame's length: a wall's end cap or a bed's foot is none
+                    continue
+                c = (dx * ux + dy * uy) / dn
+                if sign * c > cos_a:
+                    inline[j] = True
+                elif abs(c) < sin_a:
+                    s = 1 if ux * dy - uy * dx > 0 else -1
+                    side[j] = s if side[j] == 0 or side[j] == s else 2
+        out[q] = (inline[0] and inline[1]) or (side[0] != 0 and side[0] != 2 and side[0] == side[1]
+                                               and not inline[0] and not inline[1])
+    return out
+
+
 def _example_caps() -> tuple:
     walls = np.array([[0.0, 1.0, 0.2, 1.0], [-2.0, 0.0, 2.0, 0.0]])
     connected = np.full((2, 2), -1, dtype=np.int64)
