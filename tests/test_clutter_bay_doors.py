@@ -113,6 +113,18 @@ def test_a_gap_in_a_walls_line_or_across_a_passage_is_wall_shaped():
     assert _shaped([[0.0, 0.0, 0.0, -2.0], [0.9, 0.0, 0.9, -2.0]], [[-1, -1], [-1, -1]], 0, 1)
 
 
+def test_a_short_piece_of_wall_joined_to_a_frame_frames_the_gap():
+    """escape:32's exit: a hallway leaving a room by its corner. At A the room's wall runs on
+    only 0.37 m to the corner (less than a door frame's length) and joins the room's side there;
+    at B it runs on. Both in line, as `door_wall_min_length` counts a wall joining one that long.
+    Joined to nothing (a thick wall's end cap seen alone) the piece is no frame."""
+    walls = [[-0.37, 0.0, -0.37, -3.0], [0.0, 0.0, -0.37, 0.0], [0.0, 0.0, 0.0, 2.0], [0.9, 0.0, 0.9, 2.0],
+             [0.9, 0.0, 3.0, 0.0]]
+    connected = [[1, -1], [2, 0], [1, -1], [4, -1], [3, -1]]
+    assert _shaped(walls, connected, 2, 3)
+    assert not _shaped(walls, [[-1, -1], [2, -1], [1, -1], [4, -1], [3, -1]], 2, 3)
+
+
 def test_a_tables_corner_by_a_partitions_end_is_not():
     # the partition runs down from A, the table's side up from B to the wall: opposite sides
     assert not _shaped([[0.0, 0.0, 0.0, -1.5], [0.9, 0.0, 0.9, 1.0]], [[-1, -1], [-1, -1]], 0, 1)
