@@ -100,8 +100,10 @@ def test_a_tables_corner_beside_a_walls_end_is_no_door():
 
 # wall_shaped: a gap from A = (0, 0) to B = (0.9, 0)
 def _shaped(walls: list[list[float]], connected: list[list[int]], own_a: int, own_b: int) -> bool:
-    return bool(wall_shaped(np.array([[0.0, 0.0, 0.9, 0.0]]), np.array(walls, dtype=float),
-                            np.array(connected, dtype=np.int64), np.array([own_a]), np.array([own_b]), 0.3, 0.5)[0])
+    w = np.array(walls, dtype=float)
+    lengths = np.hypot(w[:, 2] - w[:, 0], w[:, 3] - w[:, 1])
+    return bool(wall_shaped(np.array([[0.0, 0.0, 0.9, 0.0]]), w, np.array(connected, dtype=np.int64), lengths,
+                            np.array([own_a]), np.array([own_b]), 0.3, 0.5)[0])
 
 
 def test_a_gap_in_a_walls_line_or_across_a_passage_is_wall_shaped():

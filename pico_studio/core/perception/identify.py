@@ -258,7 +258,8 @@ def _doors(
             _, span = group_spans(w, c)
             through = (_deep_rays(gaps, own_a, own_b, walls, robot, scan, params) >= params.bay_deep_rays) \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
-                & wall_shaped(gaps, w, c, own_a, own_b, float(params.door_angle), float(params.door_wall_min_length))
+                & wall_shaped(gaps, w, c, lengths, own_a, own_b, float(params.door_angle),
+                              float(params.door_wall_min_length))
         doors.extend(gaps[through].tolist())
         door_kinds.extend(["bay"] * int(through.sum()))
         possible.extend(gaps[~through])

@@ -465,15 +465,22 @@ far end, if any, runs back the same way as i (`_step`: else a box against a wall
                 # when it turns away from the robot (R): turning towards it, the corner hides the
                 # wall's end from R (convex only as seen from behind: a wall's end by a table)
                 continue
-            far = connected[i, 1 - e]
             wi[m], we[m], capped[m] = i, e, whole
             long[m] = lengths[i] >= frame_min
-            stub[m] = not long[m] and far >= 0 and lengths[far] >= frame_min
+            stub[m] = not long[m] and joins_frame(connected, lengths, i, 1 - e, frame_min)
             cap_sized[m] = lengths[i] <= cap_max
             cap_seen[m] = prop[i, 0] != floating and prop[i, 1] != floating
             m += 1
     return (wi[:m].copy(), we[:m].copy(), capped[:m].copy(), long[:m].copy(), stub[:m].copy(), cap_sized[:m].copy(),
             cap_seen[:m].copy(), lengths)
+
+
+@njit
+def joins_frame(connected: np.ndarray, lengths: np.ndarray, w: int, e: int, frame_min: float) -> bool:
+    """Is wall w joined at its end e to a wall at least `frame_min` long? A short stub (or a
+    short piece of a room's wall between a door and the room's corner) frames a door so."""
+    o = connected[w, e]
+    return o >= 0 and lengths[o] >= frame_min
 
 
 @njit

@@ -31,10 +31,11 @@ from pico_studio.core.perception.identify_kernels import (
     distinct_openings,
     door_pairs,
     jamb_candidates,
+    joins_frame,
     ray_hits,
     same_opening,
 )
-from pico_studio.jit import kernel, njit
+from pico_studio.jit import kernel
 
 
 def _example_bays() -> tuple:
@@ -129,20 +130,20 @@ def _example_shapes() -> tuple:
     walls = np.array([[-2.0, 0.0, 0.0, 0.0], [0.9, 0.0, 3.0, 0.0], [0.9, 0.0, 0.9, 1.0]])
     connected = np.array([[-1, -1], [2, -1], [1, -1]], dtype=np.int64)
     gaps = np.array([[0.0, 0.0, 0.9, 0.0]])
-    return gaps, walls, connected, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), 0.3, 0.5
+    lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
+    return gaps, walls, connected, lengths, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), 0.3, 0.5
 
 
 @kernel(_example_shapes)
-def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, own_a: np.ndarray, own_b: np.ndarray,
-                angle: float, frame_min: float) -> np.ndarray:
+def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, own_a: np.ndarray,
+                own_b: np.ndarray, angle: float, frame_min: float) -> np.ndarray:
     """(K,) bool: the bay lies in a wall's line or across a passage, as an opening in a building's
     walls does. At each jamb J (the gap's end point, an end of its wall) the walls there (its own,
     and the one joined at that end) run from J towards their far ends F, d = (F - J) / |F - J|;
     with u = (B - A) / |B - A| the gap's direction a wall at least `frame_min` long (or joined at
-    F to one that long: a room's wall running on to the room's corner) at A is in line when
-    d . u < -cos(angle) (at B: d . u > cos(angle)), across it when |d . u| < sin(angle), on the
-    side sign(u x d). A
-    wall's opening has a wall in line at both jambs (a side room's mouth, a hallway's seen from
+    F to one that long, `identify_kernels.joins_frame`: a room's wall running on to the room's
+    corner) at A is in line when d . u < -cos(angle) (at B: d . u > cos(angle)), across it when
+    |d . u| < sin(angle), on the side sign(u x d). A wall's opening has a wall in line at both jambs (a side room's mouth, a hallway's seen from
     the room); a passage's mouth has walls across it at both, on the same side (a hallway's far
     end). A table's corner beside a partition's end has one of each, or sides running opposite
     ways: no opening of a wall."""
@@ -167,7 +168,7 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, own_
                 f = 1 if math.hypot(walls[w, 0] - jx, walls[w, 1] - jy) <= math.hypot(walls[w, 2] - jx, walls[w, 3] - jy) else 0
                 dx, dy = walls[w, 2 * f] - jx, walls[w, 2 * f + 1] - jy
                 dn = math.hypot(dx, dy)
-                if dn < frame_min and not _joins_frame(walls, connected, w, f, frame_min):
+                if dn < frame_min and not joins_frame(connected, lengths, w, f, frame_min):
                     continue  # a door frame's length (or joining one): a wall's end cap or a bed's foot is none
                 c = (dx * ux + dy * uy) / dn
                 if sign * c > cos_a:
@@ -178,14 +179,6 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, own_
         out[q] = (inline[0] and inline[1]) or (side[0] != 0 and side[0] != 2 and side[0] == side[1]
                                                and not inline[0] and not inline[1])
     return out
-
-
-@njit
-def _joins_frame(walls: np.ndarray, connected: np.ndarray, w: int, f: int, frame_min: float) -> bool:
-    """Is wall w joined at its end f to a wall at least `frame_min` long (a short piece of a
-    room's wall between a door and the room's corner still frames the door)?"""
-    o = connected[w, f]
-    return o >= 0 and math.hypot(walls[o, 2] - walls[o, 0], walls[o, 3] - walls[o, 1]) >= frame_min
 
 
 def _example_caps() -> tuple:
