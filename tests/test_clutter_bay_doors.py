@@ -16,8 +16,10 @@ import pytest
 
 from pico_studio.config import load_config
 from pico_studio.core.perception.identify import View, identify
-from pico_studio.core.perception.identify_kernels import group_spans, ray_hits
+from pico_studio.core.perception.identify_kernels import group_spans, in_line_spans, ray_hits
+from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven_kernels import wall_shaped
+from pico_studio.core.world_model import CONCAVE, CONVEX, FLOATING
 
 PARAMS = load_config(None).perception.identify
 ROBOT = (4.54, 2.12)
@@ -33,15 +35,14 @@ SEEN = np.array([[False, False], [False, False], [False, True], [True, False]])
 MOUTH = np.array([0.0, 2.11, 0.0, 3.04])
 
 
-def _view(solid: list[list[float]]) -> View:
-    """The laser at ROBOT (facing the mouth) cast against `solid` walls, 8 m beyond nothing."""
-    heading = np.pi
+def _view(solid: list[list[float]], robot: tuple[float, float] = ROBOT, heading: float = np.pi) -> View:
+    """The laser at `robot` (by default facing the mouth) cast against `solid` walls, 8 m beyond nothing."""
     angles = np.linspace(-2.0, 2.0, 801)
     direction = np.stack([np.cos(angles + heading), np.sin(angles + heading)], axis=1)
     none = np.full(len(angles), -1, dtype=np.int64)
-    ranges, _ = ray_hits(np.tile(ROBOT, (len(angles), 1)), direction, np.array(solid, dtype=float), none, none)
+    ranges, _ = ray_hits(np.tile(robot, (len(angles), 1)), direction, np.array(solid, dtype=float), none, none)
     hit = np.isfinite(ranges) & (ranges < 8.0)
-    return View(np.where(hit, ranges, 0.0), angles, hit, (ROBOT[0], ROBOT[1], heading))
+    return View(np.where(hit, ranges, 0.0), angles, hit, (robot[0], robot[1], heading))
 
 
 def _is(gaps: np.ndarray, gap: np.ndarray) -> bool:
@@ -103,7 +104,7 @@ def _shaped(walls: list[list[float]], connected: list[list[int]], own_a: int, ow
     w = np.array(walls, dtype=float)
     lengths = np.hypot(w[:, 2] - w[:, 0], w[:, 3] - w[:, 1])
     return bool(wall_shaped(np.array([[0.0, 0.0, 0.9, 0.0]]), w, np.array(connected, dtype=np.int64), lengths,
-                            np.array([own_a]), np.array([own_b]), 0.3, 0.5)[0])
+                            np.array([own_a]), np.array([own_b]), 0.3, 0.5, 0.1)[0])
 
 
 def test_a_gap_in_a_walls_line_or_across_a_passage_is_wall_shaped():
@@ -143,3 +144,84 @@ def test_the_unfurnished_example_config_takes_any_span():
     path = Path(__file__).resolve().parents[1] / "examples" / "configs" / "unfurnished.yaml"
     ident = load_config(path).perception.identify
     assert ident.bay_jamb_span == 0.0 and ident.bay_deep_rays == 1
+
+
+def test_a_bed_side_pointing_past_a_walls_cap_is_not_in_its_line():
+    """ward:5: from a door's jamb (A, the corridor wall's end cap running up) to a bed's corner
+    (B) 1.3 m into the room, the bed's side running on down: both parallel to the gap within
+    door_angle, but the bed's side lies 0.2 m beside the cap's line (bay_line_offset). Nor is
+    it a passage's mouth: the bed's side runs along the gap."""
+    gap = np.array([[0.0, 0.0, 0.2, -1.3]])
+    walls = np.array([[0.0, 0.2, 0.0, 0.0], [0.0, 0.2, 1.8, 0.2], [0.2, -1.3, 0.2, -3.3], [0.2, -1.3, 1.1, -1.3]])
+    connected = np.array([[1, -1], [0, -1], [3, -1], [2, -1]], dtype=np.int64)
+    lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
+
+    def shaped(offset: float) -> bool:
+        return bool(wall_shaped(gap, walls, connected, lengths, np.array([0]), np.array([2]), 0.3, 0.5, offset)[0])
+
+    assert PARAMS.bay_line_offset < 0.15 and not shaped(PARAMS.bay_line_offset)
+    assert shaped(0.25)  # taken as one line when the offset allowed is wider than the bed's
+
+
+# room_finder worlds: a room's wall on y = 0 with two 1 m side rooms (mouths 0..1 and 2.1..3.1)
+# and the 1.1 m piece of wall between them, its sides running away from the robot, unseen, so the
+# piece alone spans 1.1 m, no more than a table's front. Seen: the room's wall left of the left
+# room (1 m, running on out of view) and right of the right room (1.3 m, to the room's corner),
+# each joined to its side room's near side (a block's corner to the jamb rules: bays).
+LEFT = [[-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
+PIECE = [[1.0, 0.0, 2.1, 0.0]]
+RIGHT = [[3.1, 0.0, 4.4, 0.0], [4.4, 0.0, 4.4, -2.5], [3.1, 0.0, 3.1, 1.0]]
+SIDE_ROOMS = [[0.0, 1.0, 1.0, 1.0], [1.0, 1.0, 1.0, 0.0], [2.1, 0.0, 2.1, 1.0], [2.1, 1.0, 3.1, 1.0]]
+PIECE_ROBOT = (1.55, -1.6)
+MOUTHS = (np.array([0.0, 0.0, 1.0, 0.0]), np.array([2.1, 0.0, 3.1, 0.0]))
+
+
+def _pieces(right: bool):
+    walls = LEFT + PIECE + (RIGHT if right else [])
+    connected = [[-1, 1], [0, -1], [-1, -1]] + ([[5, 4], [3, -1], [3, -1]] if right else [])
+    seen = [[False, True], [True, False], [True, True]] + ([[True, True], [True, False], [True, False]] if right else [])
+    walls, seen = np.array(walls), np.array(seen)
+    view = _view(LEFT + PIECE + (RIGHT if right else [[3.1, 0.0, 3.1, 1.0]]) + SIDE_ROOMS, PIECE_ROBOT, np.pi / 2)
+    return identify(walls, np.array(connected, dtype=np.int64), seen, PIECE_ROBOT, PARAMS, view), walls, \
+        np.array(connected, dtype=np.int64), seen
+
+
+def test_a_piece_of_wall_between_two_side_rooms_is_the_buildings():
+    out, walls, connected, seen = _pieces(right=True)
+    # the right room's mouth: the piece in line with the room's wall on both sides
+    assert out.door_kind == ["bay"] and _is(out.doors, MOUTHS[1])
+    # the left one stays a possible bay: the room's wall there (with its side room's side,
+    # 1.4 m) runs on out of view, nothing in line beyond it that the eye has seen
+    assert _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTHS[0])
+    group, span = group_spans(walls, connected)
+    assert span[2] == pytest.approx(1.1) and span[0] < PARAMS.bay_jamb_span <= span[3]
+    prop = junctions(walls, connected, seen, *PIECE_ROBOT, FLOATING, CONVEX, CONCAVE)[0]
+    lent = in_line_spans(walls, prop, group, span, np.zeros(len(walls), dtype=bool), PARAMS.bay_jamb_span,
+                         PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width, FLOATING)
+    assert lent[2] == PARAMS.bay_jamb_span and np.array_equal(np.delete(lent, 2), np.delete(span, 2))
+    alone = identify(walls, connected, seen, PIECE_ROBOT, replace(PARAMS, door_max_width=0.9),
+                     _view(LEFT + PIECE + RIGHT + SIDE_ROOMS, PIECE_ROBOT, np.pi / 2))
+    assert len(alone.doors) == 0  # no door's width to the wall beyond: no lending (nor any door)
+
+
+def test_a_tables_face_in_line_with_a_wall_on_one_side_only_is_not():
+    """restaurant_2024: a table's face in line with a building wall's face across a door's
+    width, its other end a seen corner with nothing in line beyond: a table's, no door beside it
+    (though the building's wall, here joined to the room's corner, spans more than
+    bay_jamb_span, and the rays through the gap reach the room's back wall)."""
+    walls = np.array(LEFT + [[-1.0, 0.0, -1.0, -2.5]] + PIECE)
+    connected = np.array([[2, 1], [0, -1], [0, -1], [-1, -1]], dtype=np.int64)
+    seen = np.array([[True, True], [True, False], [True, False], [True, True]])
+    table = [[1.0, 0.0, 1.0, 1.0], [2.1, 0.0, 2.1, 1.0], [1.0, 1.0, 2.1, 1.0]]
+    view = _view(walls.tolist() + table + SIDE_ROOMS[:1], PIECE_ROBOT, np.pi / 2)
+    out = identify(walls, connected, seen, PIECE_ROBOT, PARAMS, view)
+    assert len(out.doors) == 0
+    assert _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTHS[0])
+    group, span = group_spans(walls, connected)
+    assert span[0] >= PARAMS.bay_jamb_span and span[3] == pytest.approx(1.1)
+    prop = junctions(walls, connected, seen, *PIECE_ROBOT, FLOATING, CONVEX, CONCAVE)[0]
+    assert in_line_spans(walls, prop, group, span, np.zeros(len(walls), dtype=bool), PARAMS.bay_jamb_span,
+                         PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width,
+                         FLOATING)[3] == pytest.approx(1.1)
+    anywhere = identify(walls, connected, seen, PIECE_ROBOT, replace(PARAMS, bay_jamb_span=0.0), view)
+    assert _is(anywhere.doors, MOUTHS[0])  # the span rule is what refuses it

@@ -369,6 +369,11 @@ class IdentifyParams:
         "building's walls run on, a table with its sides spans no more than its own diagonal (0.7 x 1.6 m: "
         "1.75 m; the passage between a table's corner and a partition's end is seen through too; 0: any)",
     )
+    bay_line_offset: float = param(
+        0.1, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="...a bay in a wall's line: the wall in line at a jamb passes within this of the other jamb (one "
+        "line, a side room's mouth; a bed's side pointing past a wall's cap is parallel but beside it)",
+    )
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="Connected local walls spanning at most this (bounding-box diagonal) are an object (a cabinet, "

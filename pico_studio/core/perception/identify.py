@@ -51,11 +51,15 @@ shape: only the global map can tell them apart, and once localised the combined 
 bay a door where its walls have an opening there. A bay seen through to free space
 (`bay_deep_rays` rays reaching `door_depth` past its line) is a door of kind "bay" when it opens
 a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
-sides spans no more than its diagonal), and the gap lies in a wall's line (a wall a door frame's
-length in line at both jambs: a side room's mouth) or across a passage (walls across it at both
-jambs, on the same side: a hallway's far end). The passage between a table's corner and a
-partition's end is seen through too, but fails one or the other (the table's walls span the
-table; joined to a wall, it has a wall in line on one side only).
+sides spans no more than its diagonal; a piece of wall between two doors whose sides are unseen
+counts as the building's when its line runs on past both its ends in other walls a door's width
+on, one of them a building's), and the gap lies in a wall's line (a wall a door frame's length
+in line at both jambs, each passing within `bay_line_offset` of the other jamb: a side room's
+mouth) or across a passage (walls across it at both jambs, on the same side, none along it: a
+hallway's far end). The passage between a table's corner and a partition's end is seen through
+too, but fails one or the other (the table's walls span the table, and a table's face in line
+with a wall has a seen corner at its other end; joined to a wall, it has a wall in line on one
+side only).
 
 Evidence over scans (`Identified.evidence`, handed back in by the perceptor): a T-opening
 from a door frame's length seen shorter than `end_face_min_length` (or a whole end cap's side
@@ -85,7 +89,12 @@ import numpy as np
 from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.door_kernels import away_from, jamb_doors, loose_gaps
 from pico_studio.core.perception.face_kernels import t_openings
-from pico_studio.core.perception.identify_kernels import backed, group_spans, small_objects
+from pico_studio.core.perception.identify_kernels import (
+    backed,
+    group_spans,
+    in_line_spans,
+    small_objects,
+)
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven import bays, lone_caps
 from pico_studio.core.perception.map_proven_kernels import wall_shaped
@@ -251,15 +260,21 @@ def _doors(
         if params.bay_deep_rays > 0 and len(gaps):
             # ...and only an opening of a building's walls: the passage between a table's corner
             # and a partition's end is seen through as well, but the table's walls span no more
-            # than the table (identify_kernels.group_spans), and a table's corner by a wall has a
-            # wall in line on one side only (map_proven_kernels.wall_shaped)
+            # than the table (identify_kernels.group_spans; a piece of wall between two doors,
+            # in one line with the building's walls past both its ends, is theirs:
+            # in_line_spans), and a table's corner by a wall has a wall in line on one side only
+            # (map_proven_kernels.wall_shaped)
             w = np.ascontiguousarray(walls, dtype=float)
             c = np.ascontiguousarray(connected, dtype=np.int64)
-            _, span = group_spans(w, c)
+            group, span = group_spans(w, c)
+            span = in_line_spans(w, np.ascontiguousarray(prop, dtype=np.int64), group, span,
+                                 np.ascontiguousarray(objects, dtype=bool), float(params.bay_jamb_span),
+                                 float(params.door_angle), float(params.door_offset_short),
+                                 float(params.door_max_width), FLOATING)
             through = (_deep_rays(gaps, own_a, own_b, walls, robot, scan, params) >= params.bay_deep_rays) \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
                 & wall_shaped(gaps, w, c, lengths, own_a, own_b, float(params.door_angle),
-                              float(params.door_wall_min_length))
+                              float(params.door_wall_min_length), float(params.bay_line_offset))
         doors.extend(gaps[through].tolist())
         door_kinds.extend(["bay"] * int(through.sum()))
         possible.extend(gaps[~through])

@@ -335,6 +335,91 @@ def group_spans(walls: np.ndarray, connected: np.ndarray) -> tuple[np.ndarray, n
     return group, span
 
 
+
+def _example_in_line() -> tuple:
+    # a building's wall (0..3, y=0), a 1 m door, a 1.1 m piece, a 1 m door, a wall's piece
+    # running on out of view (its far end floating)
+    walls = np.array([[0.0, 0.0, 3.0, 0.0], [3.0, 0.0, 3.0, 2.0], [4.0, 0.0, 5.1, 0.0], [6.1, 0.0, 7.0, 0.0]])
+    connected = np.array([[-1, 1], [0, -1], [-1, -1], [-1, -1]], dtype=np.int64)
+    prop = np.array([[0, 3], [3, 0], [2, 2], [2, 0]], dtype=np.int64)
+    group, span = group_spans(walls, connected)
+    return walls, prop, group, span, np.zeros(4, dtype=np.bool_), 2.0, 0.3, 0.05, 1.3, 0
+
+
+@njit
+def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: int, cos_a: float, offset: float,
+                    max_gap: float) -> bool:
+    """Wall j continues wall i's line past i's end e, across at most `max_gap`: parallel within
+    acos(cos_a), each one's ends within `offset` of the other's line, and j starting (along i,
+    from i's end e outwards) at most max_gap on and not reaching back past that end by more
+    than `offset`."""
+    if j == i or objects[j]:
+        return False
+    ax, ay = walls[i, 0], walls[i, 1]
+    li = max(math.hypot(walls[i, 2] - ax, walls[i, 3] - ay), 1e-12)
+    ux, uy = (walls[i, 2] - ax) / li, (walls[i, 3] - ay) / li
+    cx, cy = walls[j, 0], walls[j, 1]
+    lj = max(math.hypot(walls[j, 2] - cx, walls[j, 3] - cy), 1e-12)
+    vx, vy = (walls[j, 2] - cx) / lj, (walls[j, 3] - cy) / lj
+    if abs(ux * vx + uy * vy) <= cos_a:
+        return False
+    if abs((cx - ax) * uy - (cy - ay) * ux) > offset or abs((walls[j, 2] - ax) * uy - (walls[j, 3] - ay) * ux) > offset \
+            or abs((ax - cx) * vy - (ay - cy) * vx) > offset or abs((walls[i, 2] - cx) * vy - (walls[i, 3] - cy) * vx) > offset:
+        return False
+    s0 = (cx - ax) * ux + (cy - ay) * uy
+    s1 = (walls[j, 2] - ax) * ux + (walls[j, 3] - ay) * uy
+    if e == 0:  # beyond the start: j lies at s <= 0
+        return max(s0, s1) <= offset and max(s0, s1) >= -max_gap
+    return min(s0, s1) >= li - offset and min(s0, s1) <= li + max_gap
+
+
+@kernel(_example_in_line)
+def in_line_spans(walls: np.ndarray, prop: np.ndarray, group: np.ndarray, span: np.ndarray, objects: np.ndarray,
+                  min_span: float, angle: float, offset: float, max_gap: float, floating: int) -> np.ndarray:
+    """(W,) each wall's group span, raised to `min_span` where the group is a piece of a
+    building's wall between door-wide gaps: the wall between two doors of a corridor or two
+    side rooms, its own sides seen edge-on or not at all, spans no more than a table's front
+    but lies in one line with the building's walls. A wall i (not an object, its group short
+    of `min_span`) is such a piece when at each of its ends e either its line runs on past the
+    end in another wall j (`_in_line_beyond`: a door's width on at most) or the end is
+    `floating` (it runs on out of view), and at one end that wall j is a building's (its group
+    spans `min_span`, or is such a piece already). A table's face in line with a wall's face
+    across a gap has a seen corner at its other end with nothing in line beyond it: no piece.
+    Then its whole group is the building's; repeated until nothing changes (at most W rounds:
+    the piece between two doors is reached from either side)."""
+    n = walls.shape[0]
+    out = span.copy()
+    building = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        building[i] = span[i] >= min_span and not objects[i]
+    cos_a = math.cos(angle)
+    for _ in range(n):
+        changed = False
+        for i in range(n):
+            if building[i] or objects[i]:
+                continue
+            ends_ok = 0
+            lent = False
+            for e in range(2):
+                run_on = False
+                for j in range(n):
+                    if _in_line_beyond(walls, objects, i, e, j, cos_a, offset, max_gap):
+                        run_on = True
+                        if building[j] and group[j] != group[i]:
+                            lent = True
+                if run_on:
+                    ends_ok += 1
+            if ends_ok < 2 or not lent:
+                continue
+            for k in range(n):  # the whole group is the building's
+                if group[k] == group[i]:
+                    building[k] = True
+                    out[k] = max(out[k], min_span)
+            changed = True
+        if not changed:
+            break
+    return out
+
 def _example_groups() -> tuple:
     walls, connected = _example_spans()
     prop = np.array([[1, 2], [2, 1], [0, 0]], dtype=np.int64)

@@ -131,18 +131,20 @@ def _example_shapes() -> tuple:
     connected = np.array([[-1, -1], [2, -1], [1, -1]], dtype=np.int64)
     gaps = np.array([[0.0, 0.0, 0.9, 0.0]])
     lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
-    return gaps, walls, connected, lengths, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), 0.3, 0.5
+    return gaps, walls, connected, lengths, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), 0.3, 0.5, 0.1
 
 
 @kernel(_example_shapes)
 def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, own_a: np.ndarray,
-                own_b: np.ndarray, angle: float, frame_min: float) -> np.ndarray:
+                own_b: np.ndarray, angle: float, frame_min: float, line_offset: float) -> np.ndarray:
     """(K,) bool: the bay lies in a wall's line or across a passage, as an opening in a building's
     walls does. At each jamb J (the gap's end point, an end of its wall) the walls there (its own,
     and the one joined at that end) run from J towards their far ends F, d = (F - J) / |F - J|;
     with u = (B - A) / |B - A| the gap's direction a wall at least `frame_min` long (or joined at
     F to one that long, `identify_kernels.joins_frame`: a room's wall running on to the room's
-    corner) at A is in line when d . u < -cos(angle) (at B: d . u > cos(angle)), across it when
+    corner) at A is in line when d . u < -cos(angle) (at B: d . u > cos(angle)) and the other
+    jamb lies within `line_offset` of its line, |d x (B - A)| (one line, not a bed's side
+    pointing past a wall's cap), across it when
     |d . u| < sin(angle), on the side sign(u x d). A wall's opening has a wall in line at both jambs (a side room's mouth, a hallway's seen from
     the room); a passage's mouth has walls across it at both, on the same side (a hallway's far
     end). A table's corner beside a partition's end has one of each, or sides running opposite
@@ -155,6 +157,7 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, leng
         ln = max(math.hypot(bx - ax, by - ay), 1e-12)
         ux, uy = (bx - ax) / ln, (by - ay) / ln
         inline = np.zeros(2, dtype=np.bool_)
+        along = np.zeros(2, dtype=np.bool_)
         side = np.zeros(2, dtype=np.int64)  # +1 / -1: a wall across, on that side; 0: none (2: both)
         for j in range(2):
             own = own_a[q] if j == 0 else own_b[q]
@@ -171,13 +174,16 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, leng
                 if dn < frame_min and not joins_frame(connected, lengths, w, f, frame_min):
                     continue  # a door frame's length (or joining one): a wall's end cap or a bed's foot is none
                 c = (dx * ux + dy * uy) / dn
+                ox, oy = (bx - jx, by - jy) if j == 0 else (ax - jx, ay - jy)  # to the other jamb
                 if sign * c > cos_a:
-                    inline[j] = True
+                    along[j] = True  # running along the gap: no passage's mouth
+                    if abs(dx * oy - dy * ox) / dn <= line_offset:
+                        inline[j] = True
                 elif abs(c) < sin_a:
                     s = 1 if ux * dy - uy * dx > 0 else -1
                     side[j] = s if side[j] == 0 or side[j] == s else 2
         out[q] = (inline[0] and inline[1]) or (side[0] != 0 and side[0] != 2 and side[0] == side[1]
-                                               and not inline[0] and not inline[1])
+                                               and not along[0] and not along[1])
     return out
 
 
