@@ -14,11 +14,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+import pico_studio.core.perception.identify as identify_module
 from pico_studio.config import load_config
-from pico_studio.core.perception.identify import View, identify
+from pico_studio.core.perception.identify import View, _view_arrays, identify
 from pico_studio.core.perception.identify_kernels import group_spans, in_line_spans, ray_hits
 from pico_studio.core.perception.junction_kernels import junctions
-from pico_studio.core.perception.map_proven_kernels import wall_shaped
+from pico_studio.core.perception.map_proven_kernels import deep_sides, wall_shaped
 from pico_studio.core.world_model import CONCAVE, CONVEX, FLOATING
 
 PARAMS = load_config(None).perception.identify
@@ -225,3 +226,47 @@ def test_a_tables_face_in_line_with_a_wall_on_one_side_only_is_not():
                          FLOATING)[3] == pytest.approx(1.1)
     anywhere = identify(walls, connected, seen, PIECE_ROBOT, replace(PARAMS, bay_jamb_span=0.0), view)
     assert _is(anywhere.doors, MOUTHS[0])  # the span rule is what refuses it
+
+
+# The hallway seen at a slant from the room's corner: every ray through the mouth ends on the
+# hallway's upper side within door_depth of the mouth's line. Seen to run on 1.3 m (its far
+# end out of view; shorter than a building's wall, end_face_min_length, so no T-opening from
+# one scan) that side is a passage's, no pocket's (`map_proven_kernels.deep_sides`)
+SLANT = (1.0, 0.6)
+LONG_SIDE = [0.0, 3.04, -1.3, 3.04]
+SLANT_WALLS = np.array([TOP, ABOVE, LONG_SIDE, BELOW])
+UNSEEN = np.array([[False, False], [False, False], [False, False], [True, False]])
+
+
+def _slant(solid: list[list[float]], walls: np.ndarray = SLANT_WALLS, seen: np.ndarray = UNSEEN,
+           robot: tuple[float, float] = SLANT, heading: float = 2.0):
+    view = _view(solid, robot, heading)
+    return identify(walls, CONNECTED, seen, robot, PARAMS, view), view
+
+
+def test_a_hallway_seen_at_a_slant_is_a_door_by_its_side_running_on():
+    out, view = _slant([TOP, ABOVE, LONG_SIDE, [0.0, 2.11, -2.5, 2.11], BELOW])
+    assert out.door_kind == ["bay"] and _is(out.doors, MOUTH)
+    walls = np.ascontiguousarray(SLANT_WALLS)
+    gap = np.array([MOUTH])
+    rays, back = identify_module._deep_rays(gap, np.array([3]), np.array([2]), walls, SLANT, _view_arrays(view), PARAMS)
+    assert rays[0] == 0 and not back[0]  # no ray reached door_depth: they all end on the side
+    prop = junctions(walls, CONNECTED, UNSEEN, *SLANT, FLOATING, CONVEX, CONCAVE)[0]
+    args = (gap, walls, CONNECTED, prop, np.array([3]), np.array([2]), *SLANT, PARAMS.door_angle)
+    assert deep_sides(*args, PARAMS.door_depth, CONVEX)[0]
+    assert not deep_sides(*args, 1.4, CONVEX)[0]  # deeper than the side runs: no passage
+    # the side's far end seen as a corner (a bed's foot turning at its corner): no passage
+    seen_end = UNSEEN.copy()
+    seen_end[2, 1] = True
+    out, _ = _slant([TOP, ABOVE, LONG_SIDE, BELOW], seen=seen_end)
+    assert len(out.doors) == 0 and _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTH)
+
+
+def test_a_pocket_whose_back_the_rays_see_is_no_passage_though_a_side_runs_on():
+    # seen face on, the rays end on a wall 0.6 m behind the mouth, between its jambs
+    back = [-0.6, 2.11, -0.6, 3.04]
+    out, view = _slant([TOP, ABOVE, LONG_SIDE, back, BELOW], robot=ROBOT, heading=np.pi)
+    assert len(out.doors) == 0
+    rays, seen_back = identify_module._deep_rays(np.array([MOUTH]), np.array([3]), np.array([2]), SLANT_WALLS,
+                                                 ROBOT, _view_arrays(view), PARAMS)
+    assert rays[0] == 0 and seen_back[0]

@@ -49,7 +49,9 @@ walls side by side, the gap across both ends: a hallway's far end), are possible
 "bay". In thin walls a side room's mouth between two 1 m wall pieces has exactly a table bay's
 shape: only the global map can tell them apart, and once localised the combined map makes a
 bay a door where its walls have an opening there. A bay seen through to free space
-(`bay_deep_rays` rays reaching `door_depth` past its line) is a door of kind "bay" when it opens
+(`bay_deep_rays` rays reaching `door_depth` past its line; or, its back unseen, most rays
+ending behind it on a side, a side of it running on `door_depth` past its line, its far end
+no seen corner: a hallway seen at a slant) is a door of kind "bay" when it opens
 a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
 sides spans no more than its diagonal; a piece of wall between two doors whose sides are unseen
 counts as the building's when its line runs on past both its ends in other walls a door's width
@@ -97,7 +99,7 @@ from pico_studio.core.perception.identify_kernels import (
 )
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven import bays, lone_caps
-from pico_studio.core.perception.map_proven_kernels import wall_shaped
+from pico_studio.core.perception.map_proven_kernels import deep_sides, wall_shaped
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall", "end_face", "bay", "jamb")
@@ -253,8 +255,10 @@ def _doors(
         kinds.extend(["jamb"] * len(lone))
     if params.bay_doors:
         # a bay seen through to free space (`bay_deep_rays` of its rays reaching `door_depth`
-        # past its line) is a door where it opens a building's walls: a hallway's mouth, a side
-        # room's. The rest stay possible doors; once localised the map proves them
+        # past its line; or, seen at a slant, its rays all ending on a side and none on a back,
+        # a side running on that deep: map_proven_kernels.deep_sides) is a door where it opens
+        # a building's walls: a hallway's mouth, a side room's. The rest stay possible doors;
+        # once localised the map proves them
         gaps, own_a, own_b = bays(walls, prop, connected, objects, np.array(doors), robot, params)
         through = np.zeros(len(gaps), dtype=bool)
         if params.bay_deep_rays > 0 and len(gaps):
@@ -271,7 +275,10 @@ def _doors(
                                  np.ascontiguousarray(objects, dtype=bool), float(params.bay_jamb_span),
                                  float(params.door_angle), float(params.door_offset_short),
                                  float(params.door_max_width), FLOATING)
-            through = (_deep_rays(gaps, own_a, own_b, walls, robot, scan, params) >= params.bay_deep_rays) \
+            rays, back = _deep_rays(gaps, own_a, own_b, walls, robot, scan, params)
+            deep = (rays >= params.bay_deep_rays) | ~back & deep_sides(gaps, w, c, np.ascontiguousarray(prop, dtype=np.int64), own_a, own_b, float(robot[0]),
+                             float(robot[1]), float(params.door_angle), float(params.door_depth), CONVEX)
+            through = deep \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
                 & wall_shaped(gaps, w, c, lengths, own_a, own_b, float(params.door_angle),
                               float(params.door_wall_min_length), float(params.bay_line_offset))
@@ -308,15 +315,17 @@ def _doors(
 def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np.ndarray,
                robot: tuple[float, float],
                scan: tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float],
-               params: IdentifyParams) -> np.ndarray:
-    """(K,) how many of each gap's five rays reached `door_depth` past its line, or never ended
-    (identify_kernels.backed: a backed gap has none)."""
+               params: IdentifyParams) -> tuple[np.ndarray, np.ndarray]:
+    """((K,) how many of each gap's five rays reached `door_depth` past its line, or never ended
+    (identify_kernels.backed: a backed gap has none), (K,) bool: most of the rays ending behind
+    it ended between its jambs within `door_depth`: its back seen)."""
     if len(gaps) == 0:
-        return np.zeros(0, dtype=np.int64)
-    return backed(np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float),
-                  own_a, own_b, float(robot[0]), float(robot[1]), *scan,
-                  np.zeros(len(gaps), dtype=bool), float(params.door_occlusion), float(params.door_depth),
-                  float(params.jamb_cap_max), float(params.door_backed_share))[2]
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
+    _, _, deep, back = backed(np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float),
+                              own_a, own_b, float(robot[0]), float(robot[1]), *scan,
+                              np.zeros(len(gaps), dtype=bool), float(params.door_occlusion),
+                              float(params.door_depth), float(params.jamb_cap_max), float(params.door_backed_share))
+    return deep, back
 
 
 def _view_arrays(view: View | None) -> tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float]:

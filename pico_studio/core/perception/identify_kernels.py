@@ -189,10 +189,13 @@ def _example_backed() -> tuple:
 def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, rx: float, ry: float,
            has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
            inc: float, face_end: np.ndarray, occlusion: float, depth: float, jamb_cap_max: float,
-           backed_share: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+           backed_share: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """((G,) bool: is there no seeing through gap g?, (G,) int64: how many of its rays were
     seen to pass it: known, and ending more than `occlusion` beyond the gap's line or never,
-    (G,) int64: how many of those ended more than `depth` beyond it or never: free space)
+    (G,) int64: how many of those ended more than `depth` beyond it or never: free space,
+    (G,) bool: is its back seen? of the rays ending beyond its line, at least `backed_share`
+    (and one) ended between the jambs (not by a jamb's normal) within `depth`: on a pocket's
+    back, not on a passage's side)
     (identify._backed says what and why.)
 
     Five samples q = p + f (p' - p), f in 0.2 .. 0.8, of each gap (p, p'); the ray from the
@@ -212,6 +215,7 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     out = np.zeros(g, dtype=np.bool_)
     free = np.zeros(g, dtype=np.int64)
     deep = np.zeros(g, dtype=np.int64)
+    back = np.zeros(g, dtype=np.bool_)
     c, sn = math.cos(va), math.sin(va)
     wrap = 2 * math.pi / abs(inc) if has_view else 0.0
     for m in range(g):
@@ -220,6 +224,8 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
         alx, aly = (segs[m, 2] - segs[m, 0]) / den, (segs[m, 3] - segs[m, 1]) / den
         inf_n = 0
         closed_n = 0
+        behind_n = 0
+        back_n = 0
         for f in (0.2, 0.35, 0.5, 0.65, 0.8):
             qx = segs[m, 0] + f * (segs[m, 2] - segs[m, 0])
             qy = segs[m, 1] + f * (segs[m, 3] - segs[m, 1])
@@ -280,12 +286,17 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
                 inf_n += 1
             if closed:
                 closed_n += 1
+                if not side and reach > dist:
+                    back_n += 1
+            if ended and reach > dist:
+                behind_n += 1
             if known and reach > dist and (not finite or n_ > occlusion):
                 free[m] += 1  # seen to pass the gap: it ended `occlusion` beyond its line, or never
                 if not finite or n_ > depth:
                     deep[m] += 1  # ...and reached `depth` beyond it: free space behind, not a pocket
         out[m] = inf_n > 0 and closed_n >= backed_share * inf_n and deep[m] == 0
-    return out, free, deep
+        back[m] = back_n > 0 and back_n >= backed_share * behind_n
+    return out, free, deep, back
 
 
 def _example_spans() -> tuple:

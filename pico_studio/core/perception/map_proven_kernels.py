@@ -35,7 +35,7 @@ from pico_studio.core.perception.identify_kernels import (
     ray_hits,
     same_opening,
 )
-from pico_studio.jit import kernel
+from pico_studio.jit import kernel, njit
 
 
 def _example_bays() -> tuple:
@@ -126,6 +126,24 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
     return segs[out], own_a[out], own_b[out]
 
 
+
+@njit
+def _jamb_wall(gaps: np.ndarray, q: int, j: int, own: int, walls: np.ndarray, connected: np.ndarray,
+               which: int) -> tuple[int, int, float, float, float]:
+    """The walls at gap q's jamb J (j 0: its first point, 1: its second), an end of wall `own`:
+    which 0 is `own`, which 1 the wall joined at that end. Returns (the wall or -1: none, the
+    index of its end F farther from J, F - J as dx, dy, |F - J|)."""
+    jx, jy = gaps[q, 2 * j], gaps[q, 2 * j + 1]
+    w = own
+    if which == 1:
+        e = 0 if math.hypot(walls[own, 0] - jx, walls[own, 1] - jy) <= math.hypot(walls[own, 2] - jx, walls[own, 3] - jy) else 1
+        w = connected[own, e]
+        if w < 0:
+            return -1, 0, 0.0, 0.0, 0.0
+    f = 1 if math.hypot(walls[w, 0] - jx, walls[w, 1] - jy) <= math.hypot(walls[w, 2] - jx, walls[w, 3] - jy) else 0
+    dx, dy = walls[w, 2 * f] - jx, walls[w, 2 * f + 1] - jy
+    return w, f, dx, dy, math.hypot(dx, dy)
+
 def _example_shapes() -> tuple:
     walls = np.array([[-2.0, 0.0, 0.0, 0.0], [0.9, 0.0, 3.0, 0.0], [0.9, 0.0, 0.9, 1.0]])
     connected = np.array([[-1, -1], [2, -1], [1, -1]], dtype=np.int64)
@@ -160,21 +178,15 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, leng
         along = np.zeros(2, dtype=np.bool_)
         side = np.zeros(2, dtype=np.int64)  # +1 / -1: a wall across, on that side; 0: none (2: both)
         for j in range(2):
-            own = own_a[q] if j == 0 else own_b[q]
-            jx, jy = (ax, ay) if j == 0 else (bx, by)
             sign = -1.0 if j == 0 else 1.0  # in line: running away from the gap
-            e = 0 if math.hypot(walls[own, 0] - jx, walls[own, 1] - jy) <= math.hypot(walls[own, 2] - jx, walls[own, 3] - jy) else 1
-            for w in (own, connected[own, e]):
+            for which in range(2):
+                w, f, dx, dy, dn = _jamb_wall(gaps, q, j, own_a[q] if j == 0 else own_b[q], walls, connected, which)
                 if w < 0:
                     continue
-                # the wall's end farther from the jamb
-                f = 1 if math.hypot(walls[w, 0] - jx, walls[w, 1] - jy) <= math.hypot(walls[w, 2] - jx, walls[w, 3] - jy) else 0
-                dx, dy = walls[w, 2 * f] - jx, walls[w, 2 * f + 1] - jy
-                dn = math.hypot(dx, dy)
                 if dn < frame_min and not joins_frame(connected, lengths, w, f, frame_min):
                     continue  # a door frame's length (or joining one): a wall's end cap or a bed's foot is none
                 c = (dx * ux + dy * uy) / dn
-                ox, oy = (bx - jx, by - jy) if j == 0 else (ax - jx, ay - jy)  # to the other jamb
+                ox, oy = (bx - ax, by - ay) if j == 0 else (ax - bx, ay - by)  # to the other jamb
                 if sign * c > cos_a:
                     along[j] = True  # running along the gap: no passage's mouth
                     if abs(dx * oy - dy * ox) / dn <= line_offset:
@@ -184,6 +196,48 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, leng
                     side[j] = s if side[j] == 0 or side[j] == s else 2
         out[q] = (inline[0] and inline[1]) or (side[0] != 0 and side[0] != 2 and side[0] == side[1]
                                                and not along[0] and not along[1])
+    return out
+
+
+
+def _example_sides() -> tuple:
+    # a hallway leaving a room's wall (x = 0) at 0..0.9 (y): its upper side 1.2 m long, seen
+    walls = np.array([[0.0, -2.0, 0.0, 0.0], [0.0, 0.9, 1.2, 0.9], [0.0, 0.9, 0.0, 3.0]])
+    connected = np.array([[-1, -1], [2, -1], [1, -1]], dtype=np.int64)
+    gaps = np.array([[0.0, 0.0, 0.0, 0.9]])
+    prop = np.array([[0, 2], [2, 0], [2, 0]], dtype=np.int64)
+    return gaps, walls, connected, prop, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), -1.5, 0.3, 0.3, \
+        0.8, 2
+
+
+@kernel(_example_sides)
+def deep_sides(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, own_a: np.ndarray,
+               own_b: np.ndarray, rx: float, ry: float, angle: float, depth: float, convex: int) -> np.ndarray:
+    """(K,) bool: a side of the bay runs on `depth` past its line, away from the robot: a
+    passage, not a pocket. At each jamb J the walls there (its own and the one joined at that
+    end, `wall_shaped`'s) that run across the gap (|d . u| < sin(angle), d from J to the wall's
+    far end F) with F on the far side of the gap's line from the robot R, (F - J) x u and
+    (R - A) x u of opposite signs, |(F - J) x u| >= depth, and F no `convex` end (the side runs
+    on out of view, or into the room's back wall). A table pocket's sides end at the wall behind
+    it, within `depth` (else its rays reach that deep too); a bed's foot, as wide as a hallway
+    is long, turns at a seen corner; a hallway seen at a slant, its rays all ending on its far
+    side short of `depth`, has that side running on."""
+    k = gaps.shape[0]
+    out = np.zeros(k, dtype=np.bool_)
+    sin_a = math.sin(angle)
+    for q in range(k):
+        ax, ay, bx, by = gaps[q, 0], gaps[q, 1], gaps[q, 2], gaps[q, 3]
+        ln = max(math.hypot(bx - ax, by - ay), 1e-12)
+        ux, uy = (bx - ax) / ln, (by - ay) / ln
+        robot_side = ux * (ry - ay) - uy * (rx - ax)
+        for j in range(2):
+            for which in range(2):
+                w, f, dx, dy, dn = _jamb_wall(gaps, q, j, own_a[q] if j == 0 else own_b[q], walls, connected, which)
+                if w < 0 or dn < depth or abs(dx * ux + dy * uy) / dn >= sin_a or prop[w, f] == convex:
+                    continue
+                across = ux * dy - uy * dx
+                if across * robot_side < 0 and abs(across) >= depth:
+                    out[q] = True
     return out
 
 
