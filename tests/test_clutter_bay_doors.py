@@ -196,9 +196,8 @@ def test_a_piece_of_wall_between_two_side_rooms_is_the_buildings():
     assert _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTHS[0])
     group, span = group_spans(walls, connected)
     assert span[2] == pytest.approx(1.1) and span[0] < PARAMS.bay_jamb_span <= span[3]
-    prop = junctions(walls, connected, seen, *PIECE_ROBOT, FLOATING, CONVEX, CONCAVE)[0]
-    lent = in_line_spans(walls, prop, group, span, np.zeros(len(walls), dtype=bool), PARAMS.bay_jamb_span,
-                         PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width, FLOATING)
+    lent = in_line_spans(walls, group, span, np.zeros(len(walls), dtype=bool), PARAMS.bay_jamb_span,
+                         PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width)
     assert lent[2] == PARAMS.bay_jamb_span and np.array_equal(np.delete(lent, 2), np.delete(span, 2))
     alone = identify(walls, connected, seen, PIECE_ROBOT, replace(PARAMS, door_max_width=0.9),
                      _view(LEFT + PIECE + RIGHT + SIDE_ROOMS, PIECE_ROBOT, np.pi / 2))
@@ -220,10 +219,8 @@ def test_a_tables_face_in_line_with_a_wall_on_one_side_only_is_not():
     assert _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTHS[0])
     group, span = group_spans(walls, connected)
     assert span[0] >= PARAMS.bay_jamb_span and span[3] == pytest.approx(1.1)
-    prop = junctions(walls, connected, seen, *PIECE_ROBOT, FLOATING, CONVEX, CONCAVE)[0]
-    assert in_line_spans(walls, prop, group, span, np.zeros(len(walls), dtype=bool), PARAMS.bay_jamb_span,
-                         PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width,
-                         FLOATING)[3] == pytest.approx(1.1)
+    assert in_line_spans(walls, group, span, np.zeros(len(walls), dtype=bool), PARAMS.bay_jamb_span,
+                         PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width)[3] == pytest.approx(1.1)
     anywhere = identify(walls, connected, seen, PIECE_ROBOT, replace(PARAMS, bay_jamb_span=0.0), view)
     assert _is(anywhere.doors, MOUTHS[0])  # the span rule is what refuses it
 

@@ -271,10 +271,9 @@ def _doors(
             w = np.ascontiguousarray(walls, dtype=float)
             c = np.ascontiguousarray(connected, dtype=np.int64)
             group, span = group_spans(w, c)
-            span = in_line_spans(w, np.ascontiguousarray(prop, dtype=np.int64), group, span,
-                                 np.ascontiguousarray(objects, dtype=bool), float(params.bay_jamb_span),
+            span = in_line_spans(w, group, span, np.ascontiguousarray(objects, dtype=bool), float(params.bay_jamb_span),
                                  float(params.door_angle), float(params.door_offset_short),
-                                 float(params.door_max_width), FLOATING)
+                                 float(params.door_max_width))
             rays, back = _deep_rays(gaps, own_a, own_b, walls, robot, scan, params)
             deep = (rays >= params.bay_deep_rays) | ~back & deep_sides(gaps, w, c, np.ascontiguousarray(prop, dtype=np.int64), own_a, own_b, float(robot[0]),
                              float(robot[1]), float(params.door_angle), float(params.door_depth), CONVEX)

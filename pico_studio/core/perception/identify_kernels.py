@@ -349,12 +349,10 @@ def group_spans(walls: np.ndarray, connected: np.ndarray) -> tuple[np.ndarray, n
 
 def _example_in_line() -> tuple:
     # a building's wall (0..3, y=0), a 1 m door, a 1.1 m piece, a 1 m door, a wall's piece
-    # running on out of view (its far end floating)
     walls = np.array([[0.0, 0.0, 3.0, 0.0], [3.0, 0.0, 3.0, 2.0], [4.0, 0.0, 5.1, 0.0], [6.1, 0.0, 7.0, 0.0]])
     connected = np.array([[-1, 1], [0, -1], [-1, -1], [-1, -1]], dtype=np.int64)
-    prop = np.array([[0, 3], [3, 0], [2, 2], [2, 0]], dtype=np.int64)
     group, span = group_spans(walls, connected)
-    return walls, prop, group, span, np.zeros(4, dtype=np.bool_), 2.0, 0.3, 0.05, 1.3, 0
+    return walls, group, span, np.zeros(4, dtype=np.bool_), 2.0, 0.3, 0.05, 1.3
 
 
 @njit
@@ -385,42 +383,64 @@ def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: i
 
 
 @kernel(_example_in_line)
-def in_line_spans(walls: np.ndarray, prop: np.ndarray, group: np.ndarray, span: np.ndarray, objects: np.ndarray,
-                  min_span: float, angle: float, offset: float, max_gap: float, floating: int) -> np.ndarray:
+def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, objects: np.ndarray, min_span: float,
+                  angle: float, offset: float, max_gap: float) -> np.ndarray:
     """(W,) each wall's group span, raised to `min_span` where the group is a piece of a
     building's wall between door-wide gaps: the wall between two doors of a corridor or two
     side rooms, its own sides seen edge-on or not at all, spans no more than a table's front
     but lies in one line with the building's walls. A wall i (not an object, its group short
-    of `min_span`) is such a piece when at each of its ends e either its line runs on past the
-    end in another wall j (`_in_line_beyond`: a door's width on at most) or the end is
-    `floating` (it runs on out of view), and at one end that wall j is a building's (its group
-    spans `min_span`, or is such a piece already). A table's face in line with a wall's face
-    across a gap has a seen corner at its other end with nothing in line beyond it: no piece.
-    Then its whole group is the building's; repeated until nothing changes (at most W rounds:
-    the piece between two doors is reached from either side)."""
+    of `min_span`) is such a piece when at each of its ends e its line runs on past the end in
+    another wall j (`_in_line_beyond`: a door's width on at most), and at one end that wall j
+    is a building's (its group spans `min_span`, or is such a piece already). A table's face in
+    line with a wall's face across a gap has a seen corner at its other end with nothing in
+    line beyond it: no piece (nor one whose other end runs on out of view: that is the table's
+    face seen in part as often as a wall's). Then its whole group is the building's; repeated
+    over the pairs found until nothing changes
+    (at most one round per group: the piece between two doors is reached from either side)."""
     n = walls.shape[0]
     out = span.copy()
     building = np.zeros(n, dtype=np.bool_)
     for i in range(n):
         building[i] = span[i] >= min_span and not objects[i]
     cos_a = math.cos(angle)
+    # a candidate's line runs on past both its ends (a test that does not depend on who is a
+    # building's: done once), then the walls of other groups it may borrow from, counted first
+    candidate = np.zeros(n, dtype=np.bool_)
+    count = 0
+    for i in range(n):
+        if building[i] or objects[i]:
+            continue
+        ends_ok = 0
+        lenders = 0
+        for e in range(2):
+            run_on = False
+            for j in range(n):
+                if _in_line_beyond(walls, objects, i, e, j, cos_a, offset, max_gap):
+                    run_on = True
+                    if group[j] != group[i]:
+                        lenders += 1
+            if run_on:
+                ends_ok += 1
+        if ends_ok == 2 and lenders > 0:
+            candidate[i] = True
+            count += lenders
+    pair_i = np.empty(count, dtype=np.int64)
+    pair_j = np.empty(count, dtype=np.int64)
+    p = 0
+    for i in range(n):
+        if not candidate[i]:
+            continue
+        for e in range(2):
+            for j in range(n):
+                if group[j] != group[i] and _in_line_beyond(walls, objects, i, e, j, cos_a, offset, max_gap):
+                    pair_i[p], pair_j[p] = i, j
+                    p += 1
+    # then lend along the pairs until nothing changes (at most one round per group)
     for _ in range(n):
         changed = False
-        for i in range(n):
-            if building[i] or objects[i]:
-                continue
-            ends_ok = 0
-            lent = False
-            for e in range(2):
-                run_on = False
-                for j in range(n):
-                    if _in_line_beyond(walls, objects, i, e, j, cos_a, offset, max_gap):
-                        run_on = True
-                        if building[j] and group[j] != group[i]:
-                            lent = True
-                if run_on:
-                    ends_ok += 1
-            if ends_ok < 2 or not lent:
+        for q in range(p):
+            i, j = pair_i[q], pair_j[q]
+            if building[i] or not building[j]:
                 continue
             for k in range(n):  # the whole group is the building's
                 if group[k] == group[i]:
