@@ -275,9 +275,10 @@ def _doors(
                                  float(params.door_angle), float(params.door_offset_short),
                                  float(params.door_max_width))
             rays, back = _deep_rays(gaps, own_a, own_b, walls, robot, scan, params)
-            deep = (rays >= params.bay_deep_rays) | ~back & deep_sides(gaps, w, c, np.ascontiguousarray(prop, dtype=np.int64), own_a, own_b, float(robot[0]),
-                             float(robot[1]), float(params.door_angle), float(params.door_depth), CONVEX)
-            through = deep \
+            side_on = deep_sides(gaps, w, c, np.ascontiguousarray(prop, dtype=np.int64), own_a, own_b,
+                                 float(robot[0]), float(robot[1]), float(params.door_angle),
+                                 float(params.door_depth), CONVEX)
+            through = ((rays >= params.bay_deep_rays) | (~back & side_on)) \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
                 & wall_shaped(gaps, w, c, lengths, own_a, own_b, float(params.door_angle),
                               float(params.door_wall_min_length), float(params.bay_line_offset))

@@ -346,7 +346,6 @@ def group_spans(walls: np.ndarray, connected: np.ndarray) -> tuple[np.ndarray, n
     return group, span
 
 
-
 def _example_in_line() -> tuple:
     # a building's wall (0..3, y=0), a 1 m door, a 1.1 m piece, a 1 m door, a wall's piece
     walls = np.array([[0.0, 0.0, 3.0, 0.0], [3.0, 0.0, 3.0, 2.0], [4.0, 0.0, 5.1, 0.0], [6.1, 0.0, 7.0, 0.0]])
@@ -450,6 +449,7 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
         if not changed:
             break
     return out
+
 
 def _example_groups() -> tuple:
     walls, connected = _example_spans()

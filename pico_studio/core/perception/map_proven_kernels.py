@@ -126,7 +126,6 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
     return segs[out], own_a[out], own_b[out]
 
 
-
 @njit
 def _jamb_wall(gaps: np.ndarray, q: int, j: int, own: int, walls: np.ndarray, connected: np.ndarray,
                which: int) -> tuple[int, int, float, float, float]:
@@ -143,6 +142,7 @@ def _jamb_wall(gaps: np.ndarray, q: int, j: int, own: int, walls: np.ndarray, co
     f = 1 if math.hypot(walls[w, 0] - jx, walls[w, 1] - jy) <= math.hypot(walls[w, 2] - jx, walls[w, 3] - jy) else 0
     dx, dy = walls[w, 2 * f] - jx, walls[w, 2 * f + 1] - jy
     return w, f, dx, dy, math.hypot(dx, dy)
+
 
 def _example_shapes() -> tuple:
     walls = np.array([[-2.0, 0.0, 0.0, 0.0], [0.9, 0.0, 3.0, 0.0], [0.9, 0.0, 0.9, 1.0]])
@@ -197,7 +197,6 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, leng
         out[q] = (inline[0] and inline[1]) or (side[0] != 0 and side[0] != 2 and side[0] == side[1]
                                                and not along[0] and not along[1])
     return out
-
 
 
 def _example_sides() -> tuple:
