@@ -177,6 +177,15 @@ PIECE_ROBOT = (1.55, -1.6)
 MOUTHS = (np.array([0.0, 0.0, 1.0, 0.0]), np.array([2.1, 0.0, 3.1, 0.0]))
 
 
+def _lent(walls: np.ndarray, connected: np.ndarray, seen: np.ndarray, group: np.ndarray, span: np.ndarray,
+          robot: tuple[float, float] = PIECE_ROBOT) -> np.ndarray:
+    """in_line_spans as identify calls it: the ends' properties from the junctions."""
+    prop, _, _ = junctions(walls, connected, seen, robot[0], robot[1], FLOATING, CONVEX, CONCAVE)
+    return in_line_spans(walls, group, span, np.zeros(len(walls), dtype=bool), connected, prop, PARAMS.bay_jamb_span,
+                         PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width,
+                         PARAMS.end_face_min_length, FLOATING, CONCAVE)
+
+
 def _pieces(right: bool):
     walls = LEFT + PIECE + (RIGHT if right else [])
     connected = [[-1, 1], [0, -1], [-1, -1]] + ([[5, 4], [3, -1], [3, -1]] if right else [])
@@ -196,8 +205,7 @@ def test_a_piece_of_wall_between_two_side_rooms_is_the_buildings():
     assert _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTHS[0])
     group, span = group_spans(walls, connected)
     assert span[2] == pytest.approx(1.1) and span[0] < PARAMS.bay_jamb_span <= span[3]
-    lent = in_line_spans(walls, group, span, np.zeros(len(walls), dtype=bool), PARAMS.bay_jamb_span,
-                         PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width)
+    lent = _lent(walls, connected, seen, group, span)
     assert lent[2] == PARAMS.bay_jamb_span and np.array_equal(np.delete(lent, 2), np.delete(span, 2))
     alone = identify(walls, connected, seen, PIECE_ROBOT, replace(PARAMS, door_max_width=0.9),
                      _view(LEFT + PIECE + RIGHT + SIDE_ROOMS, PIECE_ROBOT, np.pi / 2))
@@ -219,10 +227,61 @@ def test_a_tables_face_in_line_with_a_wall_on_one_side_only_is_not():
     assert _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTHS[0])
     group, span = group_spans(walls, connected)
     assert span[0] >= PARAMS.bay_jamb_span and span[3] == pytest.approx(1.1)
-    assert in_line_spans(walls, group, span, np.zeros(len(walls), dtype=bool), PARAMS.bay_jamb_span,
-                         PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width)[3] == pytest.approx(1.1)
+    assert _lent(walls, connected, seen, group, span)[3] == pytest.approx(1.1)
     anywhere = identify(walls, connected, seen, PIECE_ROBOT, replace(PARAMS, bay_jamb_span=0.0), view)
     assert _is(anywhere.doors, MOUTHS[0])  # the span rule is what refuses it
+
+
+# rooms:3: a side room's mouth (2.1..3.1 on the room's wall y = 0) seen at a slant. Right of it
+# the room's wall runs 1.3 m to the room's corner (a concave corner with the room's 2.5 m side
+# wall), joined at the mouth to the side room's seen side; left of it the wall is seen 0.9 m, its
+# far end out of view (floating) and its side room side unseen: alone it spans no more than a
+# table's front
+SLANT_ROBOT = (2.6, -1.6)
+SLANT_MOUTH = np.array([2.1, 0.0, 3.1, 0.0])
+SIDE_ROOM = [[3.1, 0.0, 3.1, 1.0], [3.1, 1.0, 2.1, 1.0], [2.1, 1.0, 2.1, 0.0]]
+
+
+def _slanted(lender: list[list[float]], lender_connected: list[list[int]], lender_seen: list[list[bool]]):
+    """The lender's walls (the first joined to the side room's side, wall len(lender)) and the
+    piece seen in part (the last wall) with the view of them, the side room and the piece's
+    whole wall."""
+    k = len(lender)
+    walls = np.array(lender + [SIDE_ROOM[0], [2.1, 0.0, 1.2, 0.0]])
+    connected = np.array(lender_connected + [[0, -1], [-1, -1]], dtype=np.int64)
+    connected[0, 0] = k  # the lender's first wall joins the side room's side at the mouth
+    seen = np.array(lender_seen + [[True, False], [True, False]])
+    view = _view(lender + SIDE_ROOM + [[2.1, 0.0, -1.0, 0.0]], SLANT_ROBOT, np.pi / 2)
+    return walls, connected, seen, view
+
+
+def test_a_side_rooms_mouth_beside_a_wall_seen_in_part_is_a_door():
+    """The piece's line runs on past its near end in the room's wall across the mouth, and its
+    far end runs on out of view: the room's wall, which is a building's by its own shape
+    (turning at the room's corner into a wall of end_face_min_length), lends it its span."""
+    walls, connected, seen, view = _slanted(
+        [[3.1, 0.0, 4.4, 0.0], [4.4, 0.0, 4.4, -2.5]], [[-1, 1], [0, -1]], [[True, True], [True, False]])
+    out = identify(walls, connected, seen, SLANT_ROBOT, PARAMS, view)
+    assert _is(out.doors[[k == "bay" for k in out.door_kind]], SLANT_MOUTH)
+    group, span = group_spans(walls, connected)
+    assert span[3] == pytest.approx(0.9) and span[0] >= PARAMS.bay_jamb_span
+    assert _lent(walls, connected, seen, group, span, SLANT_ROBOT)[3] == PARAMS.bay_jamb_span
+
+
+def test_a_tables_side_in_line_with_a_partition_seen_in_part_is_not():
+    """restaurant_2024: a partition's face seen in part (its far end out of view) in line, by
+    chance, with the side of a table standing against a wall; the table's side turns at its
+    concave corner into the table's short back (the table joined to the wall spans a building's
+    length): not a building's by its own shape, so no lending and no door, only a possible bay."""
+    walls, connected, seen, view = _slanted(
+        [[3.1, 0.0, 3.8, 0.0], [3.8, 0.0, 3.8, -0.6], [3.8, -0.6, 5.4, -0.6]],
+        [[-1, 1], [0, 2], [1, -1]], [[True, True], [True, True], [True, False]])
+    out = identify(walls, connected, seen, SLANT_ROBOT, PARAMS, view)
+    assert not _is(out.doors, SLANT_MOUTH)
+    assert _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], SLANT_MOUTH)
+    group, span = group_spans(walls, connected)
+    assert span[0] >= PARAMS.bay_jamb_span
+    assert _lent(walls, connected, seen, group, span, SLANT_ROBOT)[4] == pytest.approx(0.9)
 
 
 # The hallway seen at a slant from the room's corner: every ray through the mouth ends on the

@@ -55,7 +55,9 @@ no seen corner: a hallway seen at a slant) is a door of kind "bay" when it opens
 a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
 sides spans no more than its diagonal; a piece of wall between two doors whose sides are unseen
 counts as the building's when its line runs on past both its ends in other walls a door's width
-on, one of them a building's), and the gap lies in a wall's line (a wall a door frame's length
+on, one of them a building's; or past one end, the other out of view, into a wall that is a
+building's by its own shape: `end_face_min_length` long, or turning at a concave corner into a
+wall that long, a room's corner, not a table's side turning into its back), and the gap lies in a wall's line (a wall a door frame's length
 in line at both jambs, each passing within `bay_line_offset` of the other jamb: a side room's
 mouth) or across a passage (walls across it at both jambs, on the same side, none along it: a
 hallway's far end). The passage between a table's corner and a partition's end is seen through
@@ -265,15 +267,17 @@ def _doors(
             # ...and only an opening of a building's walls: the passage between a table's corner
             # and a partition's end is seen through as well, but the table's walls span no more
             # than the table (identify_kernels.group_spans; a piece of wall between two doors,
-            # in one line with the building's walls past both its ends, is theirs:
+            # in one line with the building's walls past both its ends, or past one into a wall
+            # of a building's own shape with its other end out of view, is theirs:
             # in_line_spans), and a table's corner by a wall has a wall in line on one side only
             # (map_proven_kernels.wall_shaped)
             w = np.ascontiguousarray(walls, dtype=float)
             c = np.ascontiguousarray(connected, dtype=np.int64)
             group, span = group_spans(w, c)
-            span = in_line_spans(w, group, span, np.ascontiguousarray(objects, dtype=bool), float(params.bay_jamb_span),
+            span = in_line_spans(w, group, span, np.ascontiguousarray(objects, dtype=bool), c,
+                                 np.ascontiguousarray(prop, dtype=np.int64), float(params.bay_jamb_span),
                                  float(params.door_angle), float(params.door_offset_short),
-                                 float(params.door_max_width))
+                                 float(params.door_max_width), float(params.end_face_min_length), FLOATING, CONCAVE)
             rays, back = _deep_rays(gaps, own_a, own_b, walls, robot, scan, params)
             side_on = deep_sides(gaps, w, c, np.ascontiguousarray(prop, dtype=np.int64), own_a, own_b,
                                  float(robot[0]), float(robot[1]), float(params.door_angle),

@@ -351,7 +351,8 @@ def _example_in_line() -> tuple:
     walls = np.array([[0.0, 0.0, 3.0, 0.0], [3.0, 0.0, 3.0, 2.0], [4.0, 0.0, 5.1, 0.0], [6.1, 0.0, 7.0, 0.0]])
     connected = np.array([[-1, 1], [0, -1], [-1, -1], [-1, -1]], dtype=np.int64)
     group, span = group_spans(walls, connected)
-    return walls, group, span, np.zeros(4, dtype=np.bool_), 2.0, 0.3, 0.05, 1.3
+    prop = np.array([[0, 3], [3, 0], [2, 2], [2, 0]], dtype=np.int64)
+    return walls, group, span, np.zeros(4, dtype=np.bool_), connected, prop, 2.0, 0.3, 0.05, 1.3, 1.5, 0, 3
 
 
 @njit
@@ -381,9 +382,27 @@ def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: i
     return min(s0, s1) >= li - offset and min(s0, s1) <= li + max_gap
 
 
+@njit
+def _firm(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, i: int, e: int, j: int, building_min: float,
+          concave: int) -> bool:
+    """Wall j, in line past wall i's end e, is a building's by its own shape: at least
+    `building_min` long, or its far end (from i's end e) a concave corner with a wall that long
+    (a room's corner; a table's side against a wall turns into the table's back, short)."""
+    lj = math.hypot(walls[j, 2] - walls[j, 0], walls[j, 3] - walls[j, 1])
+    if lj >= building_min:
+        return True
+    px, py = walls[i, 2 * e], walls[i, 2 * e + 1]
+    far = 0 if math.hypot(walls[j, 0] - px, walls[j, 1] - py) > math.hypot(walls[j, 2] - px, walls[j, 3] - py) else 1
+    k = connected[j, far]
+    if k < 0 or prop[j, far] != concave:
+        return False
+    return math.hypot(walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]) >= building_min
+
+
 @kernel(_example_in_line)
-def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, objects: np.ndarray, min_span: float,
-                  angle: float, offset: float, max_gap: float) -> np.ndarray:
+def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, objects: np.ndarray, connected: np.ndarray,
+                  prop: np.ndarray, min_span: float, angle: float, offset: float, max_gap: float, building_min: float,
+                  floating: int, concave: int) -> np.ndarray:
     """(W,) each wall's group span, raised to `min_span` where the group is a piece of a
     building's wall between door-wide gaps: the wall between two doors of a corridor or two
     side rooms, its own sides seen edge-on or not at all, spans no more than a table's front
@@ -392,25 +411,31 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
     another wall j (`_in_line_beyond`: a door's width on at most), and at one end that wall j
     is a building's (its group spans `min_span`, or is such a piece already). A table's face in
     line with a wall's face across a gap has a seen corner at its other end with nothing in
-    line beyond it: no piece (nor one whose other end runs on out of view: that is the table's
-    face seen in part as often as a wall's). Then its whole group is the building's; repeated
-    over the pairs found until nothing changes
-    (at most one round per group: the piece between two doors is reached from either side)."""
+    line beyond it: no piece. Its other end may run on out of view (floating: a side room's
+    mouth seen at a slant, its far wall in part) when the wall it lends from is a building's by
+    its own shape (`_firm`: `building_min` long, or turning at a concave corner into a wall that
+    long); a table's side against a wall, in line with a partition's face by chance, turns into
+    the table's short back. Then its whole group is the building's; repeated over the pairs
+    found until nothing changes (at most one round per group: the piece between two doors is
+    reached from either side)."""
     n = walls.shape[0]
     out = span.copy()
     building = np.zeros(n, dtype=np.bool_)
     for i in range(n):
         building[i] = span[i] >= min_span and not objects[i]
     cos_a = math.cos(angle)
-    # a candidate's line runs on past both its ends (a test that does not depend on who is a
-    # building's: done once), then the walls of other groups it may borrow from, counted first
+    # a candidate's line runs on past both its ends, or past one with the other out of view (a
+    # test that does not depend on who is a building's: done once), then the walls of other
+    # groups it may borrow from, counted first
     candidate = np.zeros(n, dtype=np.bool_)
+    loose = np.zeros(n, dtype=np.bool_)  # one end runs on out of view only
     count = 0
     for i in range(n):
         if building[i] or objects[i]:
             continue
         ends_ok = 0
         lenders = 0
+        open_end = False
         for e in range(2):
             run_on = False
             for j in range(n):
@@ -418,10 +443,13 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
                     run_on = True
                     if group[j] != group[i]:
                         lenders += 1
+            if not run_on and prop[i, e] == floating:
+                run_on = open_end = True
             if run_on:
                 ends_ok += 1
         if ends_ok == 2 and lenders > 0:
             candidate[i] = True
+            loose[i] = open_end
             count += lenders
     pair_i = np.empty(count, dtype=np.int64)
     pair_j = np.empty(count, dtype=np.int64)
@@ -431,7 +459,8 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
             continue
         for e in range(2):
             for j in range(n):
-                if group[j] != group[i] and _in_line_beyond(walls, objects, i, e, j, cos_a, offset, max_gap):
+                if group[j] != group[i] and _in_line_beyond(walls, objects, i, e, j, cos_a, offset, max_gap) \
+                        and (not loose[i] or _firm(walls, connected, prop, i, e, j, building_min, concave)):
                     pair_i[p], pair_j[p] = i, j
                     p += 1
     # then lend along the pairs until nothing changes (at most one round per group)
