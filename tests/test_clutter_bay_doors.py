@@ -17,7 +17,12 @@ import pytest
 import pico_studio.core.perception.identify as identify_module
 from pico_studio.config import load_config
 from pico_studio.core.perception.identify import View, _view_arrays, identify
-from pico_studio.core.perception.identify_kernels import group_spans, in_line_spans, ray_hits
+from pico_studio.core.perception.identify_kernels import (
+    backed,
+    group_spans,
+    in_line_spans,
+    ray_hits,
+)
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven_kernels import deep_sides, wall_shaped
 from pico_studio.core.world_model import CONCAVE, CONVEX, FLOATING
@@ -242,16 +247,24 @@ SLANT_MOUTH = np.array([2.1, 0.0, 3.1, 0.0])
 SIDE_ROOM = [[3.1, 0.0, 3.1, 1.0], [3.1, 1.0, 2.1, 1.0], [2.1, 1.0, 2.1, 0.0]]
 
 
-def _slanted(lender: list[list[float]], lender_connected: list[list[int]], lender_seen: list[list[bool]]):
+ROOMS_WALL = ([[3.1, 0.0, 4.4, 0.0], [4.4, 0.0, 4.4, -2.5]], [[-1, 1], [0, -1]], [[True, True], [True, False]])
+
+
+def _slanted(lender: list[list[float]], lender_connected: list[list[int]], lender_seen: list[list[bool]],
+             box: bool = False):
     """The lender's walls (the first joined to the side room's side, wall len(lender)) and the
-    piece seen in part (the last wall) with the view of them, the side room and the piece's
-    whole wall."""
+    piece seen in part (wall len(lender) + 1) with the view of them, the side room and the
+    piece's whole wall; with `box`, a box 0.3 m inside the side room across its mouth, its
+    front and left side in the local map (walls len(lender) + 2, + 3)."""
     k = len(lender)
-    walls = np.array(lender + [SIDE_ROOM[0], [2.1, 0.0, 1.2, 0.0]])
-    connected = np.array(lender_connected + [[0, -1], [-1, -1]], dtype=np.int64)
+    things = [[2.2, 0.3, 3.0, 0.3], [2.2, 0.3, 2.2, 0.6]] if box else []
+    walls = np.array(lender + [SIDE_ROOM[0], [2.1, 0.0, 1.2, 0.0]] + things)
+    connected = np.array(lender_connected + [[0, -1], [-1, -1]] + ([[k + 3, -1], [k + 2, -1]] if box else []),
+                         dtype=np.int64)
     connected[0, 0] = k  # the lender's first wall joins the side room's side at the mouth
-    seen = np.array(lender_seen + [[True, False], [True, False]])
-    view = _view(lender + SIDE_ROOM + [[2.1, 0.0, -1.0, 0.0]], SLANT_ROBOT, np.pi / 2)
+    seen = np.array(lender_seen + [[True, False], [True, False]] + [[True, True]] * len(things))
+    view = _view(lender + SIDE_ROOM + [[2.1, 0.0, -1.0, 0.0]] + things + [[3.0, 0.3, 3.0, 0.6], [2.2, 0.6, 3.0, 0.6]],
+                 SLANT_ROBOT, np.pi / 2)
     return walls, connected, seen, view
 
 
@@ -259,13 +272,33 @@ def test_a_side_rooms_mouth_beside_a_wall_seen_in_part_is_a_door():
     """The piece's line runs on past its near end in the room's wall across the mouth, and its
     far end runs on out of view: the room's wall, which is a building's by its own shape
     (turning at the room's corner into a wall of end_face_min_length), lends it its span."""
-    walls, connected, seen, view = _slanted(
-        [[3.1, 0.0, 4.4, 0.0], [4.4, 0.0, 4.4, -2.5]], [[-1, 1], [0, -1]], [[True, True], [True, False]])
+    walls, connected, seen, view = _slanted(*ROOMS_WALL)
     out = identify(walls, connected, seen, SLANT_ROBOT, PARAMS, view)
     assert _is(out.doors[[k == "bay" for k in out.door_kind]], SLANT_MOUTH)
     group, span = group_spans(walls, connected)
     assert span[3] == pytest.approx(0.9) and span[0] >= PARAMS.bay_jamb_span
     assert _lent(walls, connected, seen, group, span, SLANT_ROBOT)[3] == PARAMS.bay_jamb_span
+
+
+def test_a_box_standing_in_a_side_room_is_not_its_back():
+    """rooms:4: a box 0.3 m inside a side room, across its mouth: every ray through the mouth
+    ends on it, within door_depth of the line, as on a pocket's back. What stands in a room
+    is not its back (a small object's walls, `object_walls`): those rays say nothing, and the
+    side room's side, running on past door_depth out of view, shows a passage."""
+    walls, connected, seen, view = _slanted(*ROOMS_WALL, box=True)
+    out = identify(walls, connected, seen, SLANT_ROBOT, PARAMS, view)
+    assert out.object_wall.tolist() == [False] * 4 + [True, True]
+    assert _is(out.doors[[k == "bay" for k in out.door_kind]], SLANT_MOUTH)
+    scan = _view_arrays(view)
+    gap = np.array([SLANT_MOUTH])
+    own = np.array([3]), np.array([2])
+    limits = (PARAMS.door_occlusion, PARAMS.door_depth, PARAMS.jamb_cap_max, PARAMS.door_backed_share)
+    _, _, deep, back = backed(gap, walls, *own, *SLANT_ROBOT, *scan, np.zeros(1, dtype=bool), out.object_wall, *limits)
+    assert deep[0] == 0 and not back[0]
+    # the same rays ending on a wall's face (no object's): the back of a pocket
+    _, _, _, walled = backed(gap, walls, *own, *SLANT_ROBOT, *scan, np.zeros(1, dtype=bool),
+                             np.zeros(len(walls), dtype=bool), *limits)
+    assert walled[0]
 
 
 def test_a_tables_side_in_line_with_a_partition_seen_in_part_is_not():
@@ -305,7 +338,7 @@ def test_a_hallway_seen_at_a_slant_is_a_door_by_its_side_running_on():
     assert out.door_kind == ["bay"] and _is(out.doors, MOUTH)
     walls = np.ascontiguousarray(SLANT_WALLS)
     gap = np.array([MOUTH])
-    rays, back = identify_module._deep_rays(gap, np.array([3]), np.array([2]), walls, SLANT, _view_arrays(view), PARAMS)
+    rays, back = identify_module._deep_rays(gap, np.array([3]), np.array([2]), walls, np.zeros(len(walls), dtype=bool), SLANT, _view_arrays(view), PARAMS)
     assert rays[0] == 0 and not back[0]  # no ray reached door_depth: they all end on the side
     prop = junctions(walls, CONNECTED, UNSEEN, *SLANT, FLOATING, CONVEX, CONCAVE)[0]
     args = (gap, walls, CONNECTED, prop, np.array([3]), np.array([2]), *SLANT, PARAMS.door_angle)
@@ -324,5 +357,5 @@ def test_a_pocket_whose_back_the_rays_see_is_no_passage_though_a_side_runs_on():
     out, view = _slant([TOP, ABOVE, LONG_SIDE, back, BELOW], robot=ROBOT, heading=np.pi)
     assert len(out.doors) == 0
     rays, seen_back = identify_module._deep_rays(np.array([MOUTH]), np.array([3]), np.array([2]), SLANT_WALLS,
-                                                 ROBOT, _view_arrays(view), PARAMS)
+                                                 np.zeros(len(SLANT_WALLS), dtype=bool), ROBOT, _view_arrays(view), PARAMS)
     assert rays[0] == 0 and seen_back[0]

@@ -84,8 +84,9 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
     blocked = blocked_many(segs, walls, own_a, own_b)
     some = np.flatnonzero(~blocked)
     backed_some, free_some, _, _ = backed(segs[some], walls, own_a[some], own_b[some], rx, ry, has_view, ranges, valid,
-                                          vx, vy, va, a0, inc, np.zeros(some.shape[0], dtype=np.bool_), occlusion,
-                                          depth, cap_max, backed_share)
+                                          vx, vy, va, a0, inc, np.zeros(some.shape[0], dtype=np.bool_),
+                                          np.zeros(walls.shape[0], dtype=np.bool_), occlusion, depth, cap_max,
+                                          backed_share)
     unseen = np.ones(g, dtype=np.bool_)
     for q in range(some.shape[0]):
         blocked[some[q]] = backed_some[q]

@@ -389,7 +389,8 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     # seen edge-on a T-opening's rays end by its face and say nothing; its jamb and face were
     # tested already, so no free ray is asked for
     backed_g, _, deep_g, _ = backed(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
-                                    np.ones(n, dtype=np.bool_), occlusion, depth, cap_max, backed_share)
+                                    np.ones(n, dtype=np.bool_), np.zeros(walls.shape[0], dtype=np.bool_), occlusion,
+                                    depth, cap_max, backed_share)
     bad |= backed_g
     possible = np.empty((n, 4))
     p = 0

@@ -51,7 +51,8 @@ shape: only the global map can tell them apart, and once localised the combined 
 bay a door where its walls have an opening there. A bay seen through to free space
 (`bay_deep_rays` rays reaching `door_depth` past its line; or, its back unseen, most rays
 ending behind it on a side, a side of it running on `door_depth` past its line, its far end
-no seen corner: a hallway seen at a slant) is a door of kind "bay" when it opens
+no seen corner: a hallway seen at a slant; a ray ending on a small object says nothing, a box
+standing in a side room being no pocket's back) is a door of kind "bay" when it opens
 a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
 sides spans no more than its diagonal; a piece of wall between two doors whose sides are unseen
 counts as the building's when its line runs on past both its ends in other walls a door's width
@@ -278,7 +279,7 @@ def _doors(
                                  np.ascontiguousarray(prop, dtype=np.int64), float(params.bay_jamb_span),
                                  float(params.door_angle), float(params.door_offset_short),
                                  float(params.door_max_width), float(params.end_face_min_length), FLOATING, CONCAVE)
-            rays, back = _deep_rays(gaps, own_a, own_b, walls, robot, scan, params)
+            rays, back = _deep_rays(gaps, own_a, own_b, walls, objects, robot, scan, params)
             side_on = deep_sides(gaps, w, c, np.ascontiguousarray(prop, dtype=np.int64), own_a, own_b,
                                  float(robot[0]), float(robot[1]), float(params.door_angle),
                                  float(params.door_depth), CONVEX)
@@ -316,7 +317,7 @@ def _doors(
 
 
 
-def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np.ndarray,
+def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np.ndarray, objects: np.ndarray,
                robot: tuple[float, float],
                scan: tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float],
                params: IdentifyParams) -> tuple[np.ndarray, np.ndarray]:
@@ -327,7 +328,8 @@ def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
     _, _, deep, back = backed(np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float),
                               own_a, own_b, float(robot[0]), float(robot[1]), *scan,
-                              np.zeros(len(gaps), dtype=bool), float(params.door_occlusion),
+                              np.zeros(len(gaps), dtype=bool), np.ascontiguousarray(objects, dtype=bool),
+                              float(params.door_occlusion),
                               float(params.door_depth), float(params.jamb_cap_max), float(params.door_backed_share))
     return deep, back
 

@@ -182,13 +182,27 @@ def _example_backed() -> tuple:
     own = np.array([0], dtype=np.int64), np.array([1], dtype=np.int64)
     ranges, valid = np.array([2.0, 2.0, 2.0]), np.array([True, True, False])
     return (segs, walls, *own, 0.0, 0.0, True, ranges, valid, 0.0, 0.0, 0.0, -0.1, 0.1,
-            np.zeros(1, dtype=np.bool_), 0.1, 0.3, 0.12, 0.5)
+            np.zeros(1, dtype=np.bool_), np.zeros(3, dtype=np.bool_), 0.1, 0.3, 0.12, 0.5)
+
+
+@njit
+def _on_any(px: float, py: float, walls: np.ndarray, these: np.ndarray, tol: float) -> bool:
+    """Does point p lie within `tol` of one of the walls marked in `these`?"""
+    for k in range(walls.shape[0]):
+        if not these[k]:
+            continue
+        ax, ay = walls[k, 0], walls[k, 1]
+        ex, ey = walls[k, 2] - ax, walls[k, 3] - ay
+        t = min(max(((px - ax) * ex + (py - ay) * ey) / max(ex * ex + ey * ey, 1e-12), 0.0), 1.0)
+        if math.hypot(px - ax - t * ex, py - ay - t * ey) < tol:
+            return True
+    return False
 
 
 @kernel(_example_backed)
 def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, rx: float, ry: float,
            has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
-           inc: float, face_end: np.ndarray, occlusion: float, depth: float, jamb_cap_max: float,
+           inc: float, face_end: np.ndarray, things: np.ndarray, occlusion: float, depth: float, jamb_cap_max: float,
            backed_share: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """((G,) bool: is there no seeing through gap g?, (G,) int64: how many of its rays were
     seen to pass it: known, and ending more than `occlusion` beyond the gap's line or never,
@@ -209,7 +223,9 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     Where the others end, in the gap's frame (s along from p, n across): a ray ending within
     `occlusion` of a jamb's normal (|s| or |s - L|) says nothing unless deeper than
     `jamb_cap_max` behind a jamb that is a wall's end; a ray is closed when it ends within
-    `depth` of the gap line between the jambs (or deep beside one). Backed when some rays say
+    `depth` of the gap line between the jambs (or deep beside one). A ray ending within
+    `occlusion` of a wall marked in `things` (W,) (a small object's: a box standing in a side
+    room) says nothing either: what stands in a room is not its back. Backed when some rays say
     something, at least `backed_share` of them are closed, and none reached `depth` beyond."""
     g, n_walls, n_beams = segs.shape[0], walls.shape[0], ranges.shape[0]
     out = np.zeros(g, dtype=np.bool_)
@@ -269,9 +285,11 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
                     known = not np.isnan(reach)
                 elif not np.isfinite(reach):
                     known = False  # out of the laser's view and no wall behind in the local map: unknown
-            informative = known and reach >= dist - occlusion
             finite = np.isfinite(reach)
             r_ = reach if finite else 0.0
+            if known and finite and _on_any(rx + r_ * dx, ry + r_ * dy, walls, things, occlusion):
+                known = False  # on a thing standing there, not on the room's walls
+            informative = known and reach >= dist - occlusion
             ex_, ey_ = rx + r_ * dx - segs[m, 0], ry + r_ * dy - segs[m, 1]
             s_ = ex_ * alx + ey_ * aly
             n_ = abs(ex_ * aly - ey_ * alx)
