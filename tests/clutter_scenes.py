@@ -9,6 +9,8 @@ import math
 import numpy as np
 
 from pico_studio.core.io import LaserData, OdometryData
+from pico_studio.core.perception.identify import View
+from pico_studio.core.perception.identify_kernels import ray_hits
 
 # the generated furnished worlds live with the evaluation (scenario sets use them by name)
 from pico_studio.evaluation.furnished_worlds import cafe_world, clutter_world, ward_world
@@ -33,6 +35,17 @@ def cast(walls: np.ndarray, pose: Pose, n: int = 720, fov: float = 2 * math.pi, 
     return LaserData(0.01, max_range, float(rel[0]), float(rel[-1]), inc, 0.0, ranges)
 
 
+def laser_view(solid: list[list[float]] | np.ndarray, robot: tuple[float, float], heading: float) -> View:
+    """identify's `View` of a laser at `robot` facing `heading` (801 beams over +-2 rad) cast
+    against `solid` walls, nothing within 8 m beyond them."""
+    angles = np.linspace(-2.0, 2.0, 801)
+    direction = np.stack([np.cos(angles + heading), np.sin(angles + heading)], axis=1)
+    none = np.full(len(angles), -1, dtype=np.int64)
+    ranges, _ = ray_hits(np.tile(robot, (len(angles), 1)), direction, np.array(solid, dtype=float), none, none)
+    hit = np.isfinite(ranges) & (ranges < 8.0)
+    return View(np.where(hit, ranges, 0.0), angles, hit, (robot[0], robot[1], heading))
+
+
 def box(cx: float, cy: float, w: float, h: float | None = None) -> np.ndarray:
     """(4, 4) the sides of an axis-aligned box centred at (cx, cy)."""
     h = w if h is None else h
@@ -48,4 +61,4 @@ def room(w: float = 6.0, h: float = 4.0) -> np.ndarray:
 def odometry(pose: Pose, t: float) -> OdometryData:
     return OdometryData(pose[0], pose[1], pose[2], t)
 
-__all__ = ["Pose", "box", "cafe_world", "cast", "clutter_world", "odometry", "room", "ward_world"]
+__all__ = ["Pose", "box", "cafe_world", "cast", "clutter_world", "laser_view", "odometry", "room", "ward_world"]

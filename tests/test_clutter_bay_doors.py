@@ -21,11 +21,11 @@ from pico_studio.core.perception.identify_kernels import (
     backed,
     group_spans,
     in_line_spans,
-    ray_hits,
 )
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven_kernels import deep_sides, wall_shaped
 from pico_studio.core.world_model import CONCAVE, CONVEX, FLOATING
+from tests.clutter_scenes import laser_view
 
 PARAMS = load_config(None).perception.identify
 ROBOT = (4.54, 2.12)
@@ -43,12 +43,7 @@ MOUTH = np.array([0.0, 2.11, 0.0, 3.04])
 
 def _view(solid: list[list[float]], robot: tuple[float, float] = ROBOT, heading: float = np.pi) -> View:
     """The laser at `robot` (by default facing the mouth) cast against `solid` walls, 8 m beyond nothing."""
-    angles = np.linspace(-2.0, 2.0, 801)
-    direction = np.stack([np.cos(angles + heading), np.sin(angles + heading)], axis=1)
-    none = np.full(len(angles), -1, dtype=np.int64)
-    ranges, _ = ray_hits(np.tile(robot, (len(angles), 1)), direction, np.array(solid, dtype=float), none, none)
-    hit = np.isfinite(ranges) & (ranges < 8.0)
-    return View(np.where(hit, ranges, 0.0), angles, hit, (robot[0], robot[1], heading))
+    return laser_view(solid, robot, heading)
 
 
 def _is(gaps: np.ndarray, gap: np.ndarray) -> bool:

@@ -253,7 +253,7 @@ def test_a_side_rooms_mouth_is_a_door_though_its_back_wall_is_a_metre_in():
     """A side room 1 m deep (the shallowest room: seed 000's side rooms) behind a 1 m mouth
     between two building walls' corners, a box in its middle. The rays through the mouth end on
     the box and on the back wall 1 m past the line: farther than `door_depth`, so the room is
-    no bay. Were the threshold the room's own depth (1.2 m here), its mouth would be one."""
+    no bay. Were the thresholds the room's own depth (1.2 m here), its mouth would be one."""
     from dataclasses import replace
 
     from pico_studio.core.perception.identify import View
@@ -277,7 +277,7 @@ def test_a_side_rooms_mouth_is_a_door_though_its_back_wall_is_a_metre_in():
         return out.door_kind
 
     assert PARAMS.door_depth < 1.0 and kinds(PARAMS) == ["jambs"]
-    assert kinds(replace(PARAMS, door_depth=1.2)) == []
+    assert kinds(replace(PARAMS, door_depth=1.2, end_face_depth=1.2)) == []
 
 
 def test_a_tables_front_pointing_at_a_partitions_end_is_no_door():

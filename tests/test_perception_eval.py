@@ -69,7 +69,7 @@ def test_hospital_bar_with_the_default_config(maps_dir):
 
 def test_a_broken_perceptor_fails_the_bar(maps_dir, tmp_path):
     cfg = tmp_path / "bad.yaml"
-    cfg.write_text("perception:\n  identify:\n    door_min_width: 2.0\n    door_max_width: 3.0\n"
+    cfg.write_text("perception:\n  identify:\n    door_min_width: 2.0\n    door_max_width: 3.0\n    wide_door_max_width: 3.0\n"
                    "  scan:\n    min_length: 2.0\n")
     r = evaluate_map(str(maps_dir / "hospital_2019.json"), load_config(cfg), poses=5, seed=0)
     assert r["door_recall"] < 0.5 and r["wall_recall"] < 0.9

@@ -275,7 +275,13 @@ class IdentifyParams:
         0.5, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at least this wide", below="door_max_width",
     )
     door_max_width: float = param(
-        1.3, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at most this wide",
+        1.3, lo=0.1, hi=5.0, step=0.01, unit="m", help="A door is at most this wide", at_most="wide_door_max_width",
+    )
+    wide_door_max_width: float = param(
+        1.5, lo=0.1, hi=5.0, step=0.01, unit="m",
+        help="...or this wide between two building walls in one line (end_face_min_length long, or a door "
+        "frame's length ending in a whole cap or in a concave corner), both jambs seen: a wide doorway; "
+        "beside a table's front none",
     )
     door_angle: float = param(
         0.3, lo=0.0, hi=1.0, step=0.01, unit="rad",
@@ -308,6 +314,11 @@ class IdentifyParams:
         help="A door is an opening you can see through: a beam (or the local map) through the gap "
         "must reach at least this far past the gap line, else the gap is a bay (e.g. between two tables); "
         "short of the shallowest room (a 1 m side room's back wall must not make its mouth a bay)",
+    )
+    end_face_depth: float = param(
+        0.9, lo=0.0, hi=10.0, step=0.05, unit="m",
+        help="...for a T-opening (a wall's end facing a wall's face) this far: the pocket beside a table "
+        "standing against a wall (0.8 m deep) is no opening; a room behind a T-opening is deeper",
     )
     door_backed_share: float = param(
         0.5, lo=0.0, hi=1.0, step=0.05,

@@ -11,7 +11,7 @@ frames, the observers here judge them.
   `perception_score`.
 - `poses`: random free poses of a map (the eval method's starts).
 - `worlds`: seeded generated worlds (`escape:SEED`, `rooms:SEED`; furnished, with people:
-  `hall:SEED`, `cafe:SEED`, `ward:SEED` from `furnished_worlds`).
+  `hall:SEED`, `cafe:SEED`, `ward:SEED`, `suite:SEED` from `furnished_worlds`).
 - `scenarios` / `runner`: scenario-set YAML files and running them (`evaluate_scenarios`).
 """
 

@@ -6,7 +6,7 @@ them.
     defaults: {seed: 0, dt: 0.05}      # optional; merged under every scenario
     scenarios:
       - name: hospital_2019            # every scenario needs a unique name
-        map: ../maps/hospital_2019.json   # or world: escape|rooms|hall|cafe|ward:SEED (generated)
+        map: ../maps/hospital_2019.json   # or world: escape|rooms|hall|cafe|ward|suite:SEED (generated)
         sim_config: ../maps/hospital_2019_sim.json   # optional, the official sim's JSON
         poses: 20                      # the eval method: K random free poses, each turned
         frames: 20                     #   for `frames` scans (default 20) and scored
@@ -43,7 +43,7 @@ from pico_studio.user_files import parse_yaml, read_text
 class Scenario:
     name: str
     map: str | None = None  # a JSON map or heightmap image (absolute path)
-    world: str | None = None  # a generated world: escape|rooms|hall|cafe|ward:SEED (worlds.GENERATORS)
+    world: str | None = None  # a generated world: escape|rooms|hall|cafe|ward|suite:SEED (worlds.GENERATORS)
     sim_config: str | None = None  # the official simulator's JSON (absolute path)
     seed: int = 0
     seconds: float | None = None  # None: the behaviour's default (10 s for a plain run)
@@ -178,7 +178,7 @@ def _scenario(d: dict[str, Any], base: Path, file: Path | None, where: str) -> S
         kw["localise"] = d["localise"]
     s = Scenario(**kw)
     if s.map is None and s.world is None and s.recording is None:
-        raise ConfigError("needs a map, a world (escape:SEED, rooms:SEED, hall:SEED, cafe:SEED, ward:SEED) or a "
+        raise ConfigError("needs a map, a world (escape:SEED, rooms:SEED, hall:SEED, cafe:SEED, ward:SEED, suite:SEED) or a "
                           "recording (bag:FILE, carmen:FILE)",
                           file=file, field=where)
     if s.map is not None and s.world is not None:

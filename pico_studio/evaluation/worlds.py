@@ -13,7 +13,7 @@ holds one object (a box in its centre) or a person's two feet (two small boxes s
 toes to the entrance). The expected count is what the seed counts: a box is one object, two
 feet are two. The robot starts at least 0.6 m from the walls, not in a side room.
 
-Furnished worlds (`hall`, `cafe`, `ward`: `furnished_worlds`): tables, beds and cabinets, and
+Furnished worlds (`hall`, `cafe`, `ward`, `suite`: `furnished_worlds`): tables, beds and cabinets, and
 people walking (the world's `sim_config`), for the door figures among furniture.
 """
 
@@ -25,7 +25,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pico_studio.evaluation.furnished_worlds import cafe_world, clutter_world, ward_world
+from pico_studio.evaluation.furnished_worlds import (
+    cafe_world,
+    clutter_world,
+    suite_world,
+    ward_world,
+)
 from pico_studio.json_map import GlobalMap, map_from_dict
 from pico_studio.sim.sim_config import SimConfigFile, sim_config_from_dict
 
@@ -177,11 +182,12 @@ def _furnished(make: Callable[[int], tuple[dict, dict]], name: str) -> Callable[
 GENERATORS: dict[str, Callable[[int], World]] = {
     "escape": escape_world, "rooms": room_finder_world,
     "hall": _furnished(clutter_world, "hall"), "cafe": _furnished(cafe_world, "cafe"), "ward": _furnished(ward_world, "ward"),
+    "suite": _furnished(suite_world, "suite"),
 }
 
 
 def make_world(spec: str) -> World:
-    """`escape:SEED`, `rooms:SEED`, `hall:SEED`, `cafe:SEED` or `ward:SEED` as a `World` (the
+    """`escape:SEED`, `rooms:SEED`, `hall:SEED`, `cafe:SEED`, `ward:SEED` or `suite:SEED` as a `World` (the
     spec is checked by `parse_world`)."""
     kind, seed = parse_world(spec)
     return GENERATORS[kind](seed)

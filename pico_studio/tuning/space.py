@@ -130,11 +130,27 @@ class SearchSpace:
                     if below is not None:
                         lo = max(lo if lo is not None else -math.inf, below + o.gap(d))
                 if o.lower == d.path:  # bounded above by the upper one's largest value
-                    up = dims[o.upper].hi if o.upper in dims else o.fixed_upper
+                    up = self._top(o.upper, dims) if o.upper in dims else o.fixed_upper
                     if up is not None:
                         hi = min(hi if hi is not None else math.inf, up - o.gap(d))
             values[d.path] = d.suggest(trial, lo, hi)
         return {d.path: values[d.path] for d in self.dimensions}
+
+    def _top(self, path: str, dims: dict[str, Dimension], depth: int = 0) -> float | None:
+        """The largest value a searched parameter can take: its declared top, lowered by the
+        orderings bounding it from above (a chain: door_min_width < door_max_width <=
+        wide_door_max_width, the last fixed or searched)."""
+        top = dims[path].hi
+        if depth > len(self.orders):  # a cycle cannot be declared consistently
+            return top
+        for o in self.orders:
+            if o.lower != path:
+                continue
+            up = self._top(o.upper, dims, depth + 1) if o.upper in dims else o.fixed_upper
+            if up is not None:
+                bound = up - o.gap(dims[path])
+                top = bound if top is None else min(top, bound)
+        return top
 
     def _ordered(self) -> list[Dimension]:
         """The dimensions, each after every searched one that bounds it from below."""

@@ -43,15 +43,15 @@ def _example_jambs() -> tuple:
     prop = np.array([[0, 2], [2, 0], [0, 0]], dtype=np.int64)
     ranges, valid = np.array([4.0, 4.0, 4.0]), np.array([True, True, True])
     return (walls, connected, prop, np.zeros(3, dtype=np.bool_), 2.45, -1.0, True, ranges, valid, 2.45, -1.0, 1.57,
-            -0.3, 0.3, 0.12, 1.0, 1.5, 1.5, 0.6, 1.2, 0.3, 0.1, 0.05, 1, 0.1, 0.3, 0.5, 0, 2)
+            -0.3, 0.3, 0.12, 1.0, 1.5, 1.5, 0.6, 1.2, 1.5, 0.3, 0.1, 0.05, 1, 0.1, 0.3, 0.5, 0, 2, 3)
 
 
 @kernel(_example_jambs)
 def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, rx: float, ry: float,
                has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
                inc: float, cap_max: float, frame_min: float, building_min: float, object_max: float, min_width: float,
-               max_width: float, angle: float, offset: float, offset_short: float, min_free_rays: int,
-               occlusion: float, depth: float, backed_share: float, floating: int, convex: int,
+               max_width: float, wide_width: float, angle: float, offset: float, offset_short: float, min_free_rays: int,
+               occlusion: float, depth: float, backed_share: float, floating: int, convex: int, concave: int,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                           np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(wi, we, capped, long (C,): the candidates, pts, out_dir, far (C, 2): their ends, outward
@@ -61,7 +61,7 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
         walls, connected, prop, objects, cap_max, frame_min, floating, convex, building_min, rx, ry, object_max)
     c = wi.shape[0]
     pts, far, out_dir = np.empty((c, 2)), np.empty((c, 2)), np.empty((c, 2))
-    is_convex, block = np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_)
+    is_convex, block, building = np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_)
     for r in range(c):
         i, e = wi[r], we[r]
         pts[r, 0], pts[r, 1] = walls[i, 2 * e], walls[i, 2 * e + 1]
@@ -72,9 +72,13 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
         is_convex[r] = prop[i, e] == convex
         # a block's face: seen whole, both ends convex, longer than a cap, shorter than a building's
         block[r] = prop[i, 0] == convex and prop[i, 1] == convex and lengths[i] > cap_max and lengths[i] < building_min
+        # a building's wall (as for a T-opening): long, or a door frame's length ending in a whole
+        # cap (a thick wall's end) or whose far end turns into another wall in a concave corner
+        building[r] = (lengths[i] >= building_min or (long[r] and (capped[r] or prop[i, 1 - e] == concave))) \
+            and not objects[i]
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
-        pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, min_width, max_width,
-        angle, offset, offset_short)
+        pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, min_width, max_width,
+        wide_width, angle, offset, offset_short)
     g = ia.shape[0]
     segs = np.empty((g, 4))
     own_a, own_b = np.empty(g, dtype=np.int64), np.empty(g, dtype=np.int64)

@@ -8,7 +8,11 @@ of another wall (a T) is concave. A free end the laser looked past (a jamb, a wa
 is convex.
 
 Doors: two convex points P, Q of different walls, the gap within [door_min_width,
-door_max_width] and no wall across it; the gap continues P's wall (Q ahead of P's end, within
+door_max_width] (up to `wide_door_max_width` between two building walls in one line, each
+at least `end_face_min_length` long, or a door frame's length ending in a whole cap or
+turning at its far end into a wall in a concave corner: a wide doorway; a table's front is
+shorter, its side no cap) and no wall
+across it; the gap continues P's wall (Q ahead of P's end, within
 `door_angle` of its direction and `door_offset` of its line), and Q's wall comes back along
 that line towards P (the two walls in one line, seed 001) or stands across it (the end cap
 of a thick wall seen from the side while the face beyond the gap is out of view). Possible doors (seed 001), with the same width range: a convex point and a loose
@@ -211,9 +215,9 @@ def _doors(
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool), float(robot[0]),
         float(robot[1]), *scan, float(params.jamb_cap_max), float(params.door_wall_min_length),
         float(params.end_face_min_length), float(params.object_max_size), float(params.door_min_width),
-        float(params.door_max_width), float(params.door_angle), float(params.door_offset),
-        float(params.door_offset_short), int(params.door_min_free_rays), float(params.door_occlusion),
-        float(params.door_depth), float(params.door_backed_share), FLOATING, CONVEX)
+        float(params.door_max_width), float(params.wide_door_max_width), float(params.door_angle),
+        float(params.door_offset), float(params.door_offset_short), int(params.door_min_free_rays), float(params.door_occlusion),
+        float(params.door_depth), float(params.door_backed_share), FLOATING, CONVEX, CONCAVE)
     if len(wi) < 1:
         return empty, [], empty, [], evidence
     doors: list[list[float]] = jamb_gaps.tolist()
@@ -247,7 +251,7 @@ def _doors(
             *scan, float(params.door_min_width), float(params.door_max_width),
             float(params.jamb_cap_max), float(params.end_face_min_length), float(params.object_max_size),
             float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
-            float(params.end_face_continuation), float(params.door_depth), float(params.door_backed_share),
+            float(params.end_face_continuation), float(params.end_face_depth), float(params.door_backed_share),
             int(params.door_min_free_rays), int(params.end_face_evidence_scans), int(params.end_face_evidence_max),
             FLOATING, CONVEX, CONCAVE)
         possible.extend(maybe_t)

@@ -109,14 +109,16 @@ def _example_pairs() -> tuple:
     cap_seen = np.array([False, False, True])
     connected = np.full((3, 2), -1, dtype=np.int64)
     block = np.zeros(3, dtype=np.bool_)
-    return pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, 0.6, 1.2, 0.3, 0.1, 0.05
+    building = np.array([True, True, False])
+    return (pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, 0.6, 1.2, 1.5,
+            0.3, 0.1, 0.05)
 
 
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
                long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
-               block: np.ndarray, min_width: float,
-               max_width: float,
+               block: np.ndarray, building: np.ndarray, min_width: float,
+               max_width: float, wide_width: float,
                angle: float, offset: float, offset_short: float,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The pairs (i < j, in row order) of door-point candidates P_i, P_j (wall wi, end we,
@@ -124,7 +126,13 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     is_door, is_possible) of those pairs only.
 
     With pq = P_j - P_i, d = |pq|, u = pq / d: a pair counts when min_width <= d <= max_width
-    and the points lie on different, unconnected walls. off_ij = |pq x o_i| (P_j from wall
+    and the points lie on different, unconnected walls; up to `wide_width` when both walls are
+    a building's (`building`: end_face_min_length long, or a door frame's length ending in a
+    whole cap or turning at its far end into a wall in a concave corner, as for a T-opening;
+    no object) and, for a door, both
+    convex with both walls' lines continuing through the gap (a wide doorway in one wall: the
+    truth's openings reach that wide; beside a table's front, shorter, or a block's face
+    across the line, no such gap is a door). off_ij = |pq x o_i| (P_j from wall
     i's line), off_ji = |pq x o_j|; u_i = u . o_i, u_j = u . o_j. Wall i's line continues
     through the gap when u_i > cos(angle) and off_ij < offset (a long wall) or < offset_short
     (a stub); wall j's when -u_j > cos(angle) likewise. A door: both convex, and one wall's
@@ -149,7 +157,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
         for j in range(i + 1, n):
             px, py = pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1]
             dist = np.hypot(px, py)
-            if not (dist >= min_width and dist <= max_width):
+            wide = dist > max_width
+            if not (dist >= min_width and (dist <= max_width or (dist <= wide_width and building[i] and building[j]))):
                 continue
             if wi[i] == wi[j] or connected[wi[i], we[i]] == wi[j]:
                 continue
@@ -166,6 +175,10 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             door_ji = line_j and (ui > cos_a or (abs(ui) < sin_a and frame_i and not block[j]))
             both_convex = is_convex[i] and is_convex[j]
             is_door = both_convex and (door_ij or door_ji)
+            if wide:
+                is_door = both_convex and line_i and line_j
+                if not is_door:
+                    continue
             collinear = (abs(out_dir[i, 0] * out_dir[j, 0] + out_dir[i, 1] * out_dir[j, 1]) > cos_a
                          and off_ij < offset and off_ji < offset)
             is_possible = collinear and ui > 0 and uj < 0 and not both_convex
