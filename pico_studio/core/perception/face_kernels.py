@@ -11,7 +11,7 @@ candidate when
   and shorter than a building's wall, or the front of a block against a wall:
   `against_a_wall`), and a building's wall (|k| >= building_min) unless P's wall is;
 * min_width <= t <= max_width, and M is no nearer than `cap_max` to a free convex end of k
-  (a corner there, not a face);
+  (a corner there, not a face); up to `wide_width` the gap is a possible door only (t_openings);
 * k is about square to the ray: |e_k . o| / |e_k| <= sin(angle).
 
 Where k fails the last two at a free corner, or is a piece no longer than `cap_max` askew to
@@ -156,7 +156,7 @@ def _example_faces() -> tuple:
     ranges, valid = np.array([2.0, 2.0, 2.0]), np.array([True, True, True])
     return (pts, out_dir, far, np.array([1], dtype=np.int64), np.array([1], dtype=np.int64), one, no, no, no,
             walls, connected, prop, np.zeros(3, dtype=np.bool_), lengths, True, ranges, valid, 0.0, 0.0, 0.0, -0.1,
-            0.1, 0.6, 1.2, 0.12, 1.5, 1.0, 0.3, 0.5, 0.1, 0.2, 0, 2, 3)
+            0.1, 0.6, 1.2, 1.5, 0.12, 1.5, 1.0, 0.3, 0.5, 0.1, 0.2, 0, 2, 3)
 
 
 @kernel(_example_faces)
@@ -164,8 +164,8 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
               building: np.ndarray, cornered: np.ndarray, weak: np.ndarray, glimpse: np.ndarray, walls: np.ndarray,
               connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, lengths: np.ndarray, has_view: bool,
               ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float, inc: float,
-              min_width: float, max_width: float, cap_max: float, building_min: float, object_max: float,
-              angle: float, reach: float, occlusion: float, continuation: float, floating: int, convex: int,
+              min_width: float, max_width: float, wide_width: float, cap_max: float, building_min: float,
+              object_max: float, angle: float, reach: float, occlusion: float, continuation: float, floating: int, convex: int,
               concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                      np.ndarray]:
     """The T-opening candidates from the ends `pts` (F, 2) (outward `out_dir`, far end `far`, wall
@@ -180,7 +180,7 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
     miss = np.empty(f, dtype=np.int64)
     nm = 0
     for r in range(f):
-        if hit_k[r] < 0 or hit_t[r] > max_width:
+        if hit_k[r] < 0 or hit_t[r] > wide_width:
             miss[nm] = r
             nm += 1
     if reach > 0 and nm > 0:
@@ -216,7 +216,7 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
             continue
         if (cornered[r] or weak[r] or glimpse[r]) and lengths[k] < building_min:
             continue
-        if not (min_width <= t and t <= max_width):
+        if not (min_width <= t and t <= wide_width):  # wider than max_width: a possible door at most
             continue
         mx, my = pts[r, 0] + t * out_dir[r, 0], pts[r, 1] + t * out_dir[r, 1]
         corner = _at_a_corner(walls, prop, connected, k, mx, my, cap_max, convex)
@@ -230,7 +230,7 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
                 continue
             k, t = _face_behind(pts[r, 0], pts[r, 1], out_dir[r, 0], out_dir[r, 1], walls, lengths, objects,
                                 block_face, t, cap_max, building_min, wi[r], connected[wi[r], we[r]])
-            if k < 0 or t > max_width:
+            if k < 0 or t > wide_width:
                 continue
             mx, my = pts[r, 0] + t * out_dir[r, 0], pts[r, 1] + t * out_dir[r, 1]
             if _at_a_corner(walls, prop, connected, k, mx, my, cap_max, convex) or \
@@ -328,7 +328,7 @@ def _example_openings() -> tuple:
      va, a0, inc, *_) = _example_faces()
     one = np.array([True])
     return (pts, out_dir, far, wi, we, one, one, one, walls, connected, prop, objects, lengths, np.zeros((0, 4)),
-            np.zeros((0, 5)), 0.0, 0.0, has_view, ranges, valid, vx, vy, va, a0, inc, 0.6, 1.2, 0.12, 1.5, 1.0, 0.3, 0.5,
+            np.zeros((0, 5)), 0.0, 0.0, has_view, ranges, valid, vx, vy, va, a0, inc, 0.6, 1.2, 1.5, 0.12, 1.5, 1.0, 0.3, 0.5,
             0.1, 0.2, 0.3, 0.5, 1, 3, 16, 0, 2, 3)
 
 
@@ -337,7 +337,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
                is_convex: np.ndarray, long: np.ndarray, capped: np.ndarray, walls: np.ndarray, connected: np.ndarray,
                prop: np.ndarray, objects: np.ndarray, lengths: np.ndarray, doors: np.ndarray, evidence: np.ndarray,
                rx: float, ry: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
-               inc: float, min_width: float, max_width: float, cap_max: float, building_min: float,
+               inc: float, min_width: float, max_width: float, wide_width: float, cap_max: float, building_min: float,
                object_max: float, angle: float, reach: float, occlusion: float, continuation: float, depth: float,
                backed_share: float, min_free_rays: int, evidence_scans: int, evidence_max: int, floating: int,
                convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -368,7 +368,8 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     g, oa, ob, wk, gl_, beyond, missed = face_gaps(
         pts[face], out_dir[face], far[face], wi[face], we[face], building[face], cornered[face], weak[face],
         glimpse[face], walls, connected, prop, objects, lengths, has_view, ranges, valid, vx, vy, va, a0, inc,
-        min_width, max_width, cap_max, building_min, object_max, angle, reach, occlusion, continuation, floating,
+        min_width, max_width, wide_width, cap_max, building_min, object_max, angle, reach, occlusion, continuation,
+        floating,
         convex, concave)
     lone = np.empty((f, 4))
     j = 0
@@ -394,6 +395,15 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     bad |= backed_g
     possible = np.empty((n, 4))
     p = 0
+    # wider than a door (a wall's end facing a face up to `wide_width` on): among furniture as
+    # often a passage as a doorway, so only ever a possible door, for the map to prove (no
+    # evidence counted)
+    for m in range(n):
+        if math.hypot(g[m, 2] - g[m, 0], g[m, 3] - g[m, 1]) > max_width:
+            if not bad[m] and not _hidden(g[m], has_view, ranges, valid, vx, vy, va, a0, inc, occlusion):
+                possible[p] = g[m]
+                p += 1
+            bad[m], wk[m], gl_[m] = True, False, False
     weak_rows = np.flatnonzero(wk)
     if weak_rows.shape[0] > 0:
         sure = ~bad & (deep_g >= max(min_free_rays, 1))

@@ -41,7 +41,8 @@ cabinet's front; or, longer than an end cap, turning in a convex corner into a s
 runs back to a wall in a concave corner: a table standing against a wall, `face_kernels.against_a_wall`),
 nor meets a face within `jamb_cap_max` of its free end (a corner, not a face: a table's end). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
-A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
+A T-opening wider than `door_max_width`, up to `wide_door_max_width`, is only ever a
+possible door "end_face", for the map to prove. A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
 quarters of it, ending more than `door_occlusion` before it: a box standing in front) is none:
 the local map's walls alone say nothing of what stands there now. A door between two jambs is a gap some ray was seen to pass
 through (`door_min_free_rays`): a bay seen edge-on is none.
@@ -248,7 +249,7 @@ def _doors(
             np.ascontiguousarray(connected, dtype=np.int64), np.ascontiguousarray(prop, dtype=np.int64),
             np.ascontiguousarray(objects, dtype=bool), lengths, np.array(doors, dtype=float).reshape(-1, 4),
             np.ascontiguousarray(evidence, dtype=float).reshape(-1, 5), float(robot[0]), float(robot[1]),
-            *scan, float(params.door_min_width), float(params.door_max_width),
+            *scan, float(params.door_min_width), float(params.door_max_width), float(params.wide_door_max_width),
             float(params.jamb_cap_max), float(params.end_face_min_length), float(params.object_max_size),
             float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
             float(params.end_face_continuation), float(params.end_face_depth), float(params.door_backed_share),
