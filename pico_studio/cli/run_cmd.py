@@ -29,6 +29,7 @@ from pico_studio.core.behaviours.registry import (
     behaviour_name,
     make_behaviour,
 )
+from pico_studio.core.localisation.prior import prior_pose
 from pico_studio.errors import UserError
 from pico_studio.evaluation.run_score import summary_line
 from pico_studio.evaluation.runner import make_perceptor, scored_run
@@ -98,9 +99,12 @@ def _run(args: argparse.Namespace) -> int:
                 steps = Session(sim, behaviour=behaviour, recorder=recorder).run(seconds, dt, progress)
             else:  # the perceptor's figures against the simulator's truth, every scan
                 # the localisation prior: the sim config's start pose when it has one, else the
-                # map's start area
+                # map's start area, else where the simulator put the robot (the origin by the
+                # official simulator's default)
                 localise = args.localise and cfg.localisation.enabled
-                perceptor = make_perceptor(cfg, sim.world.map, sim.sim_config.initial_pose, localise=localise)
+                prior = prior_pose(sim.sim_config.initial_pose, sim.world.map, cfg.localisation.prior,
+                                   tuple(sim.truth.pose))  # type: ignore[arg-type]
+                perceptor = make_perceptor(cfg, sim.world.map, prior, localise=localise)
                 observers = [RecorderObserver(recorder)] if recorder is not None else []
                 steps, scores = scored_run(sim, cfg, seconds=seconds, dt=dt, behaviour=behaviour,
                                            perceptor=perceptor, observers=observers, progress=progress)

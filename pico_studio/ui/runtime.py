@@ -29,7 +29,12 @@ from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.behaviours.wander import Wander
 from pico_studio.core.geometry import compose, invert, wrap_angle
 from pico_studio.core.io import BaseReference, LaserData, OdometryData, RobotIO
-from pico_studio.core.localisation import TrackerState, build_localisation_map, localise_world_model
+from pico_studio.core.localisation import (
+    TrackerState,
+    build_localisation_map,
+    localise_world_model,
+    prior_pose,
+)
 from pico_studio.core.perception import PerceptorState, perceive
 from pico_studio.errors import UserError
 from pico_studio.evaluation.run_score import TruthScorer, summarise
@@ -50,6 +55,10 @@ class SourceBundle:
     truth: Any = None  # the simulator's `sim.truth`, for scoring
     world: Callable[[], Any] | None = None  # (K, 4) moving parts of the simulated world, map frame
     kind: str = "sim"
+    # the localisation prior the source knows (`prior.prior_pose`): a sim config's start pose,
+    # and where the simulator put the robot (used when neither the config nor the map says)
+    initial_pose: Pose | None = None
+    start_pose: Pose | None = None
 
 
 SourceFactory = Callable[[Config, GlobalMap | None], SourceBundle]
@@ -151,9 +160,14 @@ class Studio:
         """The global map's distance field and prior (built once per map and field params)."""
         if self.global_map is None or not len(self.global_map.walls):
             return None
-        key = (id(self.global_map), self.cfg.localisation.field, self.cfg.localisation.prior)
+        pose = prior_pose(self.bundle.initial_pose, self.global_map, self.cfg.localisation.prior,
+                          self.bundle.start_pose)
+        key = (id(self.global_map), self.cfg.localisation.field, self.cfg.localisation.prior, pose)
         if getattr(self, "_lmap_key", None) != key:
-            self._lmap = build_localisation_map(self.global_map, self.cfg.localisation)
+            old = getattr(self, "_lmap_key", None)
+            same_field = old is not None and old[:2] == key[:2]  # the field is the expensive part
+            self._lmap = build_localisation_map(self.global_map, self.cfg.localisation, pose,
+                                                self._lmap.field if same_field else None)
             self._lmap_key = key
         return self._lmap
 

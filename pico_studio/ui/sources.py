@@ -55,7 +55,8 @@ def _sim_factory(sim_config: str | Path | None, seed: int | None) -> SourceFacto
         sim = Simulator(global_map, getattr(cfg, "sim", None), sc, seed=seed)
         return SourceBundle(
             source=sim, truth_pose=lambda: tuple(sim.truth.pose), truth=sim.truth, kind="sim",
-            world=lambda: sim_world_segments(sim.truth),
+            world=lambda: sim_world_segments(sim.truth), initial_pose=sim.sim_config.initial_pose,
+            start_pose=tuple(float(v) for v in sim.truth.pose),  # type: ignore[arg-type]
         )
 
     return make

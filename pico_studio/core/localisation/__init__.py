@@ -28,7 +28,7 @@ from pico_studio.config.localisation_params import LocalisationParams
 from pico_studio.core.localisation.combined import CombinedMap, combine
 from pico_studio.core.localisation.distance_field import DistanceField
 from pico_studio.core.localisation.matcher import Pose
-from pico_studio.core.localisation.prior import PosePrior, initial_prior
+from pico_studio.core.localisation.prior import PosePrior, initial_prior, prior_pose
 from pico_studio.core.localisation.tracker import (
     LocalisationMap,
     StepResult,
@@ -48,6 +48,7 @@ __all__ = [
     "build_localisation_map",
     "combine",
     "initial_prior",
+    "prior_pose",
     "localise",
     "localise_world_model",
 ]

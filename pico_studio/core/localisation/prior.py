@@ -4,7 +4,9 @@ Sources, in order of preference:
 1. a pose given by the caller (the simulator config's `initial_pose`, heading included) or by
    the config (`prior.source: pose`) — uncertain by `position_uncertainty` around it;
 2. the map's `start_area` polygon — its bounding box (about 1 x 1 m in the challenges);
-3. neither: the whole map.
+3. neither: where the source says the robot starts, when it knows (`prior_pose`: the
+   simulator's chosen start, the origin facing +x by the official simulator's default), else
+   the whole map (a symmetric building localises to its mirror image from there).
 The heading is unknown (any) unless given: by the caller's pose, or `heading_known` in the
 config; a given heading is uncertain by `heading_uncertainty`.
 """
@@ -63,3 +65,16 @@ def initial_prior(
     x0, y0, x1, y1 = global_map.bounds
     return PosePrior((x0 + x1) / 2, (y0 + y1) / 2, (x1 - x0) / 2, (y1 - y0) / 2,
                      params.a, heading_range, "map")
+
+
+def prior_pose(given: tuple[float, float, float] | None, global_map: GlobalMap, params: PriorParams,
+               start: tuple[float, float, float] | None) -> tuple[float, float, float] | None:
+    """The pose to hand `initial_prior`: `given` (a sim config's `initial_pose`) when there is
+    one; else, when neither the config (`source: pose`) nor the map (`start_area`) says where
+    the robot starts, the source's own `start` (the simulator's: what a user placing the robot
+    knows); else None (the config or the start area decides)."""
+    if given is not None:
+        return given
+    if params.source == "pose" or global_map.start_polygons:
+        return None
+    return start
