@@ -198,6 +198,8 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
                     hit_t[r], hit_k[r] = ext_t[q], ext_k[q]
     missed = np.empty(f, dtype=np.bool_)
     for r in range(f):
+        # a face beyond max_width leaves the end a lone jamb too: the map proves that one (from the
+        # end along its wall) where the wide gap's far side is no jamb of its opening
         missed[r] = hit_k[r] < 0 or hit_t[r] > max_width
     # the face is a building's: no block's face, nor a block's front against a wall
     block_face = against_a_wall(connected, prop, lengths, cap_max, building_min, object_max, convex, concave)
@@ -369,8 +371,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         pts[face], out_dir[face], far[face], wi[face], we[face], building[face], cornered[face], weak[face],
         glimpse[face], walls, connected, prop, objects, lengths, has_view, ranges, valid, vx, vy, va, a0, inc,
         min_width, max_width, wide_width, cap_max, building_min, object_max, angle, reach, occlusion, continuation,
-        floating,
-        convex, concave)
+        floating, convex, concave)
     lone = np.empty((f, 4))
     j = 0
     for q in range(f):
