@@ -14,7 +14,7 @@ import pytest
 
 from pico_studio.config import Config
 from pico_studio.core.io import LaserData, OdometryData
-from pico_studio.evaluation.poses import random_free_poses
+from pico_studio.evaluation.poses import world_free_poses
 from pico_studio.json_map import load_map
 from pico_studio.sim import Simulator
 from tests.conftest import MAPS
@@ -26,7 +26,7 @@ def hospital_frames(k: int, seed: int = 0) -> tuple[tuple[Simulator, LaserData, 
     cfg = Config()
     gmap = load_map(MAPS / "hospital_2019.json")
     first = Simulator(gmap, cfg.sim, seed=seed)
-    poses = random_free_poses(first.world.segments(), first.truth.pose[:2], k, 0.4,
+    poses = world_free_poses(first.world, first.truth.pose[:2], k, 0.4,
                               np.random.default_rng(seed), gmap.bounds)
     out = []
     for i, pose in enumerate(poses):

@@ -83,3 +83,36 @@ def test_vertex_pairs_a_doors_width_apart_come_in_chunks_as_from_the_whole_matri
     got = _pairs_within(pts, 0.5, 1.5, chunk=64)
     assert [(i, j) for i, j, _ in got] == [(int(i), int(j)) for i, j in whole]
     assert all(d == dist[i, j] for i, j, d in got) and len(got) > 1000
+
+
+def _poly(*pts: tuple[float, float]) -> list[list[float]]:
+    return [[*pts[i], *pts[(i + 1) % len(pts)]] for i in range(len(pts))]
+
+
+@pytest.mark.parametrize("slant", [0.0, 0.2, -0.2])
+def test_a_doorway_between_thick_walls_with_askew_caps(slant: float) -> None:
+    """A 0.1 m thick wall along y in [0, 0.1] with a 1 m doorway; its caps askew by `slant`
+    (x shifts slant * y: a sheared drawing, 11 degrees) and a partition standing on the right
+    jamb's corner, so that cap is no wall end of its own. The left cap's end points along
+    its wall: straight ahead 1 m on is the right jamb (along its cap's normal the ray passes
+    below it)."""
+    s = slant * 0.1
+    left = _poly((0.0, 0.0), (2.0, 0.0), (2.0 + s, 0.1), (0.0 + s, 0.1))
+    right = _poly((3.0, 0.0), (5.0, 0.0), (5.0 + s, 0.1), (3.0 + s, 0.1))
+    partition = _poly((3.0 + s, 0.1), (3.1 + s, 0.1), (3.1 + s, 3.0), (3.0 + s, 3.0))
+    o = door_openings(np.array(left + right + partition, dtype=float))
+    assert len(o) == 1
+    mid, width = (o[0, :2] + o[0, 2:]) / 2, np.hypot(*(o[0, 2:] - o[0, :2]))
+    assert mid == pytest.approx([2.5 + s / 2, 0.05], abs=0.01)
+    assert width == pytest.approx(1.0, abs=0.01)
+    assert abs(float(_unit(o[0])[1])) < 0.01  # along the wall
+
+
+def test_a_blobs_end_keeps_its_caps_normal() -> None:
+    """A thick end whose two faces diverge (a heightmap's blob, 40 degrees apart) points
+    along its cap's normal: the mean of its faces would aim the ray askew."""
+    blob = _poly((0.0, 0.0), (2.0, 0.0), (2.0, 0.2), (0.0, 1.5))
+    wall = [[3.0, -1.0, 3.0, 1.5]]
+    o = door_openings(np.array(blob + wall, dtype=float))
+    assert len(o) == 1
+    assert o[0].tolist() == pytest.approx([2.0, 0.1, 3.0, 0.1], abs=1e-3)

@@ -47,8 +47,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     g = msub.add_parser(
         "generate",
-        help="write a generated world (escape, rooms, hall, cafe, ward, suite) as a JSON map and a sim config",
-        description="Write the seeded world KIND:SEED (escape:3, rooms:5, hall:1, cafe:2, ward:3, suite:4: the "
+        help="write a generated world (escape, rooms, hall, cafe, ward, suite, slant) as a JSON map and a sim config",
+        description="Write the seeded world KIND:SEED (escape:3, rooms:5, hall:1, cafe:2, ward:3, suite:4, slant:5: the "
         "worlds the scenario sets name) as OUT.json and, beside it, OUT_sim.json: its start pose and "
         "its walking people, for `pico-studio serve --map OUT.json --sim-config OUT_sim.json`.",
     )

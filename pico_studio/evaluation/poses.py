@@ -7,21 +7,27 @@ import math
 import cv2
 import numpy as np
 
+from pico_studio.sim.world import KIND_MOVING, World
+
 
 def random_free_poses(segments: np.ndarray, start: tuple[float, float], k: int, clearance: float,
                       rng: np.random.Generator, bounds: tuple[float, float, float, float],
-                      resolution: float = 0.05) -> list[tuple[float, float, float]]:
+                      resolution: float = 0.05, avoid: np.ndarray | None = None) -> list[tuple[float, float, float]]:
     """K poses the robot could drive to from `start`: every segment is drawn into a grid
     grown by `clearance`, the free cells connected to the start cell are flood-filled, and K
     of them are drawn (a random point in the cell, a random heading). So poses lie inside the
     building, outside objects and thick walls, whatever way the map draws its walls; never
-    outside `bounds` (the map's extent), even where an open exit leads out."""
+    outside `bounds` (the map's extent), even where an open exit leads out.
+
+    `avoid`: segments no pose may lie within `clearance` of, that do not bound the fill — the
+    people walking (`sim.world.KIND_MOVING`): where one stands now says nothing of where the
+    robot can go (a person in a corridor narrowed askew closed off all but 2 m of it)."""
     x0, y0, x1, y1 = bounds
     x0, y0 = x0 - 2 * clearance, y0 - 2 * clearance
     w = int(math.ceil((x1 + 2 * clearance - x0) / resolution)) + 1
     h = int(math.ceil((y1 + 2 * clearance - y0) / resolution)) + 1
     grid = np.zeros((h + 2, w + 2), np.uint8)  # floodFill's mask needs a 1-cell border
-    cells = np.round((segments.reshape(-1, 2) - (x0, y0)) / resolution).astype(np.int32).reshape(-1, 2, 2)
+    cells = _cells(segments, x0, y0, resolution)
     img = np.zeros((h, w), np.uint8)
     thick = max(1, int(math.ceil(2 * clearance / resolution)))
     cv2.polylines(img, list(cells), False, 255, thick)
@@ -45,6 +51,10 @@ def random_free_poses(segments: np.ndarray, start: tuple[float, float], k: int, 
         sx, sy = int(fx[n]), int(fy[n])
     filled = np.zeros((h, w), np.uint8)
     cv2.floodFill(filled, grid, (sx, sy), 1, flags=4)
+    if avoid is not None and len(avoid):
+        near = np.zeros((h, w), np.uint8)
+        cv2.polylines(near, list(_cells(avoid, x0, y0, resolution)), False, 1, thick)
+        filled[near > 0] = 0
     ys, xs = np.nonzero(filled)
     if len(xs) == 0:
         return []
@@ -55,3 +65,17 @@ def random_free_poses(segments: np.ndarray, start: tuple[float, float], k: int, 
         out.append((float(x0 + cx * resolution + jx), float(y0 + cy * resolution + jy),
                     float(rng.uniform(-math.pi, math.pi))))
     return out
+
+
+def world_free_poses(world: World, start: tuple[float, float], k: int, clearance: float,
+                     rng: np.random.Generator, bounds: tuple[float, float, float, float]) -> list[tuple[float, float, float]]:
+    """`random_free_poses` in a simulated world as it is now: its walls, objects and doors (a
+    closed door closes its room) bound the fill; its moving objects are only kept clear of."""
+    moving = world.kinds() == KIND_MOVING
+    segments = world.segments()
+    return random_free_poses(segments[~moving], start, k, clearance, rng, bounds, avoid=segments[moving])
+
+
+def _cells(segments: np.ndarray, x0: float, y0: float, resolution: float) -> np.ndarray:
+    """(N, 2, 2) int32 grid cells of each segment's two ends (for cv2.polylines)."""
+    return np.round((np.asarray(segments, dtype=float).reshape(-1, 2) - (x0, y0)) / resolution).astype(np.int32).reshape(-1, 2, 2)

@@ -34,7 +34,7 @@ from pico_studio.errors import UserError
 from pico_studio.evaluation.frame_score import Tolerances
 from pico_studio.evaluation.judges import CabinetsVisited, EscapeJudge, RoomsCounted
 from pico_studio.evaluation.metrics import flatten
-from pico_studio.evaluation.poses import random_free_poses
+from pico_studio.evaluation.poses import world_free_poses
 from pico_studio.evaluation.run_score import PoseErrorScorer, PoseScore, RunScore, TruthScorer
 from pico_studio.evaluation.scenarios import Scenario, ScenarioSet
 from pico_studio.evaluation.worlds import make_world
@@ -83,7 +83,7 @@ def evaluate_poses(gmap: GlobalMap, cfg: Config, sim_config: SimConfigFile | Non
     vertices = vertex_graph(world.static).points
     rng = np.random.default_rng(seed)
     # closed doors count as walls here: the poses are those reachable from the start
-    starts = random_free_poses(world.segments(), first.truth.pose[:2], poses, clearance, rng, gmap.bounds)
+    starts = world_free_poses(world, first.truth.pose[:2], poses, clearance, rng, gmap.bounds)
     if len(starts) < poses:
         raise UserError(f"found only {len(starts)} free poses with {clearance} m clearance", file=file)
     run = RunScore()

@@ -6,7 +6,7 @@ them.
     defaults: {seed: 0, dt: 0.05}      # optional; merged under every scenario
     scenarios:
       - name: hospital_2019            # every scenario needs a unique name
-        map: ../maps/hospital_2019.json   # or world: escape|rooms|hall|cafe|ward|suite:SEED (generated)
+        map: ../maps/hospital_2019.json   # or world: escape|rooms|hall|cafe|ward|suite|slant:SEED (generated)
         sim_config: ../maps/hospital_2019_sim.json   # optional, the official sim's JSON
         poses: 20                      # the eval method: K random free poses, each turned
         frames: 20                     #   for `frames` scans (default 20) and scored
@@ -35,7 +35,7 @@ from typing import Any
 
 from pico_studio.core.behaviours.registry import behaviour_name, is_behaviour
 from pico_studio.errors import ConfigError
-from pico_studio.evaluation.worlds import parse_world
+from pico_studio.evaluation.worlds import GENERATORS, parse_world
 from pico_studio.user_files import parse_yaml, read_text
 
 
@@ -43,7 +43,7 @@ from pico_studio.user_files import parse_yaml, read_text
 class Scenario:
     name: str
     map: str | None = None  # a JSON map or heightmap image (absolute path)
-    world: str | None = None  # a generated world: escape|rooms|hall|cafe|ward|suite:SEED (worlds.GENERATORS)
+    world: str | None = None  # a generated world: KIND:SEED (worlds.GENERATORS)
     sim_config: str | None = None  # the official simulator's JSON (absolute path)
     seed: int = 0
     seconds: float | None = None  # None: the behaviour's default (10 s for a plain run)
@@ -178,7 +178,7 @@ def _scenario(d: dict[str, Any], base: Path, file: Path | None, where: str) -> S
         kw["localise"] = d["localise"]
     s = Scenario(**kw)
     if s.map is None and s.world is None and s.recording is None:
-        raise ConfigError("needs a map, a world (escape:SEED, rooms:SEED, hall:SEED, cafe:SEED, ward:SEED, suite:SEED) or a "
+        raise ConfigError(f"needs a map, a world ({', '.join(f'{k}:SEED' for k in GENERATORS)}) or a "
                           "recording (bag:FILE, carmen:FILE)",
                           file=file, field=where)
     if s.map is not None and s.world is not None:

@@ -14,7 +14,8 @@ toes to the entrance). The expected count is what the seed counts: a box is one 
 feet are two. The robot starts at least 0.6 m from the walls, not in a side room.
 
 Furnished worlds (`hall`, `cafe`, `ward`, `suite`: `furnished_worlds`): tables, beds and cabinets, and
-people walking (the world's `sim_config`), for the door figures among furniture.
+people walking (the world's `sim_config`), for the door figures among furniture; `slant`
+(`slanted_worlds`): a ward or a suite drawn askew, its walls meeting at 76-84 degrees.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from pico_studio.evaluation.furnished_worlds import (
     suite_world,
     ward_world,
 )
+from pico_studio.evaluation.slanted_worlds import slanted_world
 from pico_studio.json_map import GlobalMap, map_from_dict
 from pico_studio.sim.sim_config import SimConfigFile, sim_config_from_dict
 
@@ -182,13 +184,13 @@ def _furnished(make: Callable[[int], tuple[dict, dict]], name: str) -> Callable[
 GENERATORS: dict[str, Callable[[int], World]] = {
     "escape": escape_world, "rooms": room_finder_world,
     "hall": _furnished(clutter_world, "hall"), "cafe": _furnished(cafe_world, "cafe"), "ward": _furnished(ward_world, "ward"),
-    "suite": _furnished(suite_world, "suite"),
+    "suite": _furnished(suite_world, "suite"), "slant": _furnished(slanted_world, "slant"),
 }
 
 
 def make_world(spec: str) -> World:
-    """`escape:SEED`, `rooms:SEED`, `hall:SEED`, `cafe:SEED`, `ward:SEED` or `suite:SEED` as a `World` (the
-    spec is checked by `parse_world`)."""
+    """`escape:SEED`, `rooms:SEED`, `hall:SEED`, `cafe:SEED`, `ward:SEED`, `suite:SEED` or
+    `slant:SEED` as a `World` (the spec is checked by `parse_world`)."""
     kind, seed = parse_world(spec)
     return GENERATORS[kind](seed)
 

@@ -9,8 +9,8 @@ Door openings (`door_openings`), in this order:
    [min_width, max_width] and nothing solid in between; a wall end is a loose end of a thin
    wall (pointing away from its wall), or the middle of the end cap of a thick wall (a
    segment no longer than `max_thickness` whose neighbours both leave it on the same side
-   and are at least twice as long, pointing outwards); the nearest pairs are taken first,
-   each end used once;
+   and are at least twice as long, pointing along the wall, away from it); the nearest
+   pairs are taken first, each end used once;
 3. a wall end left over that faces a wall (not a cabinet or table) within [min_width, max_width] straight ahead:
    from the end to that wall.
 4. passage mouths: where a passage (corridor, room exit) of a door's width opens into a
@@ -40,6 +40,7 @@ import numpy as np
 
 _FACING = math.cos(math.radians(45))  # a gap is "straight ahead" of an end within 45 degrees
 _SQUARE = math.cos(math.radians(15))  # a passage wall leaves its mouth within 15 degrees of square
+_PARALLEL = math.cos(math.radians(10))  # a thick wall's two faces run within 10 degrees of each other
 
 
 @dataclass(frozen=True)
@@ -149,13 +150,17 @@ def wall_ends(graph: Vertices, segments: np.ndarray, max_thickness: float) -> tu
             continue  # the neighbours do not both leave on the same side: not an end cap
         if min(_other_length(graph, segments, a, k), _other_length(graph, segments, b, k)) < 2 * length:
             continue  # a small block (pillar, box), not the end of a wall
-        normal = np.array([-cap[1], cap[0]]) / length
-        if float(normal @ da) > 0:
-            normal = -normal
         if abs(float(cap @ da)) / length > 0.5:
             continue  # the neighbours run along the cap, not away from it
+        # a wall's end (its two faces parallel) points along the wall, away from it, not along
+        # the cap's normal: a cap askew (a sheared drawing, a wall meeting another at a slant)
+        # tilts its normal by degrees, and a ray from it 1 m on passes a 0.1 m jamb. A blob's
+        # faces diverge: its cap's normal is all there is
+        out = -(da + db) if float(da @ db) >= _PARALLEL else np.array([-cap[1], cap[0]])
+        if float(out @ da) > 0:
+            out = -out
         pts.append((pa + pb) / 2)
-        outs.append(tuple(normal))
+        outs.append(tuple(out / float(np.hypot(*out))))
     if not pts:
         return np.zeros((0, 2)), np.zeros((0, 2))
     return np.array(pts, dtype=float), np.array(outs, dtype=float)
