@@ -22,12 +22,18 @@ def test_restaurant_with_its_moving_box(maps_dir):
 
 
 def test_a_generated_cafe(tmp_path):
+    """At most one false door in 12 poses: a table's top face, seen 1.1 m with its far end out of
+    view, in line with a gap to a partition's face that runs on out of view past the line is a
+    partition's T-opening seen steeply to `end_face_run_on` (none before it; over 27 cafes own
+    precision 0.993 -> 0.970 for recall 0.873 -> 0.910); the map rejects it."""
     doc, sim = cafe_world(1)
     (tmp_path / "cafe.json").write_text(json.dumps(doc))
     (tmp_path / "cafe_sim.json").write_text(json.dumps(sim))
     r = evaluate_map(str(tmp_path / "cafe.json"), sim_config=str(tmp_path / "cafe_sim.json"), poses=12, seed=1)
     assert r["doors_visible"] >= 4
-    assert r["door_precision"] >= 0.95 and r["door_recall"] >= 0.6
+    false_doors = r["doors_detected"] * (1 - r["door_precision"])
+    assert false_doors <= 1.01 and r["door_recall"] >= 0.8
+    assert r["map_door_precision"] == 1.0
     assert r["endpoint_error_m"] <= 0.03 and r["convexity_accuracy"] >= 0.98
 
 

@@ -11,10 +11,23 @@ kind "end_face", for the map to confirm once localised."""
 
 from __future__ import annotations
 
+import itertools
+from dataclasses import replace
+
 import numpy as np
 
-from pico_studio.config import load_config
+from pico_studio.config import Config, load_config
+from pico_studio.config.perception_params import IdentifyParams
+from pico_studio.core.behaviours.registry import Drive
+from pico_studio.core.geometry import transform_segments
+from pico_studio.core.perception import Perceptor
 from pico_studio.core.perception.identify import View, identify
+from pico_studio.evaluation.frame_score import Tolerances, as_pose, doors_match, zero_to_map
+from pico_studio.json_map import load_map
+from pico_studio.session import Session
+from pico_studio.sim import Simulator
+from pico_studio.sim.sim_config import load_sim_config
+from tests.conftest import MAPS
 
 PARAMS = load_config(None).perception.identify
 ROBOT = (5.64, 1.28)
@@ -78,15 +91,49 @@ def test_a_far_end_out_of_view_does_not_ban_the_gap():
     assert _scans(_view(None, fov=0.3), k + 2) == [0] * (k - 1) + [1] * 3
 
 
-def test_rays_grazing_past_the_gap_onto_its_face_are_no_evidence():
+def _pocket_scans(walls: np.ndarray, connected: np.ndarray, seen: np.ndarray, robot: tuple[float, float],
+                  n: int) -> tuple[list[int], list[str]]:
+    """Doors found after each of `n` scans seen along the gap's line from above (every ray
+    through the gap ends on the floor a few cm to dm past the line), and the last scan's
+    possible door kinds."""
+    evidence, found = None, []
+    view = _view(-1.0, robot=robot, floor=True)
+    for _ in range(n):
+        out = identify(walls, connected, seen, robot, PARAMS, view, evidence)
+        evidence = out.evidence
+        found.append(len(out.doors))
+    return found, out.possible_door_kind
+
+
+def test_rays_grazing_into_a_pocket_are_no_evidence():
     """Seen along the gap's line from above, every ray through the gap ends on the floor (the
-    face) a few cm to dm past the line: no free space shown behind it (a pocket between a
-    table's front and a wall looks the same), so it never becomes a door however long the far
-    end stays hidden; it stays a possible door."""
+    face) a few cm to dm past the line: no free space shown behind it. Where the floor ends
+    0.8 m past the line in a corner with the pocket's back (a table's front by a wall) it
+    never becomes a door however long the far end stays hidden; it stays a possible door."""
     robot = (5.2, 3.0)
-    assert _scans(_view(-1.0, robot=robot, floor=True), 10, robot) == [0] * 10
-    out = identify(WALLS, FREE, SEEN, robot, PARAMS, _view(-1.0, robot=robot, floor=True))
-    assert "end_face" in out.possible_door_kind
+    back = [4.0, 0.2, 4.0, 1.4]
+    walls = np.array([SIDE, [4.0, 0.2, 6.0, 0.2], back])
+    connected = np.array([[-1, -1], [2, -1], [1, -1]], dtype=np.int64)
+    seen = np.array([[False, True], [False, False], [False, False]])
+    found, kinds = _pocket_scans(walls, connected, seen, robot, 10)
+    assert found == [0] * 10
+    assert "end_face" in kinds
+
+
+def test_rays_grazing_onto_a_face_running_on_out_of_view_count():
+    """The same view, the floor seen running on 2 m past the gap's line into the view's edge
+    (no corner: nothing closes the space behind the gap; restaurant_2024's T-opening below its
+    block seen from the right): once `end_face_evidence_scans` scans saw rays pass the gap, a
+    door — with `end_face_run_on` 0 it never is."""
+    robot = (5.2, 3.0)
+    k = PARAMS.end_face_evidence_scans
+    assert _pocket_scans(WALLS, FREE, SEEN, robot, k + 2)[0] == [0] * (k - 1) + [1] * 3
+    off = replace(PARAMS, end_face_run_on=0.0)
+    evidence = None
+    for _ in range(k + 2):
+        out = identify(WALLS, FREE, SEEN, robot, off, _view(-1.0, robot=robot, floor=True), evidence)
+        evidence = out.evidence
+        assert len(out.doors) == 0
 
 
 def test_a_gap_waiting_for_evidence_is_a_possible_door():
@@ -148,3 +195,27 @@ def test_a_thick_walls_capped_end_seen_short_counts_as_well():
     assert capped == [0] * (k - 1) + [1] * 2
     bare = doors_after([side, FLOOR], [[-1, -1], [-1, -1]], [[False, True], [False, False]], k + 1)
     assert bare == [0] * (k + 1) and "end_face" in possible
+
+
+
+def _doors_seen_from(pose: tuple[float, float, float], params: IdentifyParams) -> np.ndarray:
+    """restaurant_2024 simulated with its box: the robot at `pose` turns 0.4 rad/s for 20
+    scans; its own doors at the last, in the map frame (placed by the true pose)."""
+    cfg = Config()
+    sim = Simulator(load_map(MAPS / "restaurant_2024.json"), cfg.sim, load_sim_config(MAPS / "restaurant_2024_sim.json"),
+                    seed=1, initial_pose=pose)
+    perceptor = Perceptor(replace(cfg.perception, identify=params))
+    for sf in itertools.islice(Session(sim, perceptor=perceptor, behaviour=Drive(0.0, 0.0, 0.4)).frames(), 20):
+        wm = sf.world_model
+    return transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4), zero_to_map(wm, as_pose(sim.truth.pose)))
+
+
+def test_restaurants_t_opening_below_its_block_seen_from_the_right():
+    """From (5.5, 2.3) the block's right face (x = 4.8) is seen 1 m, its far end out of view,
+    and the rays through the 1 m gap below it land on the floor wall 0.2-0.5 m past the gap's
+    line, the floor seen running on 0.6 m past it behind the block: the T-opening is found
+    (it never was before `end_face_run_on`)."""
+    truth = np.array([[4.7, 1.2, 4.7, 0.2]])
+    pose = (5.5, 2.3, -1.2)
+    assert doors_match(_doors_seen_from(pose, PARAMS), truth, Tolerances()).any()
+    assert not doors_match(_doors_seen_from(pose, replace(PARAMS, end_face_run_on=0.0)), truth, Tolerances()).any()

@@ -314,6 +314,25 @@ def _hidden(gap: np.ndarray, has_view: bool, ranges: np.ndarray, valid: np.ndarr
 
 
 @njit
+def _runs_on(gap: np.ndarray, face: np.ndarray, far_props: np.ndarray, rx: float, ry: float, run_on: float,
+             floating: int) -> bool:
+    """Is the face (x0, y0, x1, y1) a T-opening's gap (P -> M) meets seen running on at least
+    `run_on` past the gap's line, away from the robot R, its end there floating (out of view,
+    no corner: not a pocket's side ending at its back)? With n the gap's normal away from R,
+    an end E of the face counts when n . (E - P) >= run_on."""
+    ux, uy = gap[2] - gap[0], gap[3] - gap[1]
+    nx, ny = -uy, ux
+    if nx * (rx - gap[0]) + ny * (ry - gap[1]) > 0:
+        nx, ny = -nx, -ny
+    den = max(math.hypot(nx, ny), 1e-12)
+    for e in range(2):
+        s = (nx * (face[2 * e] - gap[0]) + ny * (face[2 * e + 1] - gap[1])) / den
+        if s >= run_on and far_props[e] == floating:
+            return True
+    return False
+
+
+@njit
 def _same_place(a: np.ndarray, b: np.ndarray, min_width: float, angle: float) -> bool:
     """Two gaps about parallel whose middles lie within min_width / 2: one opening."""
     max_, may = (a[0] + a[2]) / 2, (a[1] + a[3]) / 2
@@ -331,7 +350,7 @@ def _example_openings() -> tuple:
     one = np.array([True])
     return (pts, out_dir, far, wi, we, one, one, one, walls, connected, prop, objects, lengths, np.zeros((0, 4)),
             np.zeros((0, 5)), 0.0, 0.0, has_view, ranges, valid, vx, vy, va, a0, inc, 0.6, 1.2, 1.5, 0.12, 1.5, 1.0, 0.3, 0.5,
-            0.1, 0.2, 0.3, 0.5, 1, 3, 16, 0, 2, 3)
+            0.1, 0.2, 0.3, 0.5, 1, 3, 16, 0.5, 0, 2, 3)
 
 
 @kernel(_example_openings)
@@ -341,8 +360,8 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
                rx: float, ry: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
                inc: float, min_width: float, max_width: float, wide_width: float, cap_max: float, building_min: float,
                object_max: float, angle: float, reach: float, occlusion: float, continuation: float, depth: float,
-               backed_share: float, min_free_rays: int, evidence_scans: int, evidence_max: int, floating: int,
-               convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+               backed_share: float, min_free_rays: int, evidence_scans: int, evidence_max: int, run_on: float,
+               floating: int, convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The T-openings from the jamb candidates (identify._doors says which ends count and why):
     (doors (N, 4) new ones, not the same place as one of `doors` nor one found before; possible
     (P, 4): weak ends still counting scans, then glimpses; evidence: the records after this
@@ -390,7 +409,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         bad[m] = bad[m] or _along_a_wall(g[m], walls, oa[m], ob[m], occlusion)
     # seen edge-on a T-opening's rays end by its face and say nothing; its jamb and face were
     # tested already, so no free ray is asked for
-    backed_g, _, deep_g, _ = backed(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
+    backed_g, free_g, deep_g, _ = backed(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
                                     np.ones(n, dtype=np.bool_), np.zeros(walls.shape[0], dtype=np.bool_), occlusion,
                                     depth, cap_max, backed_share)
     bad |= backed_g
@@ -407,7 +426,14 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
             bad[m], wk[m], gl_[m] = True, False, False
     weak_rows = np.flatnonzero(wk)
     if weak_rows.shape[0] > 0:
+        # a scan supports the opening when a ray through the gap reached free space, or when
+        # rays passed it and its face is seen running on `run_on` past its line into the view's
+        # edge: seen steeply, the rays through a T-opening land on its own face a few dm on,
+        # and a pocket's side ends at the pocket's back in a corner
         sure = ~bad & (deep_g >= max(min_free_rays, 1))
+        for m in range(n):
+            if not sure[m] and not bad[m] and run_on > 0 and free_g[m] >= max(min_free_rays, 1):
+                sure[m] = _runs_on(g[m], walls[ob[m]], prop[ob[m]], rx, ry, run_on, floating)
         against = bad[weak_rows] | (beyond[weak_rows] > 0)
         support = sure[weak_rows] & (beyond[weak_rows] <= 0) & ~against
         evidence, count = tally(evidence, g[weak_rows], support, against, min_width, angle, evidence_max)

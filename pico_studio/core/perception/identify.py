@@ -254,7 +254,7 @@ def _doors(
             float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
             float(params.end_face_continuation), float(params.end_face_depth), float(params.door_backed_share),
             int(params.door_min_free_rays), int(params.end_face_evidence_scans), int(params.end_face_evidence_max),
-            FLOATING, CONVEX, CONCAVE)
+            float(params.end_face_run_on), FLOATING, CONVEX, CONCAVE)
         possible.extend(maybe_t)
         kinds.extend(["end_face"] * len(maybe_t))
         doors.extend(found.tolist())
