@@ -75,9 +75,12 @@ Evidence over scans (`Identified.evidence`, handed back in by the perceptor): a 
 from a door frame's length seen shorter than `end_face_min_length` (or a whole end cap's side
 seen shorter than a door frame's), its far end floating,
 facing a building wall's face, is from one scan a partition hidden in part or a table's side
-seen in part. A scan supports it when a ray through the gap reaches free space, `door_depth`
+seen in part. A scan supports it when a ray through the gap reaches free space, `end_face_depth`
 past its line or never ending (rays grazing past onto the face a few cm on show a pocket by a
-wall as well as an opening), and the beam in line with the wall, `end_face_continuation` past
+wall as well as an opening) — or, seen steeply, when rays pass the gap and its face is seen
+running on `end_face_run_on` past the line into the view's edge, no corner there (a pocket's
+side ends at its back; from a viewpoint that hides the back a pocket beside a table passes
+too: the trade `end_face_run_on` sets) —, and the beam in line with the wall, `end_face_continuation` past
 its far end, does not look past that point (something in front hides the wall, the field of
 view cuts it, or it is the wall itself: it may run on); it becomes a door after
 `end_face_evidence_scans` such scans, and until then is a possible door of kind "end_face"
