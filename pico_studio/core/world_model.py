@@ -48,6 +48,8 @@ class WorldModel:
     # (S, 3) per current_map wall, its line (normal angle alpha, distance rho) in the robot frame:
     # var(alpha) rad^2, var(rho) m^2, cov(alpha, rho) (segment_refit: Pfister et al. 2003)
     current_map_covariance: np.ndarray = field(default_factory=lambda: _empty(3))
+    # (S,) per current_map wall, the rms distance (m) of its scan points from its fitted line
+    current_map_rms: np.ndarray = field(default_factory=lambda: np.zeros(0))
     spike_corners: np.ndarray = field(default_factory=lambda: _empty(2))  # (K, 2) robot frame
     vector_corners: np.ndarray = field(default_factory=lambda: _empty(2))  # (V, 2) robot frame
     vector_corner_inner: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (V,)

@@ -79,6 +79,8 @@ class ReplayFigures:
         "doors": lambda wm: len(wm.doors),
         "possible_doors": lambda wm: len(wm.possible_doors),
         "valid_beams": lambda wm: int(np.sum(wm.beam_valid)),
+        # how well the walls fit their points: the frame's median wall rms, in mm (none without walls)
+        "current_map_rms_mm": lambda wm: 1000 * float(np.median(wm.current_map_rms)) if len(wm.current_map_rms) else None,
     }
 
     def __init__(self) -> None:
@@ -106,9 +108,11 @@ class ReplayFigures:
         self.models += 1
         for name, count in self.COUNTS.items():
             try:
-                self.values[name].append(float(count(wm)))
+                value = count(wm)
             except AttributeError:
-                pass
+                continue
+            if value is not None:
+                self.values[name].append(float(value))
         timings = getattr(wm, "timings_ms", {}) or {}
         self.step_ms.append(float(sum(timings.values())))
         self.warnings += len(getattr(wm, "warnings", []) or [])

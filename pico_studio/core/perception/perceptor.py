@@ -154,7 +154,7 @@ def _perceive(
     wm = WorldModel(  # every field given: no default made only to be replaced
         time=stamp, pose=loc.pose, zero_pose=loc.zero_pose, points=scan.all_points, beam_valid=scan.valid,
         proximity=prox, too_close=bool(prox.any()), current_map=segs.segments,
-        current_map_covariance=segs.covariance, spike_corners=spikes, vector_corners=vec,
+        current_map_covariance=segs.covariance, current_map_rms=segs.rms, spike_corners=spikes, vector_corners=vec,
         vector_corner_inner=inner, local_map=LocalMap(local.walls[idx], ident.endpoint_property),
         corners=ident.corners, corner_convex=ident.corner_convex, doors=ident.doors, door_kind=ident.door_kind,
         object_walls=ident.object_wall, objects=objs.static_boxes, dynamic_obstacles=objs.dynamic_boxes,
