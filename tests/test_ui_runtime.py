@@ -23,6 +23,7 @@ from pico_studio.ui.inspect import features_near, measure_text, nearest_feature,
 from pico_studio.ui.runtime import Studio
 from pico_studio.ui.scene_data import LAYERS, PRIM_SPECS, frame_prims, map_prims
 from pico_studio.ui.sources import DEFAULT_MAP, example_maps, make_source_factory
+from pico_studio.ui.status import metrics_text
 
 
 def _studio(cfg: Config | None = None, seed: int = 2) -> Studio:
@@ -307,8 +308,11 @@ def test_doors_scan_corners_entrance_and_room_watch_are_drawn_from_the_world_mod
     label = prims["room_label"]
     assert "side 1.50 m" in label.text and "jump +0.90 m" in label.text and "objects 1" in label.text and "ROOM" in label.text
     assert math.dist(label.data[0], robot[:2]) < 1.0
+    wm.current_map_rms = np.array([0.004, 0.006, 0.005])
     m = s.metrics()
     assert m["room"]["objects"] == 1 and m["hallway"] and m["entrance"] == (0.0, 2.0)
+    assert m["fit_rms_mm"] == pytest.approx(5.0)
+    assert "walls fitted to 5.0 mm" in metrics_text(m)
     assert m["laser_motion"] == (0.1, 0.0, 0.01) and m["laser_motion_matches"] == 5
     # without a combined map the doors are the perceptor's, zero frame placed on the map
     wm.combined = None

@@ -23,6 +23,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from pico_studio.config import Config, get_value, with_value
 from pico_studio.core.behaviours.registry import BEHAVIOURS as REGISTRY
 from pico_studio.core.behaviours.registry import make_behaviour
@@ -405,6 +407,9 @@ class Studio:
             out["stages"] = dict(getattr(wm, "timings_ms", {}) or {})
             out["warnings"] = list(getattr(wm, "warnings", []) or []) + (frame.errors if frame else [])
             out["counts"] = _counts(wm)
+            rms = np.asarray(getattr(wm, "current_map_rms", ()), dtype=float)
+            # how well the walls fit their points (median rms of the current map's walls, mm)
+            out["fit_rms_mm"] = 1000 * float(np.median(rms)) if len(rms) else None
             out["scores"] = self._scores(frame)
             out["localisation"] = self._localisation_figures(frame)
             lm = getattr(wm, "laser_motion", None)

@@ -61,7 +61,10 @@ def metrics_text(m: dict[str, Any]) -> str:
     if m["stages"]:
         lines.append("Stages: " + " · ".join(f"{k} {v:.2f} ms" for k, v in m["stages"].items()))
     if m["counts"]:
-        lines.append("Counts: " + " · ".join(f"{k.replace('_', ' ')} {v}" for k, v in m["counts"].items()))
+        counts = " · ".join(f"{k.replace('_', ' ')} {v}" for k, v in m["counts"].items())
+        if m.get("fit_rms_mm") is not None:
+            counts += f" · walls fitted to {m['fit_rms_mm']:.1f} mm"
+        lines.append("Counts: " + counts)
     percept = []
     lm = m.get("laser_motion")
     if lm is not None:
