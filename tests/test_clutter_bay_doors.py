@@ -337,8 +337,8 @@ def test_a_hallway_seen_at_a_slant_is_a_door_by_its_side_running_on():
     assert rays[0] == 0 and not back[0]  # no ray reached door_depth: they all end on the side
     prop = junctions(walls, CONNECTED, UNSEEN, *SLANT, FLOATING, CONVEX, CONCAVE)[0]
     args = (gap, walls, CONNECTED, prop, np.array([3]), np.array([2]), *SLANT, PARAMS.door_angle)
-    assert deep_sides(*args, PARAMS.door_depth, CONVEX)[0]
-    assert not deep_sides(*args, 1.4, CONVEX)[0]  # deeper than the side runs: no passage
+    assert deep_sides(*args, PARAMS.door_depth, PARAMS.door_run_on, CONVEX, FLOATING)[0]
+    assert not deep_sides(*args, 1.4, 0.0, CONVEX, FLOATING)[0]  # deeper than the side runs: no passage
     # the side's far end seen as a corner (a bed's foot turning at its corner): no passage
     seen_end = UNSEEN.copy()
     seen_end[2, 1] = True
@@ -354,3 +354,46 @@ def test_a_pocket_whose_back_the_rays_see_is_no_passage_though_a_side_runs_on():
     rays, seen_back = identify_module._deep_rays(np.array([MOUTH]), np.array([3]), np.array([2]), SLANT_WALLS,
                                                  np.zeros(len(SLANT_WALLS), dtype=bool), ROBOT, _view_arrays(view), PARAMS)
     assert rays[0] == 0 and seen_back[0]
+
+
+# A side room 1 m deep seen steeply (rooms:9, escape:0): from SLANT the rays through its mouth all
+# land on its upper side, which shows 0.62 m before the lower jamb hides the rest; its back is
+# never seen. A pocket 0.62 m deep shows the same side, ending at its back in a concave corner.
+STEEP_ROOM = [TOP, ABOVE, [0.0, 3.04, -1.0, 3.04], [-1.0, 3.04, -1.0, 2.11], [0.0, 2.11, -1.0, 2.11], BELOW]
+SEEN_SIDE = [0.0, 3.04, -0.62, 3.04]  # as far as the lower jamb (0, 2.11) lets the robot see
+
+
+def test_a_side_room_seen_steeply_is_a_door_by_its_side_running_on_into_the_views_edge():
+    walls = np.array([TOP, ABOVE, SEEN_SIDE, BELOW])
+    view = _view(STEEP_ROOM, SLANT, 2.0)
+    rays, back = identify_module._deep_rays(np.array([MOUTH]), np.array([3]), np.array([2]), walls,
+                                            np.zeros(len(walls), dtype=bool), SLANT, _view_arrays(view), PARAMS)
+    assert rays[0] == 0 and not back[0]  # no ray reaches door_depth, none ends on a back
+    on = identify(walls, CONNECTED, UNSEEN, SLANT, PARAMS, view)
+    assert on.door_kind == ["bay"] and _is(on.doors, MOUTH)
+    # shorter than door_depth: with door_run_on off the side must run door_depth deep
+    off = identify(walls, CONNECTED, UNSEEN, SLANT, replace(PARAMS, door_run_on=0.0), view)
+    assert len(off.doors) == 0 and _is(off.possible_doors[[k == "bay" for k in off.possible_door_kind]], MOUTH)
+    # seen shorter than door_run_on: no passage either
+    short = np.array([TOP, ABOVE, [0.0, 3.04, -0.4, 3.04], BELOW])
+    assert len(identify(short, CONNECTED, UNSEEN, SLANT, PARAMS, _view(STEEP_ROOM[:2] + [[0.0, 3.04, -0.4, 3.04],
+                                                                                     [-0.4, 3.04, -0.4, 2.11]] + STEEP_ROOM[4:], SLANT, 2.0)).doors) == 0
+
+
+def test_a_pockets_side_as_long_ends_at_its_back_in_a_corner_and_stays_a_possible_bay():
+    """restaurant_2024's pocket between two tables against its wall (0.6 m wide, 0.7 m deep): its
+    back in the local map, joined to the side in a concave corner. The same 0.62 m side as the
+    side room's is no passage."""
+    back = [-0.62, 3.04, -0.62, 2.11]
+    walls = np.array([TOP, ABOVE, SEEN_SIDE, BELOW, back])
+    connected = np.array([[-1, 1], [0, 2], [1, 4], [-1, -1], [2, -1]], dtype=np.int64)
+    seen = np.vstack([UNSEEN, [[False, False]]])
+    view = _view([TOP, ABOVE, SEEN_SIDE, back, [0.0, 2.11, -0.62, 2.11], BELOW], SLANT, 2.0)
+    prop = junctions(walls, connected, seen, *SLANT, FLOATING, CONVEX, CONCAVE)[0]
+    assert prop[2, 1] == CONCAVE
+    out = identify(walls, connected, seen, SLANT, PARAMS, view)
+    assert len(out.doors) == 0 and _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTH)
+    # the side's far end floating instead (the back unseen): the side room's case, a door
+    free = np.array([[-1, 1], [0, 2], [1, -1], [-1, -1], [-1, -1]], dtype=np.int64)
+    far = np.array([TOP, ABOVE, SEEN_SIDE, BELOW, [-3.0, 6.0, -3.0, 5.5]])  # the back swapped for a far wall
+    assert _is(identify(far, free, seen, SLANT, PARAMS, view).doors, MOUTH)

@@ -26,7 +26,7 @@ def test_restaurant_with_its_moving_box(maps_dir):
 def test_a_generated_cafe(tmp_path):
     """At most one false door in 12 poses: a table's top face, seen 1.1 m with its far end out of
     view, in line with a gap to a partition's face that runs on out of view past the line is a
-    partition's T-opening seen steeply to `end_face_run_on` (none before it; over 27 cafes own
+    partition's T-opening seen steeply to `door_run_on` (none before it; over 27 cafes own
     precision 0.993 -> 0.970 for recall 0.873 -> 0.910); the map rejects it."""
     doc, sim = cafe_world(1)
     (tmp_path / "cafe.json").write_text(json.dumps(doc))

@@ -124,11 +124,11 @@ def test_rays_grazing_onto_a_face_running_on_out_of_view_count():
     """The same view, the floor seen running on 2 m past the gap's line into the view's edge
     (no corner: nothing closes the space behind the gap; restaurant_2024's T-opening below its
     block seen from the right): once `end_face_evidence_scans` scans saw rays pass the gap, a
-    door — with `end_face_run_on` 0 it never is."""
+    door — with `door_run_on` 0 it never is."""
     robot = (5.2, 3.0)
     k = PARAMS.end_face_evidence_scans
     assert _pocket_scans(WALLS, FREE, SEEN, robot, k + 2)[0] == [0] * (k - 1) + [1] * 3
-    off = replace(PARAMS, end_face_run_on=0.0)
+    off = replace(PARAMS, door_run_on=0.0)
     evidence = None
     for _ in range(k + 2):
         out = identify(WALLS, FREE, SEEN, robot, off, _view(-1.0, robot=robot, floor=True), evidence)
@@ -214,8 +214,8 @@ def test_restaurants_t_opening_below_its_block_seen_from_the_right():
     """From (5.5, 2.3) the block's right face (x = 4.8) is seen 1 m, its far end out of view,
     and the rays through the 1 m gap below it land on the floor wall 0.2-0.5 m past the gap's
     line, the floor seen running on 0.6 m past it behind the block: the T-opening is found
-    (it never was before `end_face_run_on`)."""
+    (it never was before `door_run_on`)."""
     truth = np.array([[4.7, 1.2, 4.7, 0.2]])
     pose = (5.5, 2.3, -1.2)
     assert doors_match(_doors_seen_from(pose, PARAMS), truth, Tolerances()).any()
-    assert not doors_match(_doors_seen_from(pose, replace(PARAMS, end_face_run_on=0.0)), truth, Tolerances()).any()
+    assert not doors_match(_doors_seen_from(pose, replace(PARAMS, door_run_on=0.0)), truth, Tolerances()).any()

@@ -360,11 +360,12 @@ class IdentifyParams:
         help="...a scan looks past that wall's far end when its beam reaches beyond the point this far on "
         "along the wall's line: the wall ends there (a table's side)",
     )
-    end_face_run_on: float = param(
+    door_run_on: float = param(
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
-        help="...a scan supports it too when rays passed the gap and the face it meets is seen running on at "
-        "least this far past the gap's line into the view's edge (seen steeply, the rays land on that face; a "
-        "pocket's side ends at its back in a corner; 0: off)",
+        help="A gap seen steeply, its rays landing on a side behind it: a passage when that side is seen "
+        "running on at least this far past the gap's line into the view's edge, its end floating (a pocket's "
+        "side ends at its back in a corner). It supports a short wall's T-opening and makes a bay a door "
+        "(else a bay's side must run door_depth deep; 0: off)",
     )
     end_face_evidence_max: int = param(
         32, lo=1, hi=1000, step=1, help="...remembering at most this many such gaps",

@@ -56,8 +56,9 @@ shape: only the global map can tell them apart, and once localised the combined 
 bay a door where its walls have an opening there. A bay seen through to free space
 (`bay_deep_rays` rays reaching `door_depth` past its line; or, its back unseen, most rays
 ending behind it on a side, a side of it running on `door_depth` past its line, its far end
-no seen corner: a hallway seen at a slant; a ray ending on a small object says nothing, a box
-standing in a side room being no pocket's back) is a door of kind "bay" when it opens
+no seen corner: a hallway seen at a slant — or `door_run_on`, its far end floating into the
+view's edge: a side room seen steeply, a pocket's side ending at its back in a corner; a ray
+ending on a small object says nothing, a box standing in a side room being no pocket's back) is a door of kind "bay" when it opens
 a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
 sides spans no more than its diagonal; a piece of wall between two doors whose sides are unseen
 counts as the building's when its line runs on past both its ends in other walls a door's width
@@ -78,9 +79,9 @@ facing a building wall's face, is from one scan a partition hidden in part or a 
 seen in part. A scan supports it when a ray through the gap reaches free space, `end_face_depth`
 past its line or never ending (rays grazing past onto the face a few cm on show a pocket by a
 wall as well as an opening) — or, seen steeply, when rays pass the gap and its face is seen
-running on `end_face_run_on` past the line into the view's edge, no corner there (a pocket's
+running on `door_run_on` past the line into the view's edge, no corner there (a pocket's
 side ends at its back; from a viewpoint that hides the back a pocket beside a table passes
-too: the trade `end_face_run_on` sets) —, and the beam in line with the wall, `end_face_continuation` past
+too: the trade `door_run_on` sets) —, and the beam in line with the wall, `end_face_continuation` past
 its far end, does not look past that point (something in front hides the wall, the field of
 view cuts it, or it is the wall itself: it may run on); it becomes a door after
 `end_face_evidence_scans` such scans, and until then is a possible door of kind "end_face"
@@ -257,7 +258,7 @@ def _doors(
             float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
             float(params.end_face_continuation), float(params.end_face_depth), float(params.door_backed_share),
             int(params.door_min_free_rays), int(params.end_face_evidence_scans), int(params.end_face_evidence_max),
-            float(params.end_face_run_on), FLOATING, CONVEX, CONCAVE)
+            float(params.door_run_on), FLOATING, CONVEX, CONCAVE)
         possible.extend(maybe_t)
         kinds.extend(["end_face"] * len(maybe_t))
         doors.extend(found.tolist())
@@ -267,7 +268,8 @@ def _doors(
     if params.bay_doors:
         # a bay seen through to free space (`bay_deep_rays` of its rays reaching `door_depth`
         # past its line; or, seen at a slant, its rays all ending on a side and none on a back,
-        # a side running on that deep: map_proven_kernels.deep_sides) is a door where it opens
+        # a side running on that deep, or door_run_on into the view's edge:
+        # map_proven_kernels.deep_sides) is a door where it opens
         # a building's walls: a hallway's mouth, a side room's. The rest stay possible doors;
         # once localised the map proves them
         gaps, own_a, own_b = bays(walls, prop, connected, objects, np.array(doors), robot, params)
@@ -290,7 +292,7 @@ def _doors(
             rays, back = _deep_rays(gaps, own_a, own_b, walls, objects, robot, scan, params)
             side_on = deep_sides(gaps, w, c, np.ascontiguousarray(prop, dtype=np.int64), own_a, own_b,
                                  float(robot[0]), float(robot[1]), float(params.door_angle),
-                                 float(params.door_depth), CONVEX)
+                                 float(params.door_depth), float(params.door_run_on), CONVEX, FLOATING)
             through = ((rays >= params.bay_deep_rays) | (~back & side_on)) \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
                 & wall_shaped(gaps, w, c, lengths, own_a, own_b, float(params.door_angle),

@@ -207,12 +207,13 @@ def _example_sides() -> tuple:
     gaps = np.array([[0.0, 0.0, 0.0, 0.9]])
     prop = np.array([[0, 2], [2, 0], [2, 0]], dtype=np.int64)
     return gaps, walls, connected, prop, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), -1.5, 0.3, 0.3, \
-        0.8, 2
+        0.8, 0.5, 2, 0
 
 
 @kernel(_example_sides)
 def deep_sides(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, own_a: np.ndarray,
-               own_b: np.ndarray, rx: float, ry: float, angle: float, depth: float, convex: int) -> np.ndarray:
+               own_b: np.ndarray, rx: float, ry: float, angle: float, depth: float, run_on: float, convex: int,
+               floating: int) -> np.ndarray:
     """(K,) bool: a side of the bay runs on `depth` past its line, away from the robot: a
     passage, not a pocket. At each jamb J the walls there (its own and the one joined at that
     end, `wall_shaped`'s) that run across the gap (|d . u| < sin(angle), d from J to the wall's
@@ -221,7 +222,13 @@ def deep_sides(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop:
     on out of view, or into the room's back wall). A table pocket's sides end at the wall behind
     it, within `depth` (else its rays reach that deep too); a bed's foot, as wide as a hallway
     is long, turns at a seen corner; a hallway seen at a slant, its rays all ending on its far
-    side short of `depth`, has that side running on."""
+    side short of `depth`, has that side running on.
+
+    Seen steeply a side room's or a hallway's side shows less than `depth` before the near
+    jamb hides it: a side whose F is `floating` (it runs on into the view's edge) needs only
+    `run_on` (0 < run_on < depth; 0: off). A pocket's side, as short, ends at its back in a
+    corner, concave or joined (restaurant_2024's pocket between two tables against the wall,
+    0.7 m deep, seen from in front)."""
     k = gaps.shape[0]
     out = np.zeros(k, dtype=np.bool_)
     sin_a = math.sin(angle)
@@ -233,10 +240,15 @@ def deep_sides(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop:
         for j in range(2):
             for which in range(2):
                 w, f, dx, dy, dn = _jamb_wall(gaps, q, j, own_a[q] if j == 0 else own_b[q], walls, connected, which)
-                if w < 0 or dn < depth or abs(dx * ux + dy * uy) / dn >= sin_a or prop[w, f] == convex:
+                if w < 0 or prop[w, f] == convex:
+                    continue
+                # as deep as `depth`, any end but a seen corner; down to `run_on`, only an end
+                # floating into the view's edge (a pocket's side ends at its back in a corner)
+                reach = run_on if prop[w, f] == floating and 0.0 < run_on < depth else depth
+                if dn < reach or abs(dx * ux + dy * uy) / dn >= sin_a:
                     continue
                 across = ux * dy - uy * dx
-                if across * robot_side < 0 and abs(across) >= depth:
+                if across * robot_side < 0 and abs(across) >= reach:
                     out[q] = True
     return out
 
