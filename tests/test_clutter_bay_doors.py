@@ -9,13 +9,17 @@ span no more than the table; joined to a wall, a wall lies in the gap's line on 
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
 import pico_studio.core.perception.identify as identify_module
-from pico_studio.config import load_config
+from pico_studio.config import Config, load_config
+from pico_studio.core.behaviours.registry import Drive
+from pico_studio.core.geometry import transform_segments
+from pico_studio.core.perception import Perceptor
 from pico_studio.core.perception.identify import View, _view_arrays, identify
 from pico_studio.core.perception.identify_kernels import (
     backed,
@@ -25,6 +29,10 @@ from pico_studio.core.perception.identify_kernels import (
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven_kernels import deep_sides, wall_shaped
 from pico_studio.core.world_model import CONCAVE, CONVEX, FLOATING
+from pico_studio.evaluation.frame_score import Tolerances, as_pose, doors_match, zero_to_map
+from pico_studio.evaluation.worlds import make_world
+from pico_studio.session import Session
+from pico_studio.sim import Simulator
 from tests.clutter_scenes import laser_view
 
 PARAMS = load_config(None).perception.identify
@@ -397,3 +405,19 @@ def test_a_pockets_side_as_long_ends_at_its_back_in_a_corner_and_stays_a_possibl
     free = np.array([[-1, 1], [0, 2], [1, -1], [-1, -1], [-1, -1]], dtype=np.int64)
     far = np.array([TOP, ABOVE, SEEN_SIDE, BELOW, [-3.0, 6.0, -3.0, 5.5]])  # the back swapped for a far wall
     assert _is(identify(far, free, seen, SLANT, PARAMS, view).doors, MOUTH)
+
+
+def test_an_exit_seen_through_into_the_open_is_a_door_whatever_the_no_return_noise():
+    """escape:4's exit (a hallway 1.1 m long from the room's wall x = 5.83, y 1.41..2.4) seen
+    from (3.4, 3.42): the rays through its mouth run out of the hallway's open far end and hit
+    nothing. The simulator reads those beams, as the official one does, as 0 plus the noise:
+    below range_min, nothing there. Read as "something nearer" (half of them, by the noise's
+    sign) they said nothing and the exit stayed a possible bay."""
+    cfg = Config()
+    world = make_world("escape:4")
+    assert cfg.sim.laser.no_return == "zero"
+    sim = Simulator(world.map, cfg.sim, world.sim_config, seed=12, initial_pose=(3.397, 3.423, -0.441))
+    for sf in itertools.islice(Session(sim, perceptor=Perceptor(cfg.perception), behaviour=Drive(0.0, 0.0, 0.4)).frames(), 20):
+        wm = sf.world_model
+    doors = transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4), zero_to_map(wm, as_pose(sim.truth.pose)))
+    assert doors_match(doors, np.array([[5.83, 1.41, 5.83, 2.4]]), Tolerances()).any()

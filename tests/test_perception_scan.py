@@ -258,3 +258,23 @@ def test_cheap_step_lengths_decide_as_hypot_does():
     for a, b in zip((scan.valid, scan.valid_xy, scan.points, scan.beam, scan.clusters, scan.end_seen), exact[:6],
                     strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_a_beam_that_hit_nothing_reads_below_range_min_and_the_end_beside_it_is_seen():
+    """The official simulator's no-return: its range buffer starts at 0 and the noise lifts it to
+    [0, noise], below range_min. Such a beam is nothing there, not something nearer: the wall's
+    end beside it is seen, whichever the noise's sign (before, a positive reading hid the end on
+    half the beams). The laser's own array is left alone."""
+    angles = np.linspace(-0.3, 0.3, 61)
+    wall = 2.0 / np.cos(angles[:40])  # a wall 2 m ahead, ending at beam 39
+    for lifted in (0.0, 0.004, 0.0099):
+        ranges = np.concatenate([wall, np.full(21, lifted)])
+        laser = LaserData(0.01, 10.0, -0.3, 0.3, 0.01, 0.0, ranges.copy())
+        scan, _ = process_scan(laser, P.scan, P.proximity)
+        segs = segment_scan(scan, P)
+        assert segs.end_kind[-1, 1] == END_SEEN, lifted
+        np.testing.assert_array_equal(laser.ranges, ranges)
+    # a reading at or past range_min that the perceptor's own filter drops is something nearer
+    near = np.concatenate([wall, np.full(21, 0.04)])
+    scan, _ = process_scan(LaserData(0.01, 10.0, -0.3, 0.3, 0.01, 0.0, near), with_value(CFG, "perception.scan.min_range", 0.05).perception.scan, P.proximity)
+    assert segment_scan(scan, P).end_kind[-1, 1] == END_FLOATING

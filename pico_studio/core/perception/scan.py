@@ -107,6 +107,7 @@ def process_scan(
     ranges = np.ascontiguousarray(laser.ranges, dtype=np.float64).reshape(-1)
     if not ranges.flags.writeable:  # one array type for the compiled pass (no second compile)
         ranges = ranges.copy()
+    ranges = _no_return_as_zero(ranges, _finite_or(laser.range_min, 0.0))
     angles, cos, sin, warnings = _layout(laser)
     n = len(ranges)
     if len(angles) != n:  # unusable angles: no beam can be placed
@@ -135,3 +136,20 @@ def process_scan(
 def _finite_or(v: float, default: float) -> float:
     v = float(v)
     return v if math.isfinite(v) else default
+
+
+def _no_return_as_zero(ranges: np.ndarray, range_min: float) -> np.ndarray:
+    """`ranges` with every reading below the laser's own `range_min` set to 0: the no-return
+    code. The official simulator's range buffer starts at 0 and its noise lifts a beam that hit
+    nothing to [0, noise], below range_min; a real laser measures nothing that near. Read as
+    "something nearer" such a beam would hide what it looked past (an end seen, a gap seen
+    through into the open) on half the beams, by the noise's sign; the compiled passes read 0,
+    as inf, as nothing there. A copy when anything changes: the laser's array is the caller's."""
+    if not range_min > 0:
+        return ranges
+    below = ranges < range_min  # NaN compares False: dropped as before
+    if not below.any():
+        return ranges
+    out = ranges.copy()
+    out[below] = 0.0
+    return out
