@@ -81,6 +81,29 @@ def test_a_wide_gap_to_a_wall_across_the_line_is_none():
     assert len(_doors(walls, [[False, True], [True, False]])[0]) == 0
 
 
+
+def _junction_doorway(crossing: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """suite:10's doorway 1.4 m wide in a 0.25 m thick wall (y = 0 its face): on the left a
+    building wall's end; on the right the wall's short end, a 0.36 m face between its end cap at
+    the doorway and the wall crossing it at x = 1.06 (`crossing` m of that wall seen), which it
+    T-joins in a concave corner."""
+    walls = np.array([[-3.2, 0.0, -0.7, 0.0], [0.7, 0.0, 1.06, 0.0], [0.7, 0.0, 0.7, 0.25],
+                      [1.06, 0.0, 1.06, -crossing]])
+    connected = np.array([[-1, -1], [2, 3], [1, -1], [1, -1]], dtype=np.int64)
+    seen = np.array([[False, True], [False, False], [False, True], [False, False]])
+    return walls, connected, seen
+
+
+def test_a_wide_doorway_beside_a_junction_of_walls_is_a_door():
+    """The short end between the doorway and the junction is a building's wall: capped at the
+    door, T-joined at its far end to a wall end_face_min_length long. Joined to a shorter wall (a
+    cabinet's side, 0.6 m) it is not, and the 1.4 m gap is none."""
+    walls, connected, seen = _junction_doorway(2.6)
+    out = identify(walls, connected, seen, ROBOT, PARAMS, _view(walls.tolist()))
+    assert out.door_kind == ["jambs"] and np.allclose(sorted(out.doors[0][[0, 2]]), [-0.7, 0.7], atol=1e-6)
+    walls, connected, seen = _junction_doorway(0.6)
+    assert len(identify(walls, connected, seen, ROBOT, PARAMS, _view(walls.tolist())).doors) == 0
+
 def test_the_widths_are_ordered_when_validated():
     with pytest.raises(ConfigError, match="door_max_width"):
         loads_yaml(Config, "perception:\n  identify:\n    door_max_width: 1.6\n")

@@ -280,7 +280,8 @@ class IdentifyParams:
     wide_door_max_width: float = param(
         1.5, lo=0.1, hi=5.0, step=0.01, unit="m",
         help="...or this wide between two building walls in one line (end_face_min_length long, or a door "
-        "frame's length ending in a whole cap or in a concave corner), both jambs seen: a wide doorway; "
+        "frame's length ending in a whole cap or in a concave corner, or a stub between a whole cap and a "
+        "building wall it T-joins), both jambs seen: a wide doorway; "
         "beside a table's front none",
     )
     door_angle: float = param(

@@ -74,8 +74,12 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
         block[r] = prop[i, 0] == convex and prop[i, 1] == convex and lengths[i] > cap_max and lengths[i] < building_min
         # a building's wall (as for a T-opening): long, or a door frame's length ending in a whole
         # cap (a thick wall's end) or whose far end turns into another wall in a concave corner
-        building[r] = (lengths[i] >= building_min or (long[r] and (capped[r] or prop[i, 1 - e] == concave))) \
-            and not objects[i]
+        # ...or a stub between a whole cap and a building wall it T-joins in a concave corner (a
+        # wall's short end between a doorway and a junction of walls)
+        k = connected[i, 1 - e]
+        junction = stub[r] and capped[r] and prop[i, 1 - e] == concave and k >= 0 and lengths[k] >= building_min
+        building[r] = (lengths[i] >= building_min or (long[r] and (capped[r] or prop[i, 1 - e] == concave))
+                       or junction) and not objects[i]
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
         pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, min_width, max_width,
         wide_width, angle, offset, offset_short)

@@ -10,7 +10,8 @@ is convex.
 Doors: two convex points P, Q of different walls, the gap within [door_min_width,
 door_max_width] (up to `wide_door_max_width` between two building walls in one line, each
 at least `end_face_min_length` long, or a door frame's length ending in a whole cap or
-turning at its far end into a wall in a concave corner: a wide doorway; a table's front is
+turning at its far end into a wall in a concave corner, or a shorter stub between a whole cap
+and a building wall it T-joins (a wall's end between a doorway and a junction): a wide doorway; a table's front is
 shorter, its side no cap) and no wall
 across it; the gap continues P's wall (Q ahead of P's end, within
 `door_angle` of its direction and `door_offset` of its line), and Q's wall comes back along

@@ -128,8 +128,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     With pq = P_j - P_i, d = |pq|, u = pq / d: a pair counts when min_width <= d <= max_width
     and the points lie on different, unconnected walls; up to `wide_width` when both walls are
     a building's (`building`: end_face_min_length long, or a door frame's length ending in a
-    whole cap or turning at its far end into a wall in a concave corner, as for a T-opening;
-    no object) and, for a door, both
+    whole cap or turning at its far end into a wall in a concave corner, as for a T-opening, or
+    a shorter stub between a whole cap and a building wall it T-joins; no object) and, for a door, both
     convex with both walls' lines continuing through the gap (a wide doorway in one wall: the
     truth's openings reach that wide; beside a table's front, shorter, or a block's face
     across the line, no such gap is a door). off_ij = |pq x o_i| (P_j from wall
