@@ -27,6 +27,7 @@ import numpy as np
 from pico_studio.core.perception.identify_kernels import (
     SAME_OPENING_ANGLE,
     SAME_POINT,
+    _in_line_beyond,
     backed,
     blocked_many,
     distinct_openings,
@@ -80,9 +81,22 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
         junction = stub[r] and capped[r] and prop[i, 1 - e] == concave and k >= 0 and lengths[k] >= building_min
         building[r] = (lengths[i] >= building_min or (long[r] and (capped[r] or prop[i, 1 - e] == concave))
                        or junction) and not objects[i]
+    # a lone block face: shorter than a door frame's wall, joined to nothing, its line running on
+    # in no other wall past its far end (a box's or a person's face; a piece of wall between two
+    # doors runs on in the building's walls)
+    lone = np.zeros(c, dtype=np.bool_)
+    cos_a = math.cos(angle)
+    for r in range(c):
+        i, e = wi[r], we[r]
+        if block[r] and not long[r] and connected[i, 0] < 0 and connected[i, 1] < 0:
+            lone[r] = True
+            for k in range(walls.shape[0]):
+                if _in_line_beyond(walls, objects, i, 1 - e, k, cos_a, offset_short, max_width):
+                    lone[r] = False
+                    break
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
-        pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, min_width, max_width,
-        wide_width, angle, offset, offset_short)
+        pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, lone, min_width,
+        max_width, wide_width, angle, offset, offset_short)
     g = ia.shape[0]
     segs = np.empty((g, 4))
     own_a, own_b = np.empty(g, dtype=np.int64), np.empty(g, dtype=np.int64)

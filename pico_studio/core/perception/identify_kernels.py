@@ -110,14 +110,15 @@ def _example_pairs() -> tuple:
     connected = np.full((3, 2), -1, dtype=np.int64)
     block = np.zeros(3, dtype=np.bool_)
     building = np.array([True, True, False])
-    return (pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, 0.6, 1.2, 1.5,
-            0.3, 0.1, 0.05)
+    lone = np.zeros(3, dtype=np.bool_)
+    return (pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, lone, 0.6, 1.2,
+            1.5, 0.3, 0.1, 0.05)
 
 
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
                long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
-               block: np.ndarray, building: np.ndarray, min_width: float,
+               block: np.ndarray, building: np.ndarray, lone: np.ndarray, min_width: float,
                max_width: float, wide_width: float,
                angle: float, offset: float, offset_short: float,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -143,7 +144,11 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     (`block`: a table's front seen whole; a cap seen in part from the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
     person's side seen in part looks the same): a lone short wall across the line, a box's or
     a person's side, is no jamb; nor is anything standing across a block face's line (a table's
-    front pointing at a partition's end). A possible door: not both convex,
+    front pointing at a partition's end). Nor are two walls in one line a door when either is
+    `lone`: a block's face shorter than a door frame's wall, joined to nothing, whose line runs on
+    in no other wall past its far end
+    (a box standing in line with a partition's side; a piece of wall between two doors runs on
+    in the building's walls). A possible door: not both convex,
     the two walls collinear (|o_i . o_j| > cos, both offsets < offset) and facing (u_i > 0,
     u_j < 0)."""
     n = pts.shape[0]
@@ -171,8 +176,9 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             line_j = -uj > cos_a and ((off_ji < offset and long[j]) or (off_ji < offset_short and stub[j]))
             frame_i = long[i] or stub[i] or (cap_sized[i] and (cap_seen[i] or (long[j] and not block[j])))
             frame_j = long[j] or stub[j] or (cap_sized[j] and (cap_seen[j] or (long[i] and not block[i])))
-            door_ij = line_i and (-uj > cos_a or (abs(uj) < sin_a and frame_j and not block[i]))
-            door_ji = line_j and (ui > cos_a or (abs(ui) < sin_a and frame_i and not block[j]))
+            in_line = not lone[i] and not lone[j]
+            door_ij = line_i and ((-uj > cos_a and in_line) or (abs(uj) < sin_a and frame_j and not block[i]))
+            door_ji = line_j and ((ui > cos_a and in_line) or (abs(ui) < sin_a and frame_i and not block[j]))
             both_convex = is_convex[i] and is_convex[j]
             is_door = both_convex and (door_ij or door_ji)
             if wide:
@@ -390,9 +396,10 @@ def _example_in_line() -> tuple:
 def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: int, cos_a: float, offset: float,
                     max_gap: float) -> bool:
     """Wall j continues wall i's line past i's end e, across at most `max_gap`: parallel within
-    acos(cos_a), each one's ends within `offset` of the other's line, and j starting (along i,
-    from i's end e outwards) at most max_gap on and not reaching back past that end by more
-    than `offset`."""
+    acos(cos_a), the shorter one's end facing across the gap within `offset` of the longer one's
+    line (not the far ends, nor the short one's line: drawn on, it wanders by its angle's error
+    times the distance), and j starting (along i, from i's end e outwards) at most max_gap on and not
+    reaching back past that end by more than `offset`."""
     if j == i or objects[j]:
         return False
     ax, ay = walls[i, 0], walls[i, 1]
@@ -403,11 +410,19 @@ def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: i
     vx, vy = (walls[j, 2] - cx) / lj, (walls[j, 3] - cy) / lj
     if abs(ux * vx + uy * vy) <= cos_a:
         return False
-    if abs((cx - ax) * uy - (cy - ay) * ux) > offset or abs((walls[j, 2] - ax) * uy - (walls[j, 3] - ay) * ux) > offset \
-            or abs((ax - cx) * vy - (ay - cy) * vx) > offset or abs((walls[i, 2] - cx) * vy - (walls[i, 3] - cy) * vx) > offset:
-        return False
     s0 = (cx - ax) * ux + (cy - ay) * uy
     s1 = (walls[j, 2] - ax) * ux + (walls[j, 3] - ay) * uy
+    # across the gap, the shorter wall's facing end on the longer wall's line (a short piece's
+    # line, drawn on, wanders by its angle's error times the distance)
+    ex, ey = walls[i, 2 * e], walls[i, 2 * e + 1]
+    near = 0 if math.hypot(cx - ex, cy - ey) <= math.hypot(walls[j, 2] - ex, walls[j, 3] - ey) else 1
+    nx, ny = walls[j, 2 * near], walls[j, 2 * near + 1]
+    if li >= lj:
+        off = abs((nx - ax) * uy - (ny - ay) * ux)
+    else:
+        off = abs((ex - cx) * vy - (ey - cy) * vx)
+    if off > offset:
+        return False
     if e == 0:  # beyond the start: j lies at s <= 0
         return max(s0, s1) <= offset and max(s0, s1) >= -max_gap
     return min(s0, s1) >= li - offset and min(s0, s1) <= li + max_gap
