@@ -91,7 +91,7 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
         if block[r] and not long[r] and connected[i, 0] < 0 and connected[i, 1] < 0:
             lone[r] = True
             for k in range(walls.shape[0]):
-                if _in_line_beyond(walls, objects, i, 1 - e, k, cos_a, offset_short, max_width):
+                if _in_line_beyond(walls, objects, i, 1 - e, k, cos_a, offset_short, max_width, True):
                     lone[r] = False
                     break
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(

@@ -394,12 +394,14 @@ def _example_in_line() -> tuple:
 
 @njit
 def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: int, cos_a: float, offset: float,
-                    max_gap: float) -> bool:
+                    max_gap: float, facing: bool = False) -> bool:
     """Wall j continues wall i's line past i's end e, across at most `max_gap`: parallel within
-    acos(cos_a), the shorter one's end facing across the gap within `offset` of the longer one's
-    line (not the far ends, nor the short one's line: drawn on, it wanders by its angle's error
-    times the distance), and j starting (along i, from i's end e outwards) at most max_gap on and not
-    reaching back past that end by more than `offset`."""
+    acos(cos_a), each one's ends within `offset` of the other's line, and j starting (along i,
+    from i's end e outwards) at most max_gap on and not reaching back past that end by more
+    than `offset`. With `facing`, only the shorter one's end facing across the gap need lie
+    within `offset` of the longer one's line: a short piece's own line, drawn on, wanders by its
+    angle's error times the distance. A rule that refuses asks it so (what spares it should not
+    hang on a 0.2 m piece's angle); one that lends a building's span asks all four ends."""
     if j == i or objects[j]:
         return False
     ax, ay = walls[i, 0], walls[i, 1]
@@ -410,19 +412,18 @@ def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: i
     vx, vy = (walls[j, 2] - cx) / lj, (walls[j, 3] - cy) / lj
     if abs(ux * vx + uy * vy) <= cos_a:
         return False
+    if facing:
+        ex, ey = walls[i, 2 * e], walls[i, 2 * e + 1]
+        near = 0 if math.hypot(cx - ex, cy - ey) <= math.hypot(walls[j, 2] - ex, walls[j, 3] - ey) else 1
+        nx, ny = walls[j, 2 * near], walls[j, 2 * near + 1]
+        off = abs((nx - ax) * uy - (ny - ay) * ux) if li >= lj else abs((ex - cx) * vy - (ey - cy) * vx)
+        if off > offset:
+            return False
+    elif abs((cx - ax) * uy - (cy - ay) * ux) > offset or abs((walls[j, 2] - ax) * uy - (walls[j, 3] - ay) * ux) > offset \
+            or abs((ax - cx) * vy - (ay - cy) * vx) > offset or abs((walls[i, 2] - cx) * vy - (walls[i, 3] - cy) * vx) > offset:
+        return False
     s0 = (cx - ax) * ux + (cy - ay) * uy
     s1 = (walls[j, 2] - ax) * ux + (walls[j, 3] - ay) * uy
-    # across the gap, the shorter wall's facing end on the longer wall's line (a short piece's
-    # line, drawn on, wanders by its angle's error times the distance)
-    ex, ey = walls[i, 2 * e], walls[i, 2 * e + 1]
-    near = 0 if math.hypot(cx - ex, cy - ey) <= math.hypot(walls[j, 2] - ex, walls[j, 3] - ey) else 1
-    nx, ny = walls[j, 2 * near], walls[j, 2 * near + 1]
-    if li >= lj:
-        off = abs((nx - ax) * uy - (ny - ay) * ux)
-    else:
-        off = abs((ex - cx) * vy - (ey - cy) * vx)
-    if off > offset:
-        return False
     if e == 0:  # beyond the start: j lies at s <= 0
         return max(s0, s1) <= offset and max(s0, s1) >= -max_gap
     return min(s0, s1) >= li - offset and min(s0, s1) <= li + max_gap
