@@ -51,8 +51,9 @@ through (`door_min_free_rays`): a bay seen edge-on is none.
 Bays (`bay_doors`): a gap of a door's shape between two convex corners that the jamb rules
 refuse (a block's corner or face, its cap longer than a wall's thickness: a bay between two
 tables by a wall; or backed, or never seen through), and a passage's mouth (two door frame's
-walls side by side, the gap across both ends: a hallway's far end), are possible doors of kind
-"bay". In thin walls a side room's mouth between two 1 m wall pieces has exactly a table bay's
+walls side by side, the gap across both ends: a hallway's far end; or, one side seen down its
+length at a few degrees and its end floating short, from the other side's seen free end across
+to its line: `map_proven_kernels.hidden_mouths`), are possible doors of kind "bay". In thin walls a side room's mouth between two 1 m wall pieces has exactly a table bay's
 shape: only the global map can tell them apart, and once localised the combined map makes a
 bay a door where its walls have an opening there. A bay seen through to free space
 (`bay_deep_rays` rays reaching `door_depth` past its line; or, its back unseen, most rays

@@ -3,7 +3,9 @@ local map alone cannot tell from furniture.
 
 - Bays (`bays`): a gap of a door's shape between two convex corners that the jamb rules refuse,
   and a passage's mouth. In thin walls a side room's mouth between two 1 m wall
-  pieces has exactly the shape of the bay between two tables by a wall.
+  pieces has exactly the shape of the bay between two tables by a wall. A passage's far end
+  seen down the passage, one side grazed so thinly that its end floats short, is one too
+  (`hidden_mouths`: from the other side's seen free end across to the grazed side's line).
 - Lone end caps (`lone_caps`): a partition's end seen only face on, facing a building wall's
   face a door's width on; a person's foot looks the same.
 
@@ -16,7 +18,9 @@ from __future__ import annotations
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
-from pico_studio.core.perception.map_proven_kernels import bay_gaps, lone_cap_gaps
+from pico_studio.core.perception.door_kernels import away_from
+from pico_studio.core.perception.identify_kernels import blocked_many
+from pico_studio.core.perception.map_proven_kernels import bay_gaps, hidden_mouths, lone_cap_gaps
 from pico_studio.core.world_model import CONVEX, FLOATING
 
 
@@ -31,13 +35,27 @@ def bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np
     no block face), and no wall across the gap; none that is the same opening as one of `doors`
     (D, 4) (found from the same corner in about the same direction); with each gap's two jambs'
     walls (K,), (K,), for looking through it."""
-    return bay_gaps(
-        np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
-        np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool),
-        np.ascontiguousarray(np.reshape(doors, (-1, 4)), dtype=float), float(robot[0]),
-        float(robot[1]), float(params.jamb_cap_max), float(params.door_wall_min_length), FLOATING, CONVEX,
-        float(params.door_min_width), float(params.door_max_width), float(params.door_angle),
+    w = np.ascontiguousarray(walls, dtype=float)
+    c = np.ascontiguousarray(connected, dtype=np.int64)
+    p = np.ascontiguousarray(prop, dtype=np.int64)
+    o = np.ascontiguousarray(objects, dtype=bool)
+    d = np.ascontiguousarray(np.reshape(doors, (-1, 4)), dtype=float)
+    gaps, own_a, own_b = bay_gaps(
+        w, c, p, o, d, float(robot[0]), float(robot[1]), float(params.jamb_cap_max), float(params.door_wall_min_length),
+        FLOATING, CONVEX, float(params.door_min_width), float(params.door_max_width), float(params.door_angle),
         float(params.door_offset), float(params.door_offset_short))
+    # a passage's far end, one side's end unresolved: not crossed, not a door or a bay already
+    hidden, ha, hb = hidden_mouths(w, c, p, o, float(robot[0]), float(robot[1]), float(params.door_wall_min_length),
+                                   FLOATING, CONVEX,
+                                   float(params.door_min_width), float(params.door_max_width), float(params.door_angle))
+    if len(hidden):
+        found = np.vstack([d, gaps]) if len(gaps) else d
+        keep = ~blocked_many(hidden, w, ha, hb)
+        if len(found):
+            keep &= away_from(hidden, np.ascontiguousarray(found, dtype=float), float(params.door_min_width) / 2)
+        gaps = np.vstack([gaps.reshape(-1, 4), hidden[keep]])
+        own_a, own_b = np.concatenate([own_a, ha[keep]]), np.concatenate([own_b, hb[keep]])
+    return gaps, own_a, own_b
 
 
 def lone_caps(walls: np.ndarray, connected: np.ndarray, objects: np.ndarray, lengths: np.ndarray,

@@ -303,3 +303,66 @@ def lone_cap_gaps(walls: np.ndarray, connected: np.ndarray, objects: np.ndarray,
         g += 1
     blocked = blocked_many(gaps[:g], walls, own[:g], other[:g])
     return gaps[:g][~blocked]
+
+
+def _example_hidden() -> tuple:
+    # a hallway's far end: its right side seen whole to its free end (1, -1.9), its left side
+    # (x = 0) seen to -1.4, the rest grazing and unresolved
+    walls = np.array([[1.0, 0.0, 1.0, -1.9], [0.0, 0.0, 0.0, -1.4]])
+    connected = np.full((2, 2), -1, dtype=np.int64)
+    prop = np.array([[1, 2], [1, 0]], dtype=np.int64)
+    return walls, connected, prop, np.zeros(2, dtype=np.bool_), 0.2, 3.0, 0.5, 0, 2, 0.6, 1.3, 0.3
+
+
+@kernel(_example_hidden)
+def hidden_mouths(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, rx: float, ry: float,
+                  frame_min: float, floating: int, convex: int, min_width: float, max_width: float, angle: float
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A passage's far end whose one side's end the laser does not resolve (seen down the
+    passage at a few degrees): from P, a door frame's wall's seen free end (`convex`, joined to
+    nothing), to Q, P's foot on a wall W2 side by side with it (parallel within `angle`, both
+    ends' outward directions alike, at least `frame_min` long, no object), Q past W2's
+    `floating` end by at most `max_width` and |P - Q| a door's width, and W2 seen from the robot
+    (rx, ry) along its own line, within `angle` of it: grazing, its points too sparse for its
+    end (a bed's side ending out of view is seen across). (K, 4) gaps P -> Q and their walls
+    (K,), (K,)."""
+    n = walls.shape[0]
+    cos_a = math.cos(angle)
+    segs = np.empty((n * n, 4))
+    own_a = np.empty(n * n, dtype=np.int64)
+    own_b = np.empty(n * n, dtype=np.int64)
+    g = 0
+    for i in range(n):
+        li = math.hypot(walls[i, 2] - walls[i, 0], walls[i, 3] - walls[i, 1])
+        if objects[i] or li < frame_min:
+            continue
+        for e in range(2):
+            if prop[i, e] != convex or connected[i, e] >= 0:
+                continue
+            px, py = walls[i, 2 * e], walls[i, 2 * e + 1]
+            ox, oy = (px - walls[i, 2 * (1 - e)]) / li, (py - walls[i, 2 * (1 - e) + 1]) / li
+            for k in range(n):
+                lk = math.hypot(walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1])
+                if k == i or objects[k] or lk < frame_min:
+                    continue
+                for f in range(2):
+                    if prop[k, f] != floating:
+                        continue
+                    fx, fy = walls[k, 2 * f], walls[k, 2 * f + 1]
+                    vx, vy = (fx - walls[k, 2 * (1 - f)]) / lk, (fy - walls[k, 2 * (1 - f) + 1]) / lk
+                    if ox * vx + oy * vy <= cos_a:
+                        continue
+                    sx, sy = fx - rx, fy - ry  # the robot's view of W2's end, along W2
+                    if abs(sx * vx + sy * vy) <= cos_a * math.hypot(sx, sy):
+                        continue
+                    past = (px - fx) * vx + (py - fy) * vy  # P's foot on W2's line, past its end
+                    if past <= 0.0 or past > max_width:
+                        continue
+                    qx, qy = fx + past * vx, fy + past * vy
+                    width = math.hypot(px - qx, py - qy)
+                    if width < min_width or width > max_width:
+                        continue
+                    segs[g, 0], segs[g, 1], segs[g, 2], segs[g, 3] = px, py, qx, qy
+                    own_a[g], own_b[g] = i, k
+                    g += 1
+    return segs[:g].copy(), own_a[:g].copy(), own_b[:g].copy()
