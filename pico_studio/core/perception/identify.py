@@ -11,9 +11,8 @@ Doors: two convex points P, Q of different walls, the gap within [door_min_width
 door_max_width] (up to `wide_door_max_width` between two building walls in one line, each
 at least `end_face_min_length` long, or a door frame's length ending in a whole cap or
 turning at its far end into a wall in a concave corner, or a shorter stub between a whole cap
-and a building wall it T-joins (a wall's end between a doorway and a junction): a wide doorway; a table's front is
-shorter, its side no cap) and no wall
-across it; the gap continues P's wall (Q ahead of P's end, within
+and a building wall it T-joins (a wall's end between a doorway and a junction): a wide
+doorway; a table's front is shorter, its side no cap) and no wall across it; the gap continues P's wall (Q ahead of P's end, within
 `door_angle` of its direction and `door_offset` of its line), and Q's wall comes back along
 that line towards P (the two walls in one line, seed 001) or stands across it (the end cap
 of a thick wall seen from the side while the face beyond the gap is out of view). Possible doors (seed 001), with the same width range: a convex point and a loose
@@ -53,15 +52,15 @@ refuse (a block's corner or face, its cap longer than a wall's thickness: a bay 
 tables by a wall; or backed, or never seen through), and a passage's mouth (two door frame's
 walls side by side, the gap across both ends: a hallway's far end; or, one side seen down its
 length at a few degrees and its end floating short, from the other side's seen free end across
-to its line: `map_proven_kernels.hidden_mouths`), are possible doors of kind "bay". In thin walls a side room's mouth between two 1 m wall pieces has exactly a table bay's
-shape: only the global map can tell them apart, and once localised the combined map makes a
+to its line: `map_proven_kernels.hidden_mouths`), are possible doors of kind "bay". In thin
+walls a side room's mouth between two 1 m wall pieces has exactly a table bay's shape: only the global map can tell them apart, and once localised the combined map makes a
 bay a door where its walls have an opening there. A bay seen through to free space
 (`bay_deep_rays` rays reaching `door_depth` past its line; or, its back unseen, most rays
 ending behind it on a side, a side of it running on `door_depth` past its line, its far end
 no seen corner: a hallway seen at a slant — or `door_run_on`, its far end floating into the
 view's edge: a side room seen steeply, a pocket's side ending at its back in a corner; a ray
-ending on a small object says nothing, a box standing in a side room being no pocket's back) is a door of kind "bay" when it opens
-a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
+ending on a small object says nothing, a box standing in a side room being no pocket's back)
+is a door of kind "bay" when it opens a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
 sides spans no more than its diagonal; a piece of wall between two doors whose sides are unseen
 counts as the building's when its line runs on past both its ends in other walls a door's width
 on, one of them a building's; or past one end, the other out of view, into a wall that is a
