@@ -25,6 +25,7 @@ from pico_studio.core.perception.identify_kernels import (
     backed,
     group_spans,
     in_line_spans,
+    inside_corners,
 )
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven_kernels import deep_sides, hidden_mouths, wall_shaped
@@ -464,3 +465,59 @@ def test_escape3s_exit_seen_down_the_hallway_is_a_door():
         wm = sf.world_model
     doors = transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4), zero_to_map(wm, as_pose(sim.truth.pose)))
     assert doors_match(doors, FAR_END[None], Tolerances()).any()
+
+
+# a piece of wall between two side rooms' mouths (1.17 m), the left side room's side (1 m) and its
+# back seen in part (a box stands in the room): 1.9 m across, what a table with its side spans
+PIECE_ROOM = np.array([[-1.17, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.5, 1.0]])
+PIECE_ROOM_CONNECTED = np.array([[-1, 1], [0, 2], [1, -1]], dtype=np.int64)
+
+
+def _inside(walls: np.ndarray, prop: list[list[int]], objects: list[bool] | None = None,
+            connected: np.ndarray = PIECE_ROOM_CONNECTED) -> np.ndarray:
+    group, _ = group_spans(walls, connected)
+    flags = np.zeros(len(walls), dtype=bool) if objects is None else np.array(objects)
+    return inside_corners(walls, connected, np.array(prop, dtype=np.int64), group, flags, PARAMS.jamb_cap_max, CONCAVE)
+
+
+def test_a_corner_seen_from_inside_a_room_makes_its_walls_a_buildings():
+    into_room = [[CONVEX, CONVEX], [CONVEX, CONCAVE], [CONCAVE, FLOATING]]
+    assert _inside(PIECE_ROOM, into_room).all()
+    _, span = group_spans(PIECE_ROOM, PIECE_ROOM_CONNECTED)
+    assert span[0] < PARAMS.bay_jamb_span  # by its span alone, a table's
+    # a table's faces seen from outside turn at convex corners only
+    assert not _inside(PIECE_ROOM, [[CONVEX, CONVEX], [CONVEX, CONVEX], [CONVEX, FLOATING]]).any()
+    # a wall no longer than a wall's thickness may be an end cap: a bed's side by a wall seen
+    # 0.26 m between two beds (ward:2) is no room's corner
+    stub = PIECE_ROOM.copy()
+    stub[2, 2] = PARAMS.jamb_cap_max - 0.01
+    assert not _inside(stub, into_room).any()
+    assert not _inside(PIECE_ROOM, into_room, [False, False, True]).any()  # a small object's walls
+    # ward:3: a cabinet 0.14 m off a wall, its side T-joined to the wall's face (the wall, running
+    # on past the joint, joined to nothing there)
+    t_joined = np.array([[-1.17, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0], [-0.5, 1.0, 0.5, 1.0]])
+    one_way = np.array([[-1, 1], [0, 2], [-1, -1]], dtype=np.int64)
+    assert not _inside(t_joined, [[CONVEX, CONVEX], [CONVEX, CONCAVE], [FLOATING, FLOATING]], None, one_way).any()
+
+
+def test_rooms6s_side_room_beside_a_piece_between_two_mouths_is_a_door(monkeypatch: pytest.MonkeyPatch):
+    """Simulated from the eval's pose 0 of rooms:6 (seed 1): the side room's mouth (3.34..4.34
+    on the wall y = 0) is a door; without the inside corner the piece beside it, its far end a
+    seen corner at the next mouth, spans only a table's 1.9 m."""
+    mouth = np.array([[3.34, 0.0, 4.34, 0.0]])
+
+    def found() -> bool:
+        cfg = Config()
+        world = make_world("rooms:6")
+        sim = Simulator(world.map, cfg.sim, world.sim_config, seed=1,
+                        initial_pose=(4.214355, 0.686968, -3.079046))
+        session = Session(sim, perceptor=Perceptor(cfg.perception), behaviour=Drive(0.0, 0.0, 0.4))
+        for sf in itertools.islice(session.frames(), 20):
+            wm = sf.world_model
+        doors = transform_segments(np.asarray(wm.doors, dtype=float).reshape(-1, 4),
+                                   zero_to_map(wm, as_pose(sim.truth.pose)))
+        return bool(doors_match(doors, mouth, Tolerances()).any())
+
+    assert found()
+    monkeypatch.setattr(identify_module, "inside_corners", lambda walls, *_: np.zeros(len(walls), dtype=bool))
+    assert not found()

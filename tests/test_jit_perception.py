@@ -39,8 +39,10 @@ from tests.jit_scenes import hospital_frames, recorded_calls
 KERNELS = {identify: ("small_objects", "junctions", "jamb_doors", "loose_gaps", "away_from"),
            map_proven: ("lone_cap_gaps",)}
 # on restaurant_2024's tables and partitions (the hospital's turning scans see no bays and
-# find no T-opening); group_spans, in_line_spans, wall_shaped and deep_sides judge the bays seen through
-TABLE_KERNELS = {map_proven: ("bay_gaps",), identify: ("t_openings", "group_spans", "in_line_spans", "wall_shaped", "deep_sides")}
+# find no T-opening); group_spans, inside_corners, in_line_spans, wall_shaped and deep_sides judge the bays
+# seen through
+TABLE_KERNELS = {map_proven: ("bay_gaps",),
+                 identify: ("t_openings", "group_spans", "inside_corners", "in_line_spans", "wall_shaped", "deep_sides")}
 
 
 @pytest.fixture(scope="module")

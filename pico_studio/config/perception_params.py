@@ -384,7 +384,8 @@ class IdentifyParams:
     )
     bay_jamb_span: float = param(
         2.0, lo=0.0, hi=20.0, step=0.05, unit="m",
-        help="...and each of its jambs' connected walls spans at least this (their bounding box's diagonal): a "
+        help="...and each of its jambs' connected walls spans at least this (their bounding box's diagonal), or "
+        "turns at a room's concave corner: a "
         "building's walls run on, a table with its sides spans no more than its own diagonal (0.7 x 1.6 m: "
         "1.75 m; the passage between a table's corner and a partition's end is seen through too; 0: any)",
     )

@@ -61,7 +61,11 @@ no seen corner: a hallway seen at a slant — or `door_run_on`, its far end floa
 view's edge: a side room seen steeply, a pocket's side ending at its back in a corner; a ray
 ending on a small object says nothing, a box standing in a side room being no pocket's back)
 is a door of kind "bay" when it opens a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
-sides spans no more than its diagonal; a piece of wall between two doors whose sides are unseen
+sides spans no more than its diagonal), or turn at a concave corner where two walls longer
+than `jamb_cap_max` meet end to end (`identify_kernels.inside_corners`): the robot sees a room's
+inside, while a table seen from outside turns at convex corners only, and one standing a few
+cm off a wall is T-joined to the wall's face, joined one way (a table against a wall, the wall
+seen up to the table's side, is such a corner too: the rule's price) (a piece of wall between two doors whose sides are unseen
 counts as the building's when its line runs on past both its ends in other walls a door's width
 on, one of them a building's; or past one end, the other out of view, into a wall that is a
 building's by its own shape: `end_face_min_length` long, or turning at a concave corner into a
@@ -108,6 +112,7 @@ from pico_studio.core.perception.identify_kernels import (
     backed,
     group_spans,
     in_line_spans,
+    inside_corners,
     small_objects,
 )
 from pico_studio.core.perception.junction_kernels import junctions
@@ -286,12 +291,17 @@ def _doors(
             w = np.ascontiguousarray(walls, dtype=float)
             c = np.ascontiguousarray(connected, dtype=np.int64)
             group, span = group_spans(w, c)
-            span = in_line_spans(w, group, span, np.ascontiguousarray(objects, dtype=bool), c,
-                                 np.ascontiguousarray(prop, dtype=np.int64), float(params.bay_jamb_span),
+            p64 = np.ascontiguousarray(prop, dtype=np.int64)
+            ob = np.ascontiguousarray(objects, dtype=bool)
+            # a group turning at a concave corner is seen from a room's inside: a building's
+            # walls (identify_kernels.inside_corners)
+            inside = inside_corners(w, c, p64, group, ob, float(params.jamb_cap_max), CONCAVE)
+            span = np.where(inside, np.maximum(span, params.bay_jamb_span), span)
+            span = in_line_spans(w, group, span, ob, c, p64, float(params.bay_jamb_span),
                                  float(params.door_angle), float(params.door_offset_short),
                                  float(params.door_max_width), float(params.end_face_min_length), FLOATING, CONCAVE)
             rays, back = _deep_rays(gaps, own_a, own_b, walls, objects, robot, scan, params)
-            side_on = deep_sides(gaps, w, c, np.ascontiguousarray(prop, dtype=np.int64), own_a, own_b,
+            side_on = deep_sides(gaps, w, c, p64, own_a, own_b,
                                  float(robot[0]), float(robot[1]), float(params.door_angle),
                                  float(params.door_depth), float(params.door_run_on), CONVEX, FLOATING)
             through = ((rays >= params.bay_deep_rays) | (~back & side_on)) \

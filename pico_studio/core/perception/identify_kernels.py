@@ -527,6 +527,40 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
     return out
 
 
+def _example_inside() -> tuple:
+    walls, connected = _example_spans()
+    group, _ = group_spans(walls, connected)
+    prop = np.array([[0, 3], [3, 0], [0, 0]], dtype=np.int64)
+    return walls, connected, prop, group, np.zeros(3, dtype=np.bool_), 0.2, 3
+
+
+@kernel(_example_inside)
+def inside_corners(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, group: np.ndarray,
+                   objects: np.ndarray, min_length: float, concave: int) -> np.ndarray:
+    """(W,) bool: the wall's group turns at a concave corner: seen from a room's inside. A
+    table, a cabinet or a box seen from outside turns at convex corners only. The corner is
+    two walls (not an object's), each at least `min_length` long (a wall no longer than a
+    wall's thickness may be an end cap), whose ends meet: each joined to the other there, both
+    ends concave. A table standing a few cm off a wall is T-joined to the wall's face: its side
+    is joined to the wall, the wall, running on past, to nothing there."""
+    n = walls.shape[0]
+    mark = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        if objects[i] or math.hypot(walls[i, 2] - walls[i, 0], walls[i, 3] - walls[i, 1]) < min_length:
+            continue
+        for e in range(2):
+            k = connected[i, e]
+            if k < 0 or prop[i, e] != concave or objects[k]:
+                continue
+            mutual = (connected[k, 0] == i and prop[k, 0] == concave) or (connected[k, 1] == i and prop[k, 1] == concave)
+            if mutual and math.hypot(walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]) >= min_length:
+                mark[group[i]] = True
+    out = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        out[i] = mark[group[i]]
+    return out
+
+
 def _example_groups() -> tuple:
     walls, connected = _example_spans()
     prop = np.array([[1, 2], [2, 1], [0, 0]], dtype=np.int64)
