@@ -210,18 +210,38 @@ def _pieces(right: bool):
 
 def test_a_piece_of_wall_between_two_side_rooms_is_the_buildings():
     out, walls, connected, seen = _pieces(right=True)
-    # the right room's mouth: the piece in line with the room's wall on both sides
-    assert out.door_kind == ["bay"] and _is(out.doors, MOUTHS[1])
-    # the left one stays a possible bay: the room's wall there (with its side room's side,
-    # 1.4 m) runs on out of view, nothing in line beyond it that the eye has seen
-    assert _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTHS[0])
+    # the right room's mouth: the piece in line with the room's wall on both sides; the left
+    # one: the room's wall there (with its side room's side, 1.4 m) runs on out of view, in line
+    # with the piece, which is the building's (test_a_wall_seen_in_part_in_line_with_...)
+    assert out.door_kind == ["bay", "bay"] and _is(out.doors, MOUTHS[1]) and _is(out.doors, MOUTHS[0])
     group, span = group_spans(walls, connected)
     assert span[2] == pytest.approx(1.1) and span[0] < PARAMS.bay_jamb_span <= span[3]
     lent = _lent(walls, connected, seen, group, span)
-    assert lent[2] == PARAMS.bay_jamb_span and np.array_equal(np.delete(lent, 2), np.delete(span, 2))
+    assert lent[2] == PARAMS.bay_jamb_span and lent[0] == lent[1] == PARAMS.bay_jamb_span
+    assert np.array_equal(lent[3:], span[3:])
     alone = identify(walls, connected, seen, PIECE_ROBOT, replace(PARAMS, door_max_width=0.9),
                      _view(LEFT + PIECE + RIGHT + SIDE_ROOMS, PIECE_ROBOT, np.pi / 2))
     assert len(alone.doors) == 0  # no door's width to the wall beyond: no lending (nor any door)
+
+
+def test_a_wall_seen_in_part_in_line_with_a_piece_between_two_doors_is_the_buildings():
+    """rooms:4: the room's wall (2 m), a door, a piece between two side rooms (both ends free,
+    in line past both), a door, then a wall seen 0.8 m to where it runs out of view. The piece
+    is the building's by its line; the wall seen in part, its far end floating, borrows from it
+    (a piece between two doors is no table's side against a wall, which the guard on a floating
+    end is for)."""
+    building, piece, seen_in_part = [-3.0, 0.0, -1.0, 0.0], [0.0, 0.0, 1.1, 0.0], [2.1, 0.0, 2.9, 0.0]
+    walls = np.array([building, piece, seen_in_part])
+    connected = np.full((3, 2), -1, dtype=np.int64)
+    seen = np.array([[True, True], [True, True], [True, False]])
+    robot = (1.0, -1.6)
+    group, span = group_spans(walls, connected)
+    assert span[1] < PARAMS.bay_jamb_span and span[2] < PARAMS.bay_jamb_span <= span[0]
+    lent = _lent(walls, connected, seen, group, span, robot)
+    assert lent[1] == PARAMS.bay_jamb_span and lent[2] == PARAMS.bay_jamb_span
+    # without the building's wall the piece is nobody's, and so is what lies in line with it
+    alone = _lent(walls[1:], connected[1:], seen[1:], *group_spans(walls[1:], connected[1:]), robot)
+    assert np.array_equal(alone, group_spans(walls[1:], connected[1:])[1])
 
 
 def test_a_tables_face_in_line_with_a_wall_on_one_side_only_is_not():

@@ -69,7 +69,8 @@ seen up to the table's side, is such a corner too: the rule's price) (a piece of
 counts as the building's when its line runs on past both its ends in other walls a door's width
 on, one of them a building's; or past one end, the other out of view, into a wall that is a
 building's by its own shape: `end_face_min_length` long, or turning at a concave corner into a
-wall that long, a room's corner, not a table's side turning into its back), and the gap lies
+wall that long, a room's corner, not a table's side turning into its back; or into a piece in
+line past both its ends that is the building's), and the gap lies
 in a wall's line (a wall a door frame's length in line at both jambs, each passing within
 `bay_line_offset` of the other jamb: a side room's mouth) or across a passage (walls across it at both jambs, on the same side, none along it: a
 hallway's far end). The passage between a table's corner and a partition's end is seen through

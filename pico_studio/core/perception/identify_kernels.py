@@ -461,8 +461,9 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
     line beyond it: no piece. Its other end may run on out of view (floating: a side room's
     mouth seen at a slant, its far wall in part) when the wall it lends from is a building's by
     its own shape (`_firm`: `building_min` long, or turning at a concave corner into a wall that
-    long); a table's side against a wall, in line with a partition's face by chance, turns into
-    the table's short back. Then its whole group is the building's; repeated over the pairs
+    long), or is a piece in line past both its own ends (a wall seen in part in line with the
+    piece between two side rooms, once that piece is the building's); a table's side against a
+    wall, in line with a partition's face by chance, turns into the table's short back. Then its whole group is the building's; repeated over the pairs
     found until nothing changes (at most one round per group: the piece between two doors is
     reached from either side)."""
     n = walls.shape[0]
@@ -507,7 +508,8 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
         for e in range(2):
             for j in range(n):
                 if group[j] != group[i] and _in_line_beyond(walls, objects, i, e, j, cos_a, offset, max_gap) \
-                        and (not loose[i] or _firm(walls, connected, prop, i, e, j, building_min, concave)):
+                        and (not loose[i] or _firm(walls, connected, prop, i, e, j, building_min, concave)
+                             or (candidate[j] and not loose[j])):
                     pair_i[p], pair_j[p] = i, j
                     p += 1
     # then lend along the pairs until nothing changes (at most one round per group)
