@@ -278,20 +278,21 @@ ROOMS_WALL = ([[3.1, 0.0, 4.4, 0.0], [4.4, 0.0, 4.4, -2.5]], [[-1, 1], [0, -1]],
 
 
 def _slanted(lender: list[list[float]], lender_connected: list[list[int]], lender_seen: list[list[bool]],
-             box: bool = False):
+             box: bool = False, size: tuple[float, float] = (0.8, 0.3)):
     """The lender's walls (the first joined to the side room's side, wall len(lender)) and the
     piece seen in part (wall len(lender) + 1) with the view of them, the side room and the
-    piece's whole wall; with `box`, a box 0.3 m inside the side room across its mouth, its
-    front and left side in the local map (walls len(lender) + 2, + 3)."""
+    piece's whole wall; with `box`, a box (`size` wide and deep) 0.3 m inside the side room
+    across its mouth, its front and left side in the local map (walls len(lender) + 2, + 3)."""
     k = len(lender)
-    things = [[2.2, 0.3, 3.0, 0.3], [2.2, 0.3, 2.2, 0.6]] if box else []
+    w, d = size
+    things = [[2.2, 0.3, 2.2 + w, 0.3], [2.2, 0.3, 2.2, 0.3 + d]] if box else []
     walls = np.array(lender + [SIDE_ROOM[0], [2.1, 0.0, 1.2, 0.0]] + things)
     connected = np.array(lender_connected + [[0, -1], [-1, -1]] + ([[k + 3, -1], [k + 2, -1]] if box else []),
                          dtype=np.int64)
     connected[0, 0] = k  # the lender's first wall joins the side room's side at the mouth
     seen = np.array(lender_seen + [[True, False], [True, False]] + [[True, True]] * len(things))
-    view = _view(lender + SIDE_ROOM + [[2.1, 0.0, -1.0, 0.0]] + things + [[3.0, 0.3, 3.0, 0.6], [2.2, 0.6, 3.0, 0.6]],
-                 SLANT_ROBOT, np.pi / 2)
+    hidden = [[2.2 + w, 0.3, 2.2 + w, 0.3 + d], [2.2, 0.3 + d, 2.2 + w, 0.3 + d]] if box else []
+    view = _view(lender + SIDE_ROOM + [[2.1, 0.0, -1.0, 0.0]] + things + hidden, SLANT_ROBOT, np.pi / 2)
     return walls, connected, seen, view
 
 
@@ -326,6 +327,24 @@ def test_a_box_standing_in_a_side_room_is_not_its_back():
     _, _, _, walled = backed(gap, walls, *own, *SLANT_ROBOT, *scan, np.zeros(1, dtype=bool),
                              np.zeros(len(walls), dtype=bool), *limits)
     assert walled[0]
+
+
+def test_a_thin_thing_standing_in_a_side_room_is_not_its_back_either(monkeypatch: pytest.MonkeyPatch):
+    """rooms:0-14: what stands in a side room is a 0.2-0.4 m box, seen as an L, or a person's
+    two feet: too thin across to be a small object's walls (`object_min_depth`, which keeps a
+    thick wall's end from being a jamb's object). Seen whole (no end floating) and no bigger
+    than `object_max_size`, its walls are still no pocket's back: the rays ending on them say
+    nothing."""
+    walls, connected, seen, view = _slanted(*ROOMS_WALL, box=True, size=(0.8, 0.15))
+    out = identify(walls, connected, seen, SLANT_ROBOT, PARAMS, view)
+    assert not out.object_wall.any()
+    assert _is(out.doors[[k == "bay" for k in out.door_kind]], SLANT_MOUTH)
+    # with only the small objects' walls for things, the rays on the box are the pocket's back
+    real = identify_module._deep_rays
+    monkeypatch.setattr(identify_module, "_deep_rays",
+                        lambda gaps, a, b, w, things, *rest: real(gaps, a, b, w, out.object_wall, *rest))
+    out = identify(walls, connected, seen, SLANT_ROBOT, PARAMS, view)
+    assert not _is(out.doors[[k == "bay" for k in out.door_kind]], SLANT_MOUTH)
 
 
 def test_a_tables_side_in_line_with_a_partition_seen_in_part_is_not():

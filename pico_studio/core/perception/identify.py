@@ -59,7 +59,8 @@ bay a door where its walls have an opening there. A bay seen through to free spa
 ending behind it on a side, a side of it running on `door_depth` past its line, its far end
 no seen corner: a hallway seen at a slant — or `door_run_on`, its far end floating into the
 view's edge: a side room seen steeply, a pocket's side ending at its back in a corner; a ray
-ending on a small object says nothing, a box standing in a side room being no pocket's back)
+ending on a small object says nothing, a box standing in a side room being no pocket's back —
+nor any small group seen whole, however thin: a box seen as an L, a person's two feet)
 is a door of kind "bay" when it opens a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
 sides spans no more than its diagonal), or turn at a concave corner where two walls longer
 than `jamb_cap_max` meet end to end (`identify_kernels.inside_corners`): the robot sees a room's
@@ -114,6 +115,7 @@ from pico_studio.core.perception.identify_kernels import (
     group_spans,
     in_line_spans,
     inside_corners,
+    object_groups,
     small_objects,
 )
 from pico_studio.core.perception.junction_kernels import junctions
@@ -301,7 +303,12 @@ def _doors(
             span = in_line_spans(w, group, span, ob, c, p64, float(params.bay_jamb_span),
                                  float(params.door_angle), float(params.door_offset_short),
                                  float(params.door_max_width), float(params.end_face_min_length), FLOATING, CONCAVE)
-            rays, back = _deep_rays(gaps, own_a, own_b, walls, objects, robot, scan, params)
+            # a ray ending on a thing standing there says nothing of the back: a small object's
+            # walls, or any small group seen whole, however thin (a box seen as an L, a person's
+            # two feet; the objects' depth keeps a thick wall's end from being one, for jambs)
+            _, seen_whole = object_groups(w, c, p64, float(params.object_max_size), FLOATING)
+            things = ob | seen_whole
+            rays, back = _deep_rays(gaps, own_a, own_b, walls, things, robot, scan, params)
             side_on = deep_sides(gaps, w, c, p64, own_a, own_b,
                                  float(robot[0]), float(robot[1]), float(params.door_angle),
                                  float(params.door_depth), float(params.door_run_on), CONVEX, FLOATING)
@@ -335,8 +342,6 @@ def _doors(
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
     return d, door_kinds, p, kinds, evidence
-
-
 
 
 def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np.ndarray, objects: np.ndarray,
