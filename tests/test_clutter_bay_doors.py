@@ -388,7 +388,7 @@ def test_a_hallway_seen_at_a_slant_is_a_door_by_its_side_running_on():
     assert rays[0] == 0 and not back[0]  # no ray reached door_depth: they all end on the side
     prop = junctions(walls, CONNECTED, UNSEEN, *SLANT, FLOATING, CONVEX, CONCAVE)[0]
     args = (gap, walls, CONNECTED, prop, np.array([3]), np.array([2]), *SLANT, PARAMS.door_angle)
-    assert deep_sides(*args, PARAMS.door_depth, PARAMS.door_run_on, CONVEX, FLOATING)[0]
+    assert deep_sides(*args, PARAMS.door_depth, PARAMS.bay_run_on, CONVEX, FLOATING)[0]
     assert not deep_sides(*args, 1.4, 0.0, CONVEX, FLOATING)[0]  # deeper than the side runs: no passage
     # the side's far end seen as a corner (a bed's foot turning at its corner): no passage
     seen_end = UNSEEN.copy()
@@ -422,13 +422,17 @@ def test_a_side_room_seen_steeply_is_a_door_by_its_side_running_on_into_the_view
     assert rays[0] == 0 and not back[0]  # no ray reaches door_depth, none ends on a back
     on = identify(walls, CONNECTED, UNSEEN, SLANT, PARAMS, view)
     assert on.door_kind == ["bay"] and _is(on.doors, MOUTH)
-    # shorter than door_depth: with door_run_on off the side must run door_depth deep
-    off = identify(walls, CONNECTED, UNSEEN, SLANT, replace(PARAMS, door_run_on=0.0), view)
+    # shorter than door_depth: with bay_run_on off the side must run door_depth deep
+    off = identify(walls, CONNECTED, UNSEEN, SLANT, replace(PARAMS, bay_run_on=0.0), view)
     assert len(off.doors) == 0 and _is(off.possible_doors[[k == "bay" for k in off.possible_door_kind]], MOUTH)
-    # seen shorter than door_run_on: no passage either
-    short = np.array([TOP, ABOVE, [0.0, 3.04, -0.4, 3.04], BELOW])
-    assert len(identify(short, CONNECTED, UNSEEN, SLANT, PARAMS, _view(STEEP_ROOM[:2] + [[0.0, 3.04, -0.4, 3.04],
-                                                                                     [-0.4, 3.04, -0.4, 2.11]] + STEEP_ROOM[4:], SLANT, 2.0)).doors) == 0
+    # seen shorter than bay_run_on: no passage either
+    def seen_for(run: float) -> int:
+        short = np.array([TOP, ABOVE, [0.0, 3.04, -run, 3.04], BELOW])
+        pocket = STEEP_ROOM[:2] + [[0.0, 3.04, -run, 3.04], [-run, 3.04, -run, 2.11]] + STEEP_ROOM[4:]
+        return len(identify(short, CONNECTED, UNSEEN, SLANT, PARAMS, _view(pocket, SLANT, 2.0)).doors)
+
+    assert PARAMS.bay_run_on == 0.35 and seen_for(0.3) == 0  # a wall's end cap's length
+    assert seen_for(0.4) == 1  # longer: a side (a T-opening would ask door_run_on, 0.5)
 
 
 def test_a_pockets_side_as_long_ends_at_its_back_in_a_corner_and_stays_a_possible_bay():

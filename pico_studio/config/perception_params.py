@@ -363,10 +363,9 @@ class IdentifyParams:
     )
     door_run_on: float = param(
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
-        help="A gap seen steeply, its rays landing on a side behind it: a passage when that side is seen "
-        "running on at least this far past the gap's line into the view's edge, its end floating (a pocket's "
-        "side ends at its back in a corner). It supports a short wall's T-opening and makes a bay a door "
-        "(else a bay's side must run door_depth deep; 0: off)",
+        help="A T-opening seen steeply, its rays landing on the face behind it: a passage when that face is "
+        "seen running on at least this far past the gap's line into the view's edge, its end floating (a "
+        "pocket's side ends at its back in a corner); it supports a short wall's T-opening (0: off)",
     )
     end_face_evidence_max: int = param(
         32, lo=1, hi=1000, step=1, help="...remembering at most this many such gaps",
@@ -381,6 +380,12 @@ class IdentifyParams:
         "line, or never end: free space behind it (a side room, a hallway), not the pocket between two tables "
         "by a wall; and it opens a building's walls (bay_jamb_span; in a wall's line or across a passage) "
         "(0: a bay is only ever a possible door)",
+    )
+    bay_run_on: float = param(
+        0.35, lo=0.0, hi=5.0, step=0.05, unit="m",
+        help="...or, seen steeply, a side of the bay runs on at least this far past its line into the view's edge, "
+        "its end floating: longer than a wall's end cap, a side room's side, not a cap (else the side must "
+        "run door_depth deep; a T-opening, guarded by less, asks door_run_on; 0: off)",
     )
     bay_jamb_span: float = param(
         2.0, lo=0.0, hi=20.0, step=0.05, unit="m",

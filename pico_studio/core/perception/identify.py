@@ -57,8 +57,9 @@ walls a side room's mouth between two 1 m wall pieces has exactly a table bay's 
 bay a door where its walls have an opening there. A bay seen through to free space
 (`bay_deep_rays` rays reaching `door_depth` past its line; or, its back unseen, most rays
 ending behind it on a side, a side of it running on `door_depth` past its line, its far end
-no seen corner: a hallway seen at a slant — or `door_run_on`, its far end floating into the
-view's edge: a side room seen steeply, a pocket's side ending at its back in a corner; a ray
+no seen corner: a hallway seen at a slant — or `bay_run_on`, longer than a wall's end cap, its
+far end floating into the view's edge: a side room seen steeply, a pocket's side ending at its
+back in a corner; a ray
 ending on a small object says nothing, a box standing in a side room being no pocket's back —
 nor any small group seen whole, however thin: a box seen as an L, a person's two feet)
 is a door of kind "bay" when it opens a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
@@ -277,7 +278,7 @@ def _doors(
     if params.bay_doors:
         # a bay seen through to free space (`bay_deep_rays` of its rays reaching `door_depth`
         # past its line; or, seen at a slant, its rays all ending on a side and none on a back,
-        # a side running on that deep, or door_run_on into the view's edge:
+        # a side running on that deep, or bay_run_on into the view's edge:
         # map_proven_kernels.deep_sides) is a door where it opens
         # a building's walls: a hallway's mouth, a side room's. The rest stay possible doors;
         # once localised the map proves them
@@ -311,7 +312,7 @@ def _doors(
             rays, back = _deep_rays(gaps, own_a, own_b, walls, things, robot, scan, params)
             side_on = deep_sides(gaps, w, c, p64, own_a, own_b,
                                  float(robot[0]), float(robot[1]), float(params.door_angle),
-                                 float(params.door_depth), float(params.door_run_on), CONVEX, FLOATING)
+                                 float(params.door_depth), float(params.bay_run_on), CONVEX, FLOATING)
             through = ((rays >= params.bay_deep_rays) | (~back & side_on)) \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
                 & wall_shaped(gaps, w, c, lengths, own_a, own_b, float(params.door_angle),
