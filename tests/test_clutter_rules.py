@@ -107,6 +107,36 @@ def test_a_t_opening_is_a_door():
     assert len(identify(walls, np.full((2, 2), -1), seen, (-0.5, -1.5), off).doors) == 0
 
 
+def test_a_tables_front_against_a_wall_starts_only_a_possible_t_opening():
+    """suite:4: a table 1.57 m long (as long as a building's wall, end_face_min_length) stands
+    against the wall behind it, 1.1 m from a side wall. Its front's free end faces the side
+    wall's face a door's width away, but its other end turns at a convex corner into its 0.8 m
+    side, which meets the wall in a concave corner: a block's front against a wall. The gap is
+    only a possible door "end_face", for the map to prove (an exit hallway's side turning into
+    the short piece of room wall beside it, escape:46, has the same shape). A wall as long
+    without that step is a building's: a door."""
+    face = [0.0, -2.5, 0.0, 2.5]
+    front = [1.12, 0.0, 2.69, 0.0]
+    side, wall = [2.69, 0.0, 2.69, 0.8], [2.69, 0.8, 5.0, 0.8]  # the wall seen beside the table
+    robot = (3.5, -1.0)
+    walls = np.array([face, front, side, wall])
+    conn = np.array([[-1, -1], [-1, 2], [1, 3], [2, -1]], dtype=np.int64)
+    seen = np.array([[False, False], [True, True], [True, True], [True, False]])
+    gap = [1.12, 0.0, 0.0, 0.0]
+    out = identify(walls, conn, seen, robot, PARAMS.identify)
+    assert "end_face" not in out.door_kind
+    possible = out.possible_doors[[k == "end_face" for k in out.possible_door_kind]]
+    assert any(np.allclose(p, gap, atol=1e-6) for p in possible)
+    # its side no longer than an end cap: a partition's capped end, a building's wall
+    capped = walls.copy()
+    capped[2], capped[3] = [2.69, 0.0, 2.69, 0.3], [2.69, 0.3, 5.0, 0.3]
+    assert "end_face" in identify(capped, conn, seen, robot, PARAMS.identify).door_kind
+    # the same front, its far end joined to nothing (a building's wall running on out of view)
+    alone = identify(walls[:2], np.full((2, 2), -1, dtype=np.int64), np.array([[False, False], [True, False]]),
+                     robot, PARAMS.identify)
+    assert alone.door_kind == ["end_face"] and np.allclose(alone.doors[0], gap, atol=1e-6)
+
+
 def test_a_t_opening_hidden_behind_a_box_is_no_door():
     """The T-opening above, seen by the scan: a door when its gap is in plain view, none when a
     box stands between the robot and the gap (every beam towards it ends on the box: the local

@@ -90,6 +90,22 @@ def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
 
 
 @njit
+def _block_front(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, i: int, e: int, cap: float,
+                 depth: float, convex: int, concave: int) -> bool:
+    """Is wall i (its end e a T-opening's jamb) shaped as a block's front standing against a
+    wall? Its far end turns at a convex corner into a side longer than an end cap (`cap`: a
+    partition's cap is no table's side) and at most `depth`, which meets a wall in a concave
+    corner. A table 1.4-1.6 m long is as long as a building's wall; an exit hallway's side
+    turning into the short piece of room wall beside it has the same shape."""
+    f = 1 - e
+    k = connected[i, f]
+    if k < 0 or prop[i, f] != convex or not (lengths[k] > cap and lengths[k] <= depth):
+        return False
+    back = 1 if connected[k, 0] == i else (0 if connected[k, 1] == i else -1)
+    return back >= 0 and prop[k, back] == concave
+
+
+@njit
 def _at_a_corner(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, k: int, mx: float, my: float,
                  cap_max: float, convex: int) -> bool:
     """Does M lie within `cap_max` of one of wall k's free convex ends?"""
@@ -376,9 +392,13 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     for r in range(c):
         i, far_end = wi[r], prop[wi[r], 1 - we[r]]
         building[r] = lengths[i] >= building_min or (long[r] and capped[r])
-        cornered[r] = long[r] and far_end == concave and not building[r]
-        weak[r] = (long[r] or capped[r]) and not building[r] and far_end == floating and evidence_scans > 0
-        glimpse[r] = not building[r] and not cornered[r] and not weak[r] and far_end == floating
+        # a block's front against a wall, as long as a building's wall, is only ever a possible
+        # door's jamb, for the map to prove (a glimpse)
+        block = building[r] and _block_front(connected, prop, lengths, i, we[r], cap_max, object_max, convex, concave)
+        building[r] = building[r] and not block
+        cornered[r] = long[r] and far_end == concave and not building[r] and not block
+        weak[r] = (long[r] or capped[r]) and not building[r] and not block and far_end == floating and evidence_scans > 0
+        glimpse[r] = block or (not building[r] and not cornered[r] and not weak[r] and far_end == floating)
         if is_convex[r] and (building[r] or cornered[r] or weak[r] or glimpse[r]):
             face[f] = r
             f += 1
