@@ -62,16 +62,16 @@ bay a door where its walls have an opening there. A bay seen through to free spa
 ending behind it on a side, a side of it running on `door_depth` past its line, its far end
 no seen corner: a hallway seen at a slant — or `bay_run_on`, longer than a wall's end cap, its
 far end floating into the view's edge: a side room seen steeply, a pocket's side ending at its
-back in a corner; a ray
-ending on a small object says nothing, a box standing in a side room being no pocket's back —
-nor any small group seen whole, however thin: a box seen as an L, a person's two feet)
+back in a corner; a ray ending on a small object says nothing, a box standing in a side room
+being no pocket's back — nor any small group seen whole, however thin: a box seen as an L, a
+person's two feet)
 is a door of kind "bay" when it opens a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
 sides spans no more than its diagonal), or turn at a concave corner where two walls longer
 than `jamb_cap_max` meet end to end (`identify_kernels.inside_corners`): the robot sees a room's
 inside, while a table seen from outside turns at convex corners only, and one standing a few
 cm off a wall is T-joined to the wall's face, joined one way (a table against a wall, the wall
-seen up to the table's side, is such a corner too: the rule's price) (a piece of wall between two doors whose sides are unseen
-counts as the building's when its line runs on past both its ends in other walls a door's width
+seen up to the table's side, is such a corner too: the rule's price) (a piece of wall between
+two doors whose sides are unseen counts as the building's when its line runs on past both its ends in other walls a door's width
 on, one of them a building's; or past one end, the other out of view, into a wall that is a
 building's by its own shape: `end_face_min_length` long, or turning at a concave corner into a
 wall that long, a room's corner, not a table's side turning into its back; or into a piece in

@@ -463,9 +463,9 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
     its own shape (`_firm`: `building_min` long, or turning at a concave corner into a wall that
     long), or is a piece in line past both its own ends (a wall seen in part in line with the
     piece between two side rooms, once that piece is the building's); a table's side against a
-    wall, in line with a partition's face by chance, turns into the table's short back. Then its whole group is the building's; repeated over the pairs
-    found until nothing changes (at most one round per group: the piece between two doors is
-    reached from either side)."""
+    wall, in line with a partition's face by chance, turns into the table's short back. Then its
+    whole group is the building's; repeated over the pairs found until nothing changes (at most
+    one round per group: the piece between two doors is reached from either side)."""
     n = walls.shape[0]
     out = span.copy()
     building = np.zeros(n, dtype=np.bool_)
