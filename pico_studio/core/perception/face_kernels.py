@@ -67,6 +67,20 @@ def beam_at(qx: float, qy: float, has_view: bool, ranges: np.ndarray, valid: np.
 
 
 @njit
+def _turns_into_a_side(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, k: int, e: int,
+                       side_min: float, depth: float, convex: int, concave: int) -> bool:
+    """Does wall k turn at its end e, a convex corner, into a side at least `side_min` and at
+    most `depth` long whose other end is a concave corner (it meets a wall): a block's front
+    against a wall, seen at that end?"""
+    j = connected[k, e]
+    if j < 0 or prop[k, e] != convex or lengths[j] > depth or lengths[j] < side_min:
+        return False
+    if connected[j, 0] == k:
+        return prop[j, 1] == concave
+    return connected[j, 1] == k and prop[j, 0] == concave
+
+
+@njit
 def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, cap: float, short: float,
                    depth: float, convex: int, concave: int) -> np.ndarray:
     """(W,) bool: a wall longer than `cap`, shorter than `short`, turning at a convex corner into
@@ -75,34 +89,10 @@ def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
     n = connected.shape[0]
     out = np.zeros(n, dtype=np.bool_)
     for k in range(n):
-        if not (lengths[k] > cap and lengths[k] < short):
-            continue
-        for e in range(2):
-            j = connected[k, e]
-            if j < 0 or prop[k, e] != convex or lengths[j] > depth:
-                continue
-            if connected[j, 0] == k:
-                if prop[j, 1] == concave:
-                    out[k] = True
-            elif connected[j, 1] == k and prop[j, 0] == concave:
-                out[k] = True
+        if lengths[k] > cap and lengths[k] < short:
+            out[k] = _turns_into_a_side(connected, prop, lengths, k, 0, 0.0, depth, convex, concave) \
+                or _turns_into_a_side(connected, prop, lengths, k, 1, 0.0, depth, convex, concave)
     return out
-
-
-@njit
-def _block_front(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, i: int, e: int, cap: float,
-                 depth: float, convex: int, concave: int) -> bool:
-    """Is wall i (its end e a T-opening's jamb) shaped as a block's front standing against a
-    wall? Its far end turns at a convex corner into a side longer than an end cap (`cap`: a
-    partition's cap is no table's side) and at most `depth`, which meets a wall in a concave
-    corner. A table 1.4-1.6 m long is as long as a building's wall; an exit hallway's side
-    turning into the short piece of room wall beside it has the same shape."""
-    f = 1 - e
-    k = connected[i, f]
-    if k < 0 or prop[i, f] != convex or not (lengths[k] > cap and lengths[k] <= depth):
-        return False
-    back = 1 if connected[k, 0] == i else (0 if connected[k, 1] == i else -1)
-    return back >= 0 and prop[k, back] == concave
 
 
 @njit
@@ -392,9 +382,12 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     for r in range(c):
         i, far_end = wi[r], prop[wi[r], 1 - we[r]]
         building[r] = lengths[i] >= building_min or (long[r] and capped[r])
-        # a block's front against a wall, as long as a building's wall, is only ever a possible
-        # door's jamb, for the map to prove (a glimpse)
-        block = building[r] and _block_front(connected, prop, lengths, i, we[r], cap_max, object_max, convex, concave)
+        # a block's front against a wall as long as a building's wall (a table 1.4-1.6 m long:
+        # its far end turns into a side longer than an end cap, a partition's cap being none) is
+        # only ever a possible door's jamb, for the map to prove (a glimpse); an exit hallway's
+        # side turning into the short piece of room wall beside it has the same shape
+        block = building[r] and _turns_into_a_side(connected, prop, lengths, i, 1 - we[r], cap_max, object_max,
+                                                   convex, concave)
         building[r] = building[r] and not block
         cornered[r] = long[r] and far_end == concave and not building[r] and not block
         weak[r] = (long[r] or capped[r]) and not building[r] and not block and far_end == floating and evidence_scans > 0
