@@ -281,7 +281,8 @@ class IdentifyParams:
         1.5, lo=0.1, hi=5.0, step=0.01, unit="m",
         help="...or this wide between two building walls in one line (end_face_min_length long, or a door "
         "frame's length ending in a whole cap or in a concave corner, or a stub between a whole cap and a "
-        "building wall it T-joins), both jambs seen: a wide doorway; "
+        "building wall it T-joins), both jambs seen: a wide doorway; or from a building wall's end to a door "
+        "frame's wall coming back along its line, or to a building wall's face when seen free beside the end; "
         "beside a table's front none",
     )
     door_angle: float = param(

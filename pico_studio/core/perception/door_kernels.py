@@ -81,6 +81,12 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
         junction = stub[r] and capped[r] and prop[i, 1 - e] == concave and k >= 0 and lengths[k] >= building_min
         building[r] = (lengths[i] >= building_min or (long[r] and (capped[r] or prop[i, 1 - e] == concave))
                        or junction) and not objects[i]
+    # a wall's end: joined to nothing, or to a whole cap (a thick wall's end); a building wall
+    # turning at a convex corner is a jamb too, but 1.3-1.5 m from a short wall in its line it
+    # is as often a room's corner beside a corridor's wall (door_pairs' wide doorways)
+    wall_end = np.empty(c, dtype=np.bool_)
+    for r in range(c):
+        wall_end[r] = connected[wi[r], we[r]] < 0 or capped[r]
     # a lone block face: shorter than a door frame's wall, joined to nothing, its line running on
     # in no other wall past its far end (a box's or a person's face; a piece of wall between two
     # doors runs on in the building's walls)
@@ -95,7 +101,7 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
                     lone[r] = False
                     break
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
-        pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, lone, min_width,
+        pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, min_width,
         max_width, wide_width, angle, offset, offset_short)
     g = ia.shape[0]
     segs = np.empty((g, 4))

@@ -11,7 +11,9 @@ candidate when
   and shorter than a building's wall, or the front of a block against a wall:
   `against_a_wall`), and a building's wall (|k| >= building_min) unless P's wall is;
 * min_width <= t <= max_width, and M is no nearer than `cap_max` to a free convex end of k
-  (a corner there, not a face); up to `wide_width` the gap is a possible door only (t_openings);
+  (a corner there, not a face); up to `wide_width` the gap is a door only from a building
+  wall's end facing a building wall, seen deep and free beside the end (t_openings, `_side_free`),
+  else a possible door;
 * k is about square to the ray: |e_k . o| / |e_k| <= sin(angle).
 
 Where k fails the last two at a free corner, or is a piece no longer than `cap_max` askew to
@@ -93,6 +95,43 @@ def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
             out[k] = _turns_into_a_side(connected, prop, lengths, k, 0, 0.0, depth, convex, concave) \
                 or _turns_into_a_side(connected, prop, lengths, k, 1, 0.0, depth, convex, concave)
     return out
+
+
+@njit
+def _capped_at(walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, k: int, px: float, py: float,
+               cap_max: float) -> bool:
+    e = 0 if math.hypot(walls[k, 0] - px, walls[k, 1] - py) <= math.hypot(walls[k, 2] - px, walls[k, 3] - py) else 1
+    j = connected[k, e]
+    return j >= 0 and lengths[j] <= cap_max
+
+
+@njit
+def _side_free(gap: np.ndarray, rx: float, ry: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray,
+               vx: float, vy: float, va: float, a0: float, inc: float, occlusion: float) -> bool:
+    """Is the side beyond a T-opening's jamb P (the gap P -> M) seen free: do the scan's beams
+    towards P + f n, f = 1/2 and 1, n the gap's normal away from the robot R, |n| = |PM|, reach
+    more than `occlusion` past those points, or return nothing? A wall's corner there (its other
+    wall running from P away from R, unseen edge-on) stops them; from a viewpoint behind the
+    wall itself they end on it: hidden, not free."""
+    if not has_view:
+        return False
+    px, py = gap[0], gap[1]
+    nx, ny = -(gap[3] - py), gap[2] - px
+    if nx * (rx - px) + ny * (ry - py) > 0:
+        nx, ny = -nx, -ny
+    for f in (0.5, 1.0):
+        dx, dy = px + f * nx - vx, py + f * ny - vy
+        bearing = math.atan2(-math.sin(va) * dx + math.cos(va) * dy, math.cos(va) * dx + math.sin(va) * dy)
+        beam = np.rint((bearing - a0) / inc)
+        if not (beam >= 0 and beam < ranges.shape[0]):
+            return False
+        r, dist = ranges[int(beam)], math.hypot(dx, dy)
+        if valid[int(beam)]:
+            if not r > dist + occlusion:
+                return False
+        elif math.isfinite(r) and r > 0 and r < dist:  # (an invalid beam returned nothing, or beyond)
+            return False
+    return True
 
 
 @njit
@@ -429,10 +468,17 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     possible = np.empty((n, 4))
     p = 0
     # wider than a door (a wall's end facing a face up to `wide_width` on): among furniture as
-    # often a passage as a doorway, so only ever a possible door, for the map to prove (no
-    # evidence counted)
+    # often a passage as a doorway, and a room's corner 1.3-1.5 m from a corridor's wall (its
+    # other wall unseen edge-on) is one too. A door only from a building wall's end facing a
+    # building wall's face, seen through deep, the side beyond the end seen free (a wall's free
+    # end, not a corner); else only ever a possible door, for the map to prove (no evidence
+    # counted)
     for m in range(n):
         if math.hypot(g[m, 2] - g[m, 0], g[m, 3] - g[m, 1]) > max_width:
+            if not bad[m] and not wk[m] and not gl_[m] and lengths[ob[m]] >= building_min \
+                    and deep_g[m] >= max(min_free_rays, 1) \
+                    and _side_free(g[m], rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc, occlusion):
+                continue
             if not bad[m] and not _hidden(g[m], has_view, ranges, valid, vx, vy, va, a0, inc, occlusion):
                 possible[p] = g[m]
                 p += 1

@@ -12,7 +12,9 @@ door_max_width] (up to `wide_door_max_width` between two building walls in one l
 at least `end_face_min_length` long, or a door frame's length ending in a whole cap or
 turning at its far end into a wall in a concave corner, or a shorter stub between a whole cap
 and a building wall it T-joins (a wall's end between a doorway and a junction): a wide
-doorway; a table's front is shorter, its side no cap) and no wall across it; the gap continues P's wall (Q ahead of P's end, within
+doorway; a table's front is shorter, its side no cap; or from a building wall's end — joined to
+nothing or to a whole cap, no corner of walls — to a door frame's wall coming back along its
+line, no block's face: a doorway's short end beside a junction seen in part) and no wall across it; the gap continues P's wall (Q ahead of P's end, within
 `door_angle` of its direction and `door_offset` of its line), and Q's wall comes back along
 that line towards P (the two walls in one line, seed 001) or stands across it (the end cap
 of a thick wall seen from the side while the face beyond the gap is out of view). Possible doors (seed 001), with the same width range: a convex point and a loose
@@ -44,8 +46,13 @@ cabinet's front; or, longer than an end cap, turning in a convex corner into a s
 runs back to a wall in a concave corner: a table standing against a wall, `face_kernels.against_a_wall`),
 nor meets a face within `jamb_cap_max` of its free end (a corner, not a face: a table's end). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
-A T-opening wider than `door_max_width`, up to `wide_door_max_width`, is only ever a
-possible door "end_face", for the map to prove. A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
+A T-opening wider than `door_max_width`, up to `wide_door_max_width`, is a door only from a
+building wall's end (no glimpse, no short wall's) facing a building wall's face, seen through
+`end_face_depth` deep and seen free beside its end: the scan's beams reach past the points half
+and one gap's width from the end, away from the robot (`face_kernels._side_free`; a corner of
+walls there, its other wall edge-on and out of the local map, stops them — a passage beside a
+room's corner, which the truth counts as no opening —, and seen from behind the wall's own line
+they are hidden). Else it is only ever a possible door "end_face", for the map to prove. A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
 quarters of it, ending more than `door_occlusion` before it: a box standing in front) is none:
 the local map's walls alone say nothing of what stands there now. A door between two jambs is a gap some ray was seen to pass
 through (`door_min_free_rays`): a bay seen edge-on is none.

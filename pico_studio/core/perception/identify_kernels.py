@@ -111,14 +111,15 @@ def _example_pairs() -> tuple:
     block = np.zeros(3, dtype=np.bool_)
     building = np.array([True, True, False])
     lone = np.zeros(3, dtype=np.bool_)
-    return (pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, lone, 0.6, 1.2,
+    wall_end = np.ones(3, dtype=np.bool_)
+    return (pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, 0.6, 1.2,
             1.5, 0.3, 0.1, 0.05)
 
 
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
                long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
-               block: np.ndarray, building: np.ndarray, lone: np.ndarray, min_width: float,
+               block: np.ndarray, building: np.ndarray, wall_end: np.ndarray, lone: np.ndarray, min_width: float,
                max_width: float, wide_width: float,
                angle: float, offset: float, offset_short: float,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -133,7 +134,10 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     a shorter stub between a whole cap and a building wall it T-joins; no object) and, for a door, both
     convex with both walls' lines continuing through the gap (a wide doorway in one wall: the
     truth's openings reach that wide; beside a table's front, shorter, or a block's face
-    across the line, no such gap is a door). off_ij = |pq x o_i| (P_j from wall
+    across the line, no such gap is a door); or when one wall is a building's whose end is a
+    wall's end (`wall_end`: joined to nothing or to a whole cap, no corner of walls), its line
+    continuing through the gap, and the other, no block's face, comes back along it (a
+    doorway's short end beside a junction of walls, its far wall seen in part). off_ij = |pq x o_i| (P_j from wall
     i's line), off_ji = |pq x o_j|; u_i = u . o_i, u_j = u . o_j. Wall i's line continues
     through the gap when u_i > cos(angle) and off_ij < offset (a long wall) or < offset_short
     (a stub); wall j's when -u_j > cos(angle) likewise. A door: both convex, and one wall's
@@ -163,7 +167,7 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             px, py = pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1]
             dist = np.hypot(px, py)
             wide = dist > max_width
-            if not (dist >= min_width and (dist <= max_width or (dist <= wide_width and building[i] and building[j]))):
+            if not (dist >= min_width and (dist <= max_width or (dist <= wide_width and (building[i] or building[j])))):
                 continue
             if wi[i] == wi[j] or connected[wi[i], we[i]] == wi[j]:
                 continue
@@ -182,7 +186,11 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             both_convex = is_convex[i] and is_convex[j]
             is_door = both_convex and (door_ij or door_ji)
             if wide:
-                is_door = both_convex and line_i and line_j
+                is_door = both_convex and ((building[i] and building[j] and line_i and line_j)
+                                           or (building[i] and wall_end[i] and line_i and -uj > cos_a and in_line
+                                               and not block[j])
+                                           or (building[j] and wall_end[j] and line_j and ui > cos_a and in_line
+                                               and not block[i]))
                 if not is_door:
                     continue
             collinear = (abs(out_dir[i, 0] * out_dir[j, 0] + out_dir[i, 1] * out_dir[j, 1]) > cos_a
