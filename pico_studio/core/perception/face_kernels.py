@@ -46,21 +46,28 @@ from pico_studio.jit import kernel, njit
 
 
 @njit
+def _beam_towards(qx: float, qy: float, n_beams: int, vx: float, vy: float, va: float, a0: float,
+                  inc: float) -> int:
+    """The index of the scan's beam towards Q (the module's bearing maths), or -1 out of view."""
+    dx, dy = qx - vx, qy - vy
+    bearing = math.atan2(-math.sin(va) * dx + math.cos(va) * dy, math.cos(va) * dx + math.sin(va) * dy)
+    beam = np.rint((bearing - a0) / inc)
+    if not (beam >= 0 and beam < n_beams):
+        return -1
+    return int(beam)
+
+
+@njit
 def beam_at(qx: float, qy: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float,
             va: float, a0: float, inc: float, occlusion: float) -> int:
     """1: the scan's beam towards Q reaches more than `occlusion` beyond it; -1: it ends more
     than that before Q; 0: neither, or Q out of view."""
     if not has_view:
         return 0
-    dx, dy = qx - vx, qy - vy
-    bearing = math.atan2(-math.sin(va) * dx + math.cos(va) * dy, math.cos(va) * dx + math.sin(va) * dy)
-    beam = np.rint((bearing - a0) / inc)
-    if not (beam >= 0 and beam < ranges.shape[0]):
+    b = _beam_towards(qx, qy, ranges.shape[0], vx, vy, va, a0, inc)
+    if b < 0 or not valid[b]:
         return 0
-    b = int(beam)
-    if not valid[b]:
-        return 0
-    r, dist = ranges[b], math.hypot(dx, dy)
+    r, dist = ranges[b], math.hypot(qx - vx, qy - vy)
     if r > dist + occlusion:
         return 1
     if r < dist - occlusion:
@@ -98,14 +105,6 @@ def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
 
 
 @njit
-def _capped_at(walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, k: int, px: float, py: float,
-               cap_max: float) -> bool:
-    e = 0 if math.hypot(walls[k, 0] - px, walls[k, 1] - py) <= math.hypot(walls[k, 2] - px, walls[k, 3] - py) else 1
-    j = connected[k, e]
-    return j >= 0 and lengths[j] <= cap_max
-
-
-@njit
 def _side_free(gap: np.ndarray, rx: float, ry: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray,
                vx: float, vy: float, va: float, a0: float, inc: float, occlusion: float) -> bool:
     """Is the side beyond a T-opening's jamb P (the gap P -> M) seen free: do the scan's beams
@@ -120,13 +119,12 @@ def _side_free(gap: np.ndarray, rx: float, ry: float, has_view: bool, ranges: np
     if nx * (rx - px) + ny * (ry - py) > 0:
         nx, ny = -nx, -ny
     for f in (0.5, 1.0):
-        dx, dy = px + f * nx - vx, py + f * ny - vy
-        bearing = math.atan2(-math.sin(va) * dx + math.cos(va) * dy, math.cos(va) * dx + math.sin(va) * dy)
-        beam = np.rint((bearing - a0) / inc)
-        if not (beam >= 0 and beam < ranges.shape[0]):
+        qx, qy = px + f * nx, py + f * ny
+        b = _beam_towards(qx, qy, ranges.shape[0], vx, vy, va, a0, inc)
+        if b < 0:
             return False
-        r, dist = ranges[int(beam)], math.hypot(dx, dy)
-        if valid[int(beam)]:
+        r, dist = ranges[b], math.hypot(qx - vx, qy - vy)
+        if valid[b]:
             if not r > dist + occlusion:
                 return False
         elif math.isfinite(r) and r > 0 and r < dist:  # (an invalid beam returned nothing, or beyond)
