@@ -13,7 +13,8 @@ candidate when
 * min_width <= t <= max_width, and M is no nearer than `cap_max` to a free convex end of k
   (a corner there, not a face); up to `wide_width` the gap is a door only from a building
   wall's end facing a building wall, seen deep and free beside the end (t_openings, `_side_free`),
-  else a possible door;
+  else a possible door; a face turning into another wall in a concave corner within `depth` past
+  the line, no ray reaching that deep, is a pocket's side: a possible door only (`_shallow_back`);
 * k is about square to the ray: |e_k . o| / |e_k| <= sin(angle).
 
 Where k fails the last two at a free corner, or is a piece no longer than `cap_max` askew to
@@ -376,6 +377,25 @@ def _runs_on(gap: np.ndarray, face: np.ndarray, far_props: np.ndarray, rx: float
 
 
 @njit
+def _shallow_back(gap: np.ndarray, face: np.ndarray, far_props: np.ndarray, rx: float, ry: float, depth: float,
+                  occlusion: float, concave: int) -> bool:
+    """Does the face (x0, y0, x1, y1) a T-opening's gap (P -> M) meets turn, in a concave corner
+    more than `occlusion` and less than `depth` past the gap's line away from the robot R, into
+    another wall: the pocket's back beside a table standing against a wall? (n . (E - P), n the
+    gap's normal away from R, as in _runs_on.)"""
+    ux, uy = gap[2] - gap[0], gap[3] - gap[1]
+    nx, ny = -uy, ux
+    if nx * (rx - gap[0]) + ny * (ry - gap[1]) > 0:
+        nx, ny = -nx, -ny
+    den = max(math.hypot(nx, ny), 1e-12)
+    for e in range(2):
+        s = (nx * (face[2 * e] - gap[0]) + ny * (face[2 * e + 1] - gap[1])) / den
+        if s > occlusion and s < depth and far_props[e] == concave:
+            return True
+    return False
+
+
+@njit
 def _same_place(a: np.ndarray, b: np.ndarray, min_width: float, angle: float) -> bool:
     """Two gaps about parallel whose middles lie within min_width / 2: one opening."""
     max_, may = (a[0] + a[2]) / 2, (a[1] + a[3]) / 2
@@ -502,6 +522,13 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
                     p += 1
                 bad[m] = True
     for m in range(n):
+        # seen steeply a pocket's rays all land on its side wall's face and say nothing; that
+        # face turning into the wall behind the table within `depth` of the line is its back (a
+        # table 1.5-1.6 m long against a wall, its sides unseen: its front a building's length):
+        # only ever a possible door, for the map to prove
+        if not bad[m] and deep_g[m] < max(min_free_rays, 1) \
+                and _shallow_back(g[m], walls[ob[m]], prop[ob[m]], rx, ry, depth, occlusion, concave):
+            gl_[m] = True
         if gl_[m] and not bad[m]:
             possible[p] = g[m]
             p += 1
