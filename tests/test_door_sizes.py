@@ -177,19 +177,23 @@ def test_a_t_opening_needs_its_rays_end_face_depth_deep():
     assert _doors(*_pocket(0.82), params=shallow)[1] == ["end_face"]
 
 
-def _pocket_seen_steeply(back: bool):
+def _pocket_seen_steeply(back: bool, room_wall: bool = False):
     """A table's front 1.55 m long (as long as a building's wall), both its ends seen, its sides
     not (the robot stands before it), a side wall's face 0.9 m from its right end; the laser at
     (-1.8, -0.5) sees the gap steeply: its rays land on the face, none 0.9 m past the line. With
     `back` the face turns at 0.82 m past the line, in a concave corner, into the wall behind the
-    table (seen in part): a pocket's back; without, the face runs on out of view."""
+    table (seen in part): a pocket's back; without, the face runs on out of view. With
+    `room_wall` the front is a room's wall instead, its left end a corner of the room (joined to
+    a wall running back), and the face's corner a cabinet's standing against it."""
     robot = (-1.8, -0.5)
     front, face = [-2.0, 0.0, -0.45, 0.0], [0.45, -2.0, 0.45, 0.82 if back else 2.0]
-    walls = [front, face] + ([[0.45, 0.82, -0.3, 0.82]] if back else [])
+    walls = [front, face] + ([[0.45, 0.82, -0.3, 0.82]] if back else []) + ([[-2.0, 0.0, -2.0, -2.0]] if room_wall else [])
     connected = np.full((len(walls), 2), -1, dtype=np.int64)
     if back:
         connected[1, 1], connected[2, 0] = 2, 1
-    seen = [[True, True], [False, back]] + ([[True, False]] if back else [])
+    if room_wall:
+        connected[0, 0], connected[-1, 0] = len(walls) - 1, 0
+    seen = [[True, True], [False, back]] + ([[True, False]] if back else []) + ([[True, False]] if room_wall else [])
     solid = [front, face] + ([[0.45, 0.82, -2.0, 0.82], [-2.0, 0.0, -2.0, 0.82], [-0.45, 0.0, -0.45, 0.82]]
                              if back else [])
     return identify(np.array(walls, dtype=float), connected, np.array(seen), robot, PARAMS,
@@ -198,18 +202,19 @@ def _pocket_seen_steeply(back: bool):
 
 def test_a_t_opening_whose_face_turns_into_a_back_wall_shallow_is_a_possible_door():
     """The pocket beside a table standing against a wall, seen steeply, its rays all landing on
-    the side wall's face: that face turning into the wall behind the table in a concave corner
-    less than `end_face_depth` past the gap's line is the pocket's back (the suites' own door
-    precision 0.950 -> 0.962), a possible door "end_face" for the map to prove. The face running
-    on out of view, the same gap is a door."""
+    the side wall's face: the table's front seen whole, both its ends free, and that face turning
+    into the wall behind the table in a concave corner less than `end_face_depth` past the gap's
+    line is the pocket's back (the suites' own door precision 0.950 -> 0.961), a possible door
+    "end_face" for the map to prove. The face running on out of view, the same gap is a door; so
+    it is from a room's wall, joined at its far end (a cabinet by a doorway's side wall)."""
     gap = [-0.45, 0.0, 0.45, 0.0]
     pocket = _pocket_seen_steeply(back=True)
     assert not any(np.allclose(d, gap, atol=1e-6) for d in pocket.doors)
     assert [k for d, k in zip(pocket.possible_doors, pocket.possible_door_kind, strict=True)
             if np.allclose(d, gap, atol=1e-6)] == ["end_face"]
-    opening = _pocket_seen_steeply(back=False)
-    assert [k for d, k in zip(opening.doors, opening.door_kind, strict=True) if np.allclose(d, gap, atol=1e-6)] \
-        == ["end_face"]
+    for opening in (_pocket_seen_steeply(back=False), _pocket_seen_steeply(back=True, room_wall=True)):
+        assert [k for d, k in zip(opening.doors, opening.door_kind, strict=True)
+                if np.allclose(d, gap, atol=1e-6)] == ["end_face"]
 
 
 @pytest.mark.parametrize("seed", [0, 1, 7])
