@@ -183,8 +183,8 @@ def _pocket_seen_steeply(back: bool, room_wall: bool = False):
     (-1.8, -0.5) sees the gap steeply: its rays land on the face, none 0.9 m past the line. With
     `back` the face turns at 0.82 m past the line, in a concave corner, into the wall behind the
     table (seen in part): a pocket's back; without, the face runs on out of view. With
-    `room_wall` the front is a room's wall instead, its left end a corner of the room (joined to
-    a wall running back), and the face's corner a cabinet's standing against it."""
+    `room_wall` the front is a room's wall instead, its left end the room's concave corner (joined
+    to a wall running back), and the face's corner a cabinet's standing against it."""
     robot = (-1.8, -0.5)
     front, face = [-2.0, 0.0, -0.45, 0.0], [0.45, -2.0, 0.45, 0.82 if back else 2.0]
     walls = [front, face] + ([[0.45, 0.82, -0.3, 0.82]] if back else []) + ([[-2.0, 0.0, -2.0, -2.0]] if room_wall else [])
@@ -202,11 +202,12 @@ def _pocket_seen_steeply(back: bool, room_wall: bool = False):
 
 def test_a_t_opening_whose_face_turns_into_a_back_wall_shallow_is_a_possible_door():
     """The pocket beside a table standing against a wall, seen steeply, its rays all landing on
-    the side wall's face: the table's front seen whole, both its ends free, and that face turning
-    into the wall behind the table in a concave corner less than `end_face_depth` past the gap's
-    line is the pocket's back (the suites' own door precision 0.950 -> 0.961), a possible door
-    "end_face" for the map to prove. The face running on out of view, the same gap is a door; so
-    it is from a room's wall, joined at its far end (a cabinet by a doorway's side wall)."""
+    the side wall's face: from the table's front (its far end no concave corner), that face
+    turning into the wall behind the table in a concave corner less than `end_face_depth` past
+    the gap's line is the pocket's back (the suites' own door precision 0.950 -> 0.962), a
+    possible door "end_face" for the map to prove. The face running on out of view, the same gap
+    is a door; so it is from a room's wall ending in the room's corner (a cabinet by a doorway's
+    side wall)."""
     gap = [-0.45, 0.0, 0.45, 0.0]
     pocket = _pocket_seen_steeply(back=True)
     assert not any(np.allclose(d, gap, atol=1e-6) for d in pocket.doors)

@@ -13,9 +13,9 @@ candidate when
 * min_width <= t <= max_width, and M is no nearer than `cap_max` to a free convex end of k
   (a corner there, not a face); up to `wide_width` the gap is a door only from a building
   wall's end facing a building wall, seen deep and free beside the end (t_openings, `_side_free`),
-  else a possible door; from a piece seen whole, both its ends free, a face turning into another
-  wall in a concave corner within `depth` past the line, no ray reaching that deep, is a pocket's
-  side: a possible door only (`_shallow_back`);
+  else a possible door; from a wall whose far end is no concave corner, a face turning into
+  another wall in a concave corner within `depth` past the line, no ray reaching that deep, is a
+  pocket's side: a possible door only (`_shallow_back`);
 * k is about square to the ray: |e_k . o| / |e_k| <= sin(angle).
 
 Where k fails the last two at a free corner, or is a piece no longer than `cap_max` askew to
@@ -524,14 +524,15 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
                 bad[m] = True
     for m in range(n):
         # seen steeply a pocket's rays all land on its side wall's face and say nothing; from a
-        # piece seen whole, both its ends free (a table 1.5-1.6 m long against a wall, its sides
-        # unseen: its front a building's length), that face turning into the wall behind the
-        # table within `depth` of the line is its back: only ever a possible door, for the map
-        # to prove (a room's wall joined at its far end keeps its door beside a cabinet standing
-        # against the doorway's side wall)
+        # wall whose far end is no concave corner (a table 1.5-1.6 m long against a wall: its
+        # front a building's length, its far end free or turning into its side), that face
+        # turning into the wall behind the table within `depth` of the line is its back: only
+        # ever a possible door, for the map to prove (a room's wall ending in the room's corner
+        # keeps its door beside a cabinet standing against the doorway's side wall)
         k = oa[m]
-        if not bad[m] and deep_g[m] < max(min_free_rays, 1) and connected[k, 0] < 0 and connected[k, 1] < 0 \
-                and prop[k, 0] == convex and prop[k, 1] == convex \
+        far_end = 1 if math.hypot(walls[k, 0] - g[m, 0], walls[k, 1] - g[m, 1]) <= \
+            math.hypot(walls[k, 2] - g[m, 0], walls[k, 3] - g[m, 1]) else 0
+        if not bad[m] and deep_g[m] < max(min_free_rays, 1) and prop[k, far_end] != concave \
                 and _shallow_back(g[m], walls[ob[m]], prop[ob[m]], rx, ry, depth, occlusion, concave):
             gl_[m] = True
         if gl_[m] and not bad[m]:

@@ -53,12 +53,12 @@ and one gap's width from the end, away from the robot (`face_kernels._side_free`
 walls there, its other wall edge-on and out of the local map, stops them — a passage beside a
 room's corner, which the truth counts as no opening —, and seen from behind the wall's own line
 they are hidden). Else it is only ever a possible door "end_face", for the map to prove. So
-is a T-opening from a piece seen whole, both its ends free, whose face turns in a concave corner
-into another wall less than `end_face_depth` past the gap's line, no ray through the gap reaching
-that deep (`face_kernels._shallow_back`): seen steeply, the pocket beside a table standing against
-a wall shows its back only there (a table 1.5-1.6 m long seen from before its front, its sides
-unseen, has a building wall's length; a room's wall, joined at its far end, keeps its door beside
-a cabinet standing against the doorway's side wall 0.44 m on). A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
+is a T-opening from a wall whose far end is no concave corner, its face turning in a concave
+corner into another wall less than `end_face_depth` past the gap's line, no ray through the gap
+reaching that deep (`face_kernels._shallow_back`): seen steeply, the pocket beside a table
+standing against a wall shows its back only there (a table 1.5-1.6 m long has a building wall's
+length; a room's wall ending in the room's corner keeps its door beside a cabinet standing against
+the doorway's side wall 0.44 m on). A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
 quarters of it, ending more than `door_occlusion` before it: a box standing in front) is none:
 the local map's walls alone say nothing of what stands there now. A door between two jambs is a gap some ray was seen to pass
 through (`door_min_free_rays`): a bay seen edge-on is none.
