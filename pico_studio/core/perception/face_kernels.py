@@ -117,9 +117,7 @@ def _side_free(gap: np.ndarray, rx: float, ry: float, has_view: bool, ranges: np
     if not has_view:
         return False
     px, py = gap[0], gap[1]
-    nx, ny = -(gap[3] - py), gap[2] - px
-    if nx * (rx - px) + ny * (ry - py) > 0:
-        nx, ny = -nx, -ny
+    nx, ny = _away_normal(gap, rx, ry)
     for f in (0.5, 1.0):
         qx, qy = px + f * nx, py + f * ny
         b = _beam_towards(qx, qy, ranges.shape[0], vx, vy, va, a0, inc)
@@ -359,22 +357,32 @@ def _hidden(gap: np.ndarray, has_view: bool, ranges: np.ndarray, valid: np.ndarr
 
 
 @njit
+def _away_normal(gap: np.ndarray, rx: float, ry: float) -> tuple[float, float]:
+    """The normal n of a gap (P -> M), |n| = |PM|, pointing away from the robot R."""
+    nx, ny = -(gap[3] - gap[1]), gap[2] - gap[0]
+    if nx * (rx - gap[0]) + ny * (ry - gap[1]) > 0:
+        nx, ny = -nx, -ny
+    return nx, ny
+
+
+@njit
+def _face_ends_past(gap: np.ndarray, face: np.ndarray, rx: float, ry: float) -> tuple[float, float]:
+    """How far each end E of the face (x0, y0, x1, y1) lies past the gap's line away from the
+    robot R: n . (E - P) / |n|, n = _away_normal."""
+    nx, ny = _away_normal(gap, rx, ry)
+    den = max(math.hypot(nx, ny), 1e-12)
+    return ((nx * (face[0] - gap[0]) + ny * (face[1] - gap[1])) / den,
+            (nx * (face[2] - gap[0]) + ny * (face[3] - gap[1])) / den)
+
+
+@njit
 def _runs_on(gap: np.ndarray, face: np.ndarray, far_props: np.ndarray, rx: float, ry: float, run_on: float,
              floating: int) -> bool:
     """Is the face (x0, y0, x1, y1) a T-opening's gap (P -> M) meets seen running on at least
     `run_on` past the gap's line, away from the robot R, its end there floating (out of view,
-    no corner: not a pocket's side ending at its back)? With n the gap's normal away from R,
-    an end E of the face counts when n . (E - P) >= run_on."""
-    ux, uy = gap[2] - gap[0], gap[3] - gap[1]
-    nx, ny = -uy, ux
-    if nx * (rx - gap[0]) + ny * (ry - gap[1]) > 0:
-        nx, ny = -nx, -ny
-    den = max(math.hypot(nx, ny), 1e-12)
-    for e in range(2):
-        s = (nx * (face[2 * e] - gap[0]) + ny * (face[2 * e + 1] - gap[1])) / den
-        if s >= run_on and far_props[e] == floating:
-            return True
-    return False
+    no corner: not a pocket's side ending at its back)? (_face_ends_past)"""
+    s0, s1 = _face_ends_past(gap, face, rx, ry)
+    return (s0 >= run_on and far_props[0] == floating) or (s1 >= run_on and far_props[1] == floating)
 
 
 @njit
@@ -382,18 +390,9 @@ def _shallow_back(gap: np.ndarray, face: np.ndarray, far_props: np.ndarray, rx: 
                   occlusion: float, concave: int) -> bool:
     """Does the face (x0, y0, x1, y1) a T-opening's gap (P -> M) meets turn, in a concave corner
     more than `occlusion` and less than `depth` past the gap's line away from the robot R, into
-    another wall: the pocket's back beside a table standing against a wall? (n . (E - P), n the
-    gap's normal away from R, as in _runs_on.)"""
-    ux, uy = gap[2] - gap[0], gap[3] - gap[1]
-    nx, ny = -uy, ux
-    if nx * (rx - gap[0]) + ny * (ry - gap[1]) > 0:
-        nx, ny = -nx, -ny
-    den = max(math.hypot(nx, ny), 1e-12)
-    for e in range(2):
-        s = (nx * (face[2 * e] - gap[0]) + ny * (face[2 * e + 1] - gap[1])) / den
-        if s > occlusion and s < depth and far_props[e] == concave:
-            return True
-    return False
+    another wall: the pocket's back beside a table standing against a wall? (_face_ends_past)"""
+    s0, s1 = _face_ends_past(gap, face, rx, ry)
+    return (occlusion < s0 < depth and far_props[0] == concave) or (occlusion < s1 < depth and far_props[1] == concave)
 
 
 @njit
