@@ -83,7 +83,11 @@ sides spans no more than its diagonal), or turn at a concave corner where two wa
 than `jamb_cap_max` meet end to end (`identify_kernels.inside_corners`): the robot sees a room's
 inside, while a table seen from outside turns at convex corners only, and one standing a few
 cm off a wall is T-joined to the wall's face, joined one way (a table against a wall, the wall
-seen up to the table's side, is such a corner too: the rule's price) (a piece of wall between
+seen up to the table's side, is such a corner too: the rule's price; but no wall of a block
+standing against a wall seen closed, `map_proven_kernels.block_sides`: its side, its front longer
+than an end cap and its other side running back to the wall, the robot outside them — the
+table's corner beside a partition's end in line with its side has every other shape of a wall's
+opening) (a piece of wall between
 two doors whose sides are unseen counts as the building's when its line runs on past both its ends in other walls a door's width
 on, one of them a building's; or past one end, the other out of view, into a wall that is a
 building's by its own shape: `end_face_min_length` long, or turning at a concave corner into a
@@ -137,7 +141,7 @@ from pico_studio.core.perception.identify_kernels import (
 )
 from pico_studio.core.perception.junction_kernels import junctions
 from pico_studio.core.perception.map_proven import bays, lone_caps
-from pico_studio.core.perception.map_proven_kernels import deep_sides, wall_shaped
+from pico_studio.core.perception.map_proven_kernels import block_sides, deep_sides, wall_shaped
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
 
 POSSIBLE_DOOR_KINDS = ("convex_loose", "loose_loose", "loose_wall", "end_face", "bay", "jamb")
@@ -329,7 +333,11 @@ def _doors(
             side_on = deep_sides(gaps, w, c, p64, own_a, own_b,
                                  float(robot[0]), float(robot[1]), float(params.door_angle),
                                  float(params.door_depth), float(params.bay_run_on), CONVEX, FLOATING)
-            through = ((rays >= params.bay_deep_rays) | (~back & side_on)) \
+            # a block standing against a wall joins the building's walls, but its corner opens
+            # none (map_proven_kernels.block_sides)
+            blocky = block_sides(w, c, lengths, float(robot[0]), float(robot[1]), float(params.jamb_cap_max),
+                                 float(params.door_angle))
+            through = ((rays >= params.bay_deep_rays) | (~back & side_on)) & ~blocky[own_a] & ~blocky[own_b] \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
                 & wall_shaped(gaps, w, c, lengths, own_a, own_b, float(params.door_angle),
                               float(params.door_wall_min_length), float(params.bay_line_offset))

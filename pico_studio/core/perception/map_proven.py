@@ -9,6 +9,10 @@ local map alone cannot tell from furniture.
 - Lone end caps (`lone_caps`): a partition's end seen only face on, facing a building wall's
   face a door's width on; a person's foot looks the same.
 
+A bay seen through opens a building's walls by the shape of its jambs' walls (identify); a block
+standing against a wall, seen closed (`map_proven_kernels.block_sides`), joins the wall's
+walls but opens none.
+
 Once localised the combined map promotes them where the map's walls open
 (localisation.combined.combine). The loops and their maths: map_proven_kernels.
 """

@@ -8,6 +8,13 @@ mouth: two door frame's walls side by side (o_i . o_j > cos(angle)) with the gap
 scored |u . o_i| + |u . o_j|. A gap no other wall crosses (blocked_many) is kept, best scored
 first, one per opening (distinct_openings).
 
+Blocks against a wall (`block_sides`). A side S joined at its ends to B and F, e_S . e_B and
+e_S . e_F below sin(angle) |e_S| |e_B| (|e_F|); F's far end and B's far end on opposite sides of
+S's line (the cross products with S's direction of opposite signs); with n B's unit normal, F's
+middle M stands off B's line by n . (M - B0), at least cap_max, of the robot's sign; F's far end
+joins S2, square to F, whose far end lies nearer B's line by more than cap_max; and the robot
+is not inside (|n . (R - B0)| < |n . (M - B0)| with its projection on F within F).
+
 Lone end caps. A cap from a to b (|b - a| = L <= cap_max, joined to nothing) looks along its
 normal n = (-d_y, d_x), d = (b - a) / L, turned towards the robot R ((R - M) . n >= 0, M the
 cap's middle); the first wall it meets (ray_hits, the cap itself left out) at t in
@@ -199,6 +206,83 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, leng
         out[q] = (inline[0] and inline[1]) or (side[0] != 0 and side[0] != 2 and side[0] == side[1]
                                                and not along[0] and not along[1])
     return out
+
+
+def _example_blocks() -> tuple:
+    # a table 1.4 x 0.7 m standing against a wall (y = 0), the robot in front of it
+    walls = np.array([[-2.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -0.7], [0.0, -0.7, 1.4, -0.7], [1.4, -0.7, 1.4, 0.0]])
+    connected = np.array([[-1, 1], [0, 2], [1, 3], [2, -1]], dtype=np.int64)
+    lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
+    return walls, connected, lengths, 0.7, -2.0, 0.35, 0.3
+
+
+@njit
+def _square(walls: np.ndarray, lengths: np.ndarray, a: int, b: int, sin_a: float) -> bool:
+    """Walls a and b about square: |e_a . e_b| / (|e_a| |e_b|) < sin(angle)."""
+    dot = (walls[a, 2] - walls[a, 0]) * (walls[b, 2] - walls[b, 0]) + (walls[a, 3] - walls[a, 1]) * (walls[b, 3] - walls[b, 1])
+    return abs(dot) < sin_a * max(lengths[a] * lengths[b], 1e-12)
+
+
+@kernel(_example_blocks)
+def block_sides(walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, rx: float, ry: float, cap_max: float,
+                angle: float) -> np.ndarray:
+    """(W,) bool: the walls of a block standing against a wall, seen closed (a table, a bed: the
+    bay from its corner to a partition's end in line with its side opens no building's walls).
+    A side S joined at one end to a wall B about square to it, at the other to the front F; F
+    about square to S, leaving S's line on the other side from B (a U of three walls from one
+    line is a room's or a niche's shape too), longer than `cap_max` (no wall's end cap: a thick
+    wall's end has this shape), its middle at least `cap_max` off B's line on the robot R's side
+    (a niche's back lies behind the wall); and F's other end joined to a second side S2, about
+    square to F, running back towards B's line; the robot not inside the three (a room's walls
+    seen from inside have the same shape). Seen open (F's far end free, or out of view),
+    the same corner is a room's wall turning into a passage's side: an escape room's exit."""
+    n = walls.shape[0]
+    out = np.zeros(n, dtype=np.bool_)
+    sin_a = math.sin(angle)
+    for s in range(n):
+        for e in range(2):
+            f, b = connected[s, e], connected[s, 1 - e]
+            if f < 0 or b < 0 or f == b or lengths[f] <= cap_max:
+                continue
+            if not (_square(walls, lengths, s, f, sin_a) and _square(walls, lengths, s, b, sin_a)):
+                continue
+            px, py = walls[s, 2 * e], walls[s, 2 * e + 1]  # the block's corner
+            qx, qy = walls[s, 2 * (1 - e)], walls[s, 2 * (1 - e) + 1]  # where S meets B
+            fn = _nearer_end(walls, f, px, py)
+            fx, fy = walls[f, 2 * (1 - fn)], walls[f, 2 * (1 - fn) + 1]  # F's far end
+            bf = 1 - _nearer_end(walls, b, qx, qy)
+            sx, sy = px - qx, py - qy
+            to_f = sx * (fy - py) - sy * (fx - px)
+            to_b = sx * (walls[b, 2 * bf + 1] - qy) - sy * (walls[b, 2 * bf] - qx)
+            if to_f * to_b >= 0:
+                continue
+            # B's line, its normal n: F stands off it towards the robot
+            bx, by = walls[b, 0], walls[b, 1]
+            nx, ny = -(walls[b, 3] - by) / max(lengths[b], 1e-12), (walls[b, 2] - bx) / max(lengths[b], 1e-12)
+            off_f = nx * ((px + fx) / 2 - bx) + ny * ((py + fy) / 2 - by)
+            if abs(off_f) < cap_max or off_f * (nx * (rx - bx) + ny * (ry - by)) <= 0:
+                continue
+            # closed: F's far end turns into a second side running back towards B's line
+            s2 = connected[f, 1 - fn]
+            if s2 < 0 or s2 == s or not _square(walls, lengths, f, s2, sin_a):
+                continue
+            tn = _nearer_end(walls, s2, fx, fy)
+            off_s2 = nx * (walls[s2, 2 * (1 - tn)] - bx) + ny * (walls[s2, 2 * (1 - tn) + 1] - by)
+            # ...and the robot outside it: from inside, a room's three walls make the same shape
+            off_r = nx * (rx - bx) + ny * (ry - by)
+            along = ((rx - px) * (fx - px) + (ry - py) * (fy - py)) / max(lengths[f] * lengths[f], 1e-12)
+            inside = abs(off_r) < abs(off_f) and 0.0 < along < 1.0
+            if abs(off_s2) < abs(off_f) - cap_max and not inside:
+                out[s] = True
+                out[f] = True
+                out[s2] = True
+    return out
+
+
+@njit
+def _nearer_end(walls: np.ndarray, k: int, px: float, py: float) -> int:
+    """The end of wall k (0 or 1) nearer to P."""
+    return 0 if math.hypot(walls[k, 0] - px, walls[k, 1] - py) <= math.hypot(walls[k, 2] - px, walls[k, 3] - py) else 1
 
 
 def _example_sides() -> tuple:
