@@ -153,14 +153,33 @@ def _see_through(walls: np.ndarray, last_seen: np.ndarray, step: int, missed: np
                 float(params.see_through))
 
 
-def drop_near(state: LocalMapState, places: np.ndarray, radius: float) -> LocalMapState:
+def scan_passes(walls: np.ndarray, pose: Pose, scan: ScanPoints, params: MergeParams) -> np.ndarray:
+    """(W,) bool: the scan's beams pass through the wall (by `see_through`) at most of its
+    points (merge_kernels.see_through's test, on a copy): it stands there no more. Out of view
+    or behind something, a wall is not passed."""
+    missed = np.zeros(len(walls), dtype=np.int64)  # 1 after the test: passed through
+    _see_through(walls, np.full(len(walls), -1, dtype=np.int64), 0, missed, pose, scan, params)
+    return missed > 0
+
+
+def drop_near(state: LocalMapState, places: np.ndarray, radius: float, ages: np.ndarray | None = None,
+              standing: np.ndarray | None = None) -> LocalMapState:
     """The state without walls lying entirely within `radius` of one of `places` (V, 2): what
-    an object left where it stood before it turned out to move."""
+    an object left where it stood before it turned out to move. With `ages` (V,), the scans
+    since each object was first seen, and `standing` (W,), the walls the current scan does not
+    pass through (`scan_passes`), a wall seen in more scans than the object is old and not seen
+    through now stays: it stood there before the object came (a wall's end cap, tracked as an
+    object while its seen end slid along as the view changed, leaves hospital_2019's doorway its
+    walls; a table's side a box walked past, its smear merged into it, is seen through where the
+    box was)."""
     if len(places) == 0 or len(state.walls) == 0:
         return state
     ends = state.walls.reshape(-1, 2, 2)
     d = np.hypot(*(ends[:, :, None, :] - places[None, None, :, :]).transpose(3, 0, 1, 2))  # (W, 2, V)
-    gone = (d <= radius).all(axis=1).any(axis=1)
+    near = (d <= radius).all(axis=1)  # (W, V)
+    if ages is not None and standing is not None:
+        near &= ~((state.hits[:, None] > np.asarray(ages, dtype=float)[None, :]) & standing[:, None])
+    gone = near.any(axis=1)
     if not gone.any():
         return state
     s = state
@@ -169,4 +188,4 @@ def drop_near(state: LocalMapState, places: np.ndarray, radius: float) -> LocalM
     return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, s.step, s.window)
 
 
-__all__ = ["END_SEEN", "LocalMapState", "drop_near", "merge"]
+__all__ = ["END_SEEN", "LocalMapState", "drop_near", "merge", "scan_passes"]

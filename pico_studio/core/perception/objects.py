@@ -12,7 +12,9 @@ followed by an end the nearest seen end; when a partly hidden track is seen whol
 shifts by the same offset (end to centroid), so its motion runs on; seen partly hidden again
 it starts afresh. A track whose reference moved more than `min_motion` from its start is
 *dynamic* for good: its walls are kept out of the local map (and the local walls it left
-where it began are dropped), and its points are kept out of the pose correction. A whole
+where it began are dropped, but those seen in more scans than the track is old and not seen
+through now: they stood there before it came — a wall's end cap tracked while its seen end slid along
+as the view changed leaves its wall), and its points are kept out of the pose correction. A whole
 track seen in fewer than `confirm_scans` scans is not merged yet either (a person walking by
 is gone before that); after that, a track that stayed put is a *static object* and merged
 like any wall. A partly hidden one is merged at once unless it moves (a thick wall's end cap
@@ -44,6 +46,7 @@ class Track:
     box: tuple[float, float, float, float]  # last bounding box (xmin, ymin, xmax, ymax), zero frame
     whole: bool = True  # last seen past at both ends (reference: the centroid), else at one (that end)
     origin: tuple[float, float] | None = None  # the reference when the track began (None: `first`)
+    born: int = 0  # the step it began
 
 
 @dataclass(frozen=True)
@@ -59,6 +62,7 @@ class Objects:
     dynamic_boxes: np.ndarray  # (D, 4) zero frame
     static_boxes: np.ndarray  # (O, 4) zero frame
     vanished_at: np.ndarray  # (V, 2) zero frame: where tracks that just turned dynamic were first seen
+    vanished_age: np.ndarray  # (V,) int: scans since each of those tracks began
 
 
 def _example() -> tuple:
@@ -137,6 +141,7 @@ def track_objects(state: ObjectsState, scan: ScanPoints, pose: Pose, params: Obj
     end_seen = scan.end_seen[idx]
     used = [False] * len(tracks)
     vanished: list[tuple[float, float]] = []
+    ages: list[int] = []
     for c, centre, box, two, seen in zip(idx.tolist(), map(tuple, centres.tolist()), map(tuple, boxes.tolist()),
                                          ends.tolist(), end_seen.tolist(), strict=True):
         whole = seen[0] and seen[1]
@@ -150,7 +155,7 @@ def track_objects(state: ObjectsState, scan: ScanPoints, pose: Pose, params: Obj
                     best, best_d, best_ref = i, d, q
         ref = centre if whole else seen_ends[0]
         if best < 0:
-            t = Track(ref, ref, 1, step, False, box, whole, ref)
+            t = Track(ref, ref, 1, step, False, box, whole, ref, step)
             tracks.append(t)
             used.append(True)
         else:
@@ -160,12 +165,13 @@ def track_objects(state: ObjectsState, scan: ScanPoints, pose: Pose, params: Obj
                      and math.hypot(old.first[0] - best_ref[0], old.first[1] - best_ref[1]) > params.min_motion)
             if moved and not old.dynamic:  # what it left where it began goes
                 vanished.append(old.origin or old.first)
+                ages.append(step - old.born)
             first = old.first
             if not old.whole and whole:  # followed by its centroid from now: the start shifted alike
                 first = (first[0] + centre[0] - best_ref[0], first[1] + centre[1] - best_ref[1])
             elif old.whole and not whole:  # a partly hidden centroid says little: measured afresh
                 first = ref
-            t = Track(first, ref, old.seen + 1, step, old.dynamic or moved, box, whole, old.origin)
+            t = Track(first, ref, old.seen + 1, step, old.dynamic or moved, box, whole, old.origin, old.born)
             tracks[best] = t
             used[best] = True
         dynamic[c] = t.dynamic
@@ -176,7 +182,8 @@ def track_objects(state: ObjectsState, scan: ScanPoints, pose: Pose, params: Obj
     dyn = np.array([t.box for t in live if t.dynamic], dtype=float).reshape(-1, 4)
     static = np.array([t.box for t in live if not t.dynamic and t.seen >= params.confirm_scans],
                       dtype=float).reshape(-1, 4)
-    out = Objects(held, dynamic, dyn, static, np.array(vanished, dtype=float).reshape(-1, 2))
+    out = Objects(held, dynamic, dyn, static, np.array(vanished, dtype=float).reshape(-1, 2),
+                  np.array(ages, dtype=np.int64))
     return out, ObjectsState(tuple(tracks), step)
 
 

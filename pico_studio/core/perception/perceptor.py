@@ -30,7 +30,7 @@ from pico_studio.core.perception.entrance import Estimate, entrance_in_scan, med
 from pico_studio.core.perception.identify import View, identify
 from pico_studio.core.perception.laser_motion import laser_motion
 from pico_studio.core.perception.locate import LocateState, locate
-from pico_studio.core.perception.merge import LocalMapState, drop_near, merge
+from pico_studio.core.perception.merge import LocalMapState, drop_near, merge, scan_passes
 from pico_studio.core.perception.objects import ObjectsState, track_objects
 from pico_studio.core.perception.plugin_hooks import perceive_with_plugins
 from pico_studio.core.perception.proximity import proximity_flags
@@ -126,7 +126,10 @@ def _perceive(
         if fit.accepted:
             loc = loc.corrected(fit.pose)
     lap("scan_match")
-    local_before = drop_near(state.local_map, objs.vanished_at, params.objects.max_size)
+    local_before = state.local_map
+    if len(objs.vanished_at):  # what a moving object left where it stood (walls older than it stay, unless seen through)
+        local_before = drop_near(local_before, objs.vanished_at, params.objects.max_size, objs.vanished_age,
+                                 ~scan_passes(local_before.walls, loc.pose, scan, params.merge))
     free = segs
     if objs.held.any():  # the walls of objects being tracked stay out of the local map
         kept = ~objs.held[segs.cluster]
