@@ -42,6 +42,7 @@ from pico_studio.core.perception.identify_kernels import (
     blocked_many,
     extended_hits,
     line_hit,
+    nearer_end,
     ray_hits,
 )
 from pico_studio.jit import kernel, njit
@@ -529,8 +530,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         # ever a possible door, for the map to prove (a room's wall ending in the room's corner
         # keeps its door beside a cabinet standing against the doorway's side wall)
         k = oa[m]
-        far_end = 1 if math.hypot(walls[k, 0] - g[m, 0], walls[k, 1] - g[m, 1]) <= \
-            math.hypot(walls[k, 2] - g[m, 0], walls[k, 3] - g[m, 1]) else 0
+        far_end = 1 - nearer_end(walls, k, g[m, 0], g[m, 1])
         if not bad[m] and deep_g[m] < max(min_free_rays, 1) and prop[k, far_end] != concave \
                 and _shallow_back(g[m], walls[ob[m]], prop[ob[m]], rx, ry, depth, occlusion, concave):
             gl_[m] = True

@@ -422,7 +422,7 @@ def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: i
         return False
     if facing:
         ex, ey = walls[i, 2 * e], walls[i, 2 * e + 1]
-        near = 0 if math.hypot(cx - ex, cy - ey) <= math.hypot(walls[j, 2] - ex, walls[j, 3] - ey) else 1
+        near = nearer_end(walls, j, ex, ey)
         nx, ny = walls[j, 2 * near], walls[j, 2 * near + 1]
         off = abs((nx - ax) * uy - (ny - ay) * ux) if li >= lj else abs((ex - cx) * vy - (ey - cy) * vx)
         if off > offset:
@@ -709,6 +709,12 @@ far end, if any, runs back the same way as i (`_step`: else a box against a wall
             m += 1
     return (wi[:m].copy(), we[:m].copy(), capped[:m].copy(), long[:m].copy(), stub[:m].copy(), cap_sized[:m].copy(),
             cap_seen[:m].copy(), lengths)
+
+
+@njit
+def nearer_end(walls: np.ndarray, k: int, px: float, py: float) -> int:
+    """The end of wall k (0 or 1) nearer to P (0 on a tie)."""
+    return 0 if math.hypot(walls[k, 0] - px, walls[k, 1] - py) <= math.hypot(walls[k, 2] - px, walls[k, 3] - py) else 1
 
 
 @njit

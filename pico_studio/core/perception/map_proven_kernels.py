@@ -39,6 +39,7 @@ from pico_studio.core.perception.identify_kernels import (
     door_pairs,
     jamb_candidates,
     joins_frame,
+    nearer_end,
     ray_hits,
     same_opening,
 )
@@ -144,11 +145,11 @@ def _jamb_wall(gaps: np.ndarray, q: int, j: int, own: int, walls: np.ndarray, co
     jx, jy = gaps[q, 2 * j], gaps[q, 2 * j + 1]
     w = own
     if which == 1:
-        e = 0 if math.hypot(walls[own, 0] - jx, walls[own, 1] - jy) <= math.hypot(walls[own, 2] - jx, walls[own, 3] - jy) else 1
+        e = nearer_end(walls, own, jx, jy)
         w = connected[own, e]
         if w < 0:
             return -1, 0, 0.0, 0.0, 0.0
-    f = 1 if math.hypot(walls[w, 0] - jx, walls[w, 1] - jy) <= math.hypot(walls[w, 2] - jx, walls[w, 3] - jy) else 0
+    f = 1 - nearer_end(walls, w, jx, jy)
     dx, dy = walls[w, 2 * f] - jx, walls[w, 2 * f + 1] - jy
     return w, f, dx, dy, math.hypot(dx, dy)
 
@@ -248,9 +249,9 @@ def block_sides(walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, r
                 continue
             px, py = walls[s, 2 * e], walls[s, 2 * e + 1]  # the block's corner
             qx, qy = walls[s, 2 * (1 - e)], walls[s, 2 * (1 - e) + 1]  # where S meets B
-            fn = _nearer_end(walls, f, px, py)
+            fn = nearer_end(walls, f, px, py)
             fx, fy = walls[f, 2 * (1 - fn)], walls[f, 2 * (1 - fn) + 1]  # F's far end
-            bf = 1 - _nearer_end(walls, b, qx, qy)
+            bf = 1 - nearer_end(walls, b, qx, qy)
             sx, sy = px - qx, py - qy
             to_f = sx * (fy - py) - sy * (fx - px)
             to_b = sx * (walls[b, 2 * bf + 1] - qy) - sy * (walls[b, 2 * bf] - qx)
@@ -266,7 +267,7 @@ def block_sides(walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, r
             s2 = connected[f, 1 - fn]
             if s2 < 0 or s2 == s or not _square(walls, lengths, f, s2, sin_a):
                 continue
-            tn = _nearer_end(walls, s2, fx, fy)
+            tn = nearer_end(walls, s2, fx, fy)
             off_s2 = nx * (walls[s2, 2 * (1 - tn)] - bx) + ny * (walls[s2, 2 * (1 - tn) + 1] - by)
             # ...and the robot outside it: from inside, a room's three walls make the same shape
             off_r = nx * (rx - bx) + ny * (ry - by)
@@ -277,12 +278,6 @@ def block_sides(walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, r
                 out[f] = True
                 out[s2] = True
     return out
-
-
-@njit
-def _nearer_end(walls: np.ndarray, k: int, px: float, py: float) -> int:
-    """The end of wall k (0 or 1) nearer to P."""
-    return 0 if math.hypot(walls[k, 0] - px, walls[k, 1] - py) <= math.hypot(walls[k, 2] - px, walls[k, 3] - py) else 1
 
 
 def _example_sides() -> tuple:
