@@ -115,7 +115,19 @@ def _box(b: _Builder, cx: float, cy: float, sx: float, sy: float) -> None:
 
 
 def room_finder_world(seed: int) -> World:
-    rng = np.random.default_rng(seed)
+    """The room-finder world of `seed`: a hall with 2-4 side rooms, a person or an object in
+    each, the robot somewhere not facing a room. A layout with no such start (a room on every
+    wall, the hall small) is drawn again from the seed's next stream, so every seed has a world
+    (and the seeds that had one keep it)."""
+    for attempt in range(100):
+        world = _room_finder_layout(seed, np.random.default_rng(seed if attempt == 0 else [seed, attempt]))
+        if world is not None:
+            return world
+    raise RuntimeError(f"room-finder world {seed}: no layout with a start that faces no room")
+
+
+def _room_finder_layout(seed: int, rng: np.random.Generator) -> World | None:
+    """One draw of the room-finder world, or None when no start faces no room."""
     w, h = rng.uniform(4.0, 7.0, size=2)
     b = _Builder()
     rooms: list[dict[str, object]] = []
@@ -166,7 +178,7 @@ def room_finder_world(seed: int) -> World:
         if all(not (s0 - 0.25 <= feet[k] <= s0 + PANEL + 0.25) for k, s0 in spans):
             break
     else:
-        raise RuntimeError(f"room-finder world {seed}: no start that faces no room")
+        return None
     heading = rng.uniform(-math.pi, math.pi)
     return World(map=b.build(), start=(float(x), float(y), float(heading)), rooms=rooms, seed=seed)
 
