@@ -4,16 +4,26 @@ Everything in metres, the laser at the robot's centre (no footprint)."""
 
 from __future__ import annotations
 
+import itertools
 import math
+from pathlib import Path
 
 import numpy as np
 
+from pico_studio.config import Config
+from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.io import LaserData, OdometryData
+from pico_studio.core.localisation.prior import prior_pose
 from pico_studio.core.perception.identify import View
 from pico_studio.core.perception.identify_kernels import ray_hits
+from pico_studio.core.world_model import WorldModel
+from pico_studio.evaluation.frame_score import as_pose, zero_to_map
 
 # the generated furnished worlds live with the evaluation (scenario sets use them by name)
 from pico_studio.evaluation.furnished_worlds import cafe_world, clutter_world, ward_world
+from pico_studio.evaluation.runner import make_perceptor
+from pico_studio.session import Session
+from pico_studio.sim import Simulator
 
 Pose = tuple[float, float, float]
 
@@ -61,4 +71,25 @@ def room(w: float = 6.0, h: float = 4.0) -> np.ndarray:
 def odometry(pose: Pose, t: float) -> OdometryData:
     return OdometryData(pose[0], pose[1], pose[2], t)
 
-__all__ = ["Pose", "box", "cafe_world", "cast", "clutter_world", "laser_view", "odometry", "room", "ward_world"]
+
+MAPS = Path(__file__).resolve().parents[1] / "examples" / "maps"
+
+
+def wander(name: str, frames: int, cfg: Config | None = None) -> tuple[WorldModel, np.ndarray]:
+    """`frames` scans (20 Hz) of `wander` through examples/maps/NAME (its NAME_sim.json beside
+    it), localised: the last world model and its zero frame's pose in the map (`zero_to_map`)."""
+    cfg = cfg or Config()
+    stem = name.rsplit(".", 1)[0]
+    sim = Simulator.from_files(str(MAPS / name), str(MAPS / f"{stem}_sim.json"), cfg.sim, seed=0,
+                               map_params=cfg.map.heightmap)
+    prior = prior_pose(sim.sim_config.initial_pose, sim.world.map, cfg.localisation.prior, tuple(sim.truth.pose))
+    per = make_perceptor(cfg, sim.world.map, prior, localise=True)
+    wm = None
+    for f in itertools.islice(Session(sim, perceptor=per, behaviour=make_behaviour("wander", cfg)).frames(dt=0.05),
+                              frames):
+        wm = f.world_model
+    assert wm is not None
+    return wm, np.asarray(zero_to_map(wm, as_pose(sim.truth.pose)), dtype=float)
+
+__all__ = ["MAPS", "Pose", "box", "cafe_world", "cast", "clutter_world", "laser_view", "odometry", "room", "wander",
+           "ward_world"]

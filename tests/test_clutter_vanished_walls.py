@@ -7,24 +7,13 @@ it, seen in hundreds of scans: the door was missed in half the frames of a 120 s
 
 from __future__ import annotations
 
-import itertools
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import pico_studio.core.perception.perceptor as perceptor_module
-from pico_studio.config import Config
-from pico_studio.core.behaviours.registry import make_behaviour
 from pico_studio.core.geometry import transform_segments
-from pico_studio.core.localisation.prior import prior_pose
 from pico_studio.core.perception.merge import LocalMapState, drop_near
-from pico_studio.evaluation.frame_score import as_pose, zero_to_map
-from pico_studio.evaluation.runner import make_perceptor
-from pico_studio.session import Session
-from pico_studio.sim import Simulator
-
-MAPS = Path(__file__).resolve().parents[1] / "examples" / "maps"
+from tests.clutter_scenes import wander
 
 
 def _state(walls: list[list[float]], hits: list[float]) -> LocalMapState:
@@ -51,18 +40,8 @@ def test_only_walls_older_than_the_object_and_not_seen_through_stay():
 def _doorway_kept(frames: int = 540) -> bool:
     """hospital_2019, 27 s of `wander`, localised: is the wall left of the doorway at
     x = 5.1-5.9, y = 4.5 (its face y = 4.6 from 4.3 to 5.1) in the local map at the end?"""
-    cfg = Config()
-    sim = Simulator.from_files(str(MAPS / "hospital_2019.json"), str(MAPS / "hospital_2019_sim.json"), cfg.sim, seed=0,
-                               map_params=cfg.map.heightmap)
-    prior = prior_pose(sim.sim_config.initial_pose, sim.world.map, cfg.localisation.prior, tuple(sim.truth.pose))
-    per = make_perceptor(cfg, sim.world.map, prior, localise=True)
-    wm = None
-    for f in itertools.islice(Session(sim, perceptor=per, behaviour=make_behaviour("wander", cfg)).frames(dt=0.05),
-                              frames):
-        wm = f.world_model
-    assert wm is not None
-    walls = transform_segments(np.asarray(wm.local_map.walls, float).reshape(-1, 4),
-                               zero_to_map(wm, as_pose(sim.truth.pose)))
+    wm, zero = wander("hospital_2019.json", frames)
+    walls = transform_segments(np.asarray(wm.local_map.walls, float).reshape(-1, 4), zero)
     return bool(((np.abs(walls[:, 1] - 4.6) < 0.1) & (np.abs(walls[:, 3] - 4.6) < 0.1)
                  & (np.minimum(walls[:, 0], walls[:, 2]) < 4.6) & (np.maximum(walls[:, 0], walls[:, 2]) > 4.9)).any())
 

@@ -496,6 +496,11 @@ class ObjectParams:
         8, lo=1, hi=1000, step=1,
         help="An object is merged into the local map only once seen in this many scans without moving",
     )
+    settle_scans: int = param(
+        40, lo=0, hi=1000, step=1,
+        help="A dynamic obstacle seen partly hidden that stays put this many scans is a static object again "
+             "(a wall piece whose seen end jumped as more came into view; 0: dynamic for good)",
+    )
     forget_scans: int = param(
         20, lo=1, hi=10000, step=1, help="A track not seen for this many scans is forgotten",
     )

@@ -14,7 +14,12 @@ it starts afresh. A track whose reference moved more than `min_motion` from its 
 *dynamic* for good: its walls are kept out of the local map (and the local walls it left
 where it began are dropped, but those seen in more scans than the track is old and not seen
 through now: they stood there before it came — a wall's end cap tracked while its seen end slid along
-as the view changed leaves its wall), and its points are kept out of the pose correction. A whole
+as the view changed leaves its wall), and its points are kept out of the pose correction. A
+dynamic track seen partly hidden that then stays put (its reference within `min_motion`) for
+`settle_scans` scans is a static object again, measured afresh from there, and merged: a wall
+piece seen past its end whose end cap's far corner came into view (its seen end jumped 0.15-0.3 m
+in one scan) is a wall again, and a doorway beside it gets its jamb back; a thing seen whole
+stays dynamic (a person who paused, merged, would smear the map when walking on). A whole
 track seen in fewer than `confirm_scans` scans is not merged yet either (a person walking by
 is gone before that); after that, a track that stayed put is a *static object* and merged
 like any wall. A partly hidden one is merged at once unless it moves (a thick wall's end cap
@@ -47,6 +52,8 @@ class Track:
     whole: bool = True  # last seen past at both ends (reference: the centroid), else at one (that end)
     origin: tuple[float, float] | None = None  # the reference when the track began (None: `first`)
     born: int = 0  # the step it began
+    still: tuple[float, float] | None = None  # where it stands: the reference since `still_since` within min_motion
+    still_since: int = 0
 
 
 @dataclass(frozen=True)
@@ -171,7 +178,17 @@ def track_objects(state: ObjectsState, scan: ScanPoints, pose: Pose, params: Obj
                 first = (first[0] + centre[0] - best_ref[0], first[1] + centre[1] - best_ref[1])
             elif old.whole and not whole:  # a partly hidden centroid says little: measured afresh
                 first = ref
-            t = Track(first, ref, old.seen + 1, step, old.dynamic or moved, box, whole, old.origin, old.born)
+            still, since = old.still, old.still_since
+            if still is None or old.whole != whole or \
+                    math.hypot(ref[0] - still[0], ref[1] - still[1]) > params.min_motion:
+                still, since = ref, step
+            t = Track(first, ref, old.seen + 1, step, old.dynamic or moved, box, whole, old.origin, old.born,
+                      still, since)
+            if t.dynamic and not whole and params.settle_scans > 0 and step - since >= params.settle_scans:
+                # stayed put, seen partly hidden: static again, measured afresh from here (a wall
+                # piece whose seen end jumped as its end cap came into view; a box stopped half hidden)
+                t = Track(ref, ref, max(old.seen + 1, params.confirm_scans), step, False, box, whole, ref, step,
+                          ref, step)
             tracks[best] = t
             used[best] = True
         dynamic[c] = t.dynamic
