@@ -298,14 +298,15 @@ BANNED = -1e6  # a contradicted T-opening's count: never promoted
 
 @njit
 def tally(evidence: np.ndarray, gaps: np.ndarray, support: np.ndarray, against: np.ndarray, min_width: float,
-          angle: float, keep: int) -> tuple[np.ndarray, np.ndarray]:
+          angle: float, keep: int, reopen: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Count scans for the T-openings on a short wall: `evidence` (E, 5) rows (middle x, y, unit
     gap direction x, y, supporting scans), `gaps` (G, 4) this scan's candidates, `support` (G,)
     free rays seen through the gap, `against` (G,) blocked or backed now. A gap is the first
     record whose middle lies within min_width / 2 of its middle, about parallel (|u_r . u| >
     cos(angle)); a supporting scan adds one (the record follows the latest view), a
-    contradicting one bans the place for good (BANNED). Returns the records (at most `keep`,
-    the largest |count| first, stable) and each gap's count."""
+    contradicting one bans the place (BANNED): for good, or with `reopen` until a supporting
+    scan counts one again. Returns the records (at most `keep`, the largest |count| first,
+    stable) and each gap's count."""
     e, g = evidence.shape[0], gaps.shape[0]
     rows = np.empty((e + g, 5))
     rows[:e] = evidence
@@ -335,6 +336,8 @@ def tally(evidence: np.ndarray, gaps: np.ndarray, support: np.ndarray, against: 
         if hit < 0:
             hit = n
             n += 1
+            rows[hit, 4] = 0.0
+        if reopen and rows[hit, 4] < 0:
             rows[hit, 4] = 0.0
         rows[hit, 0], rows[hit, 1], rows[hit, 2], rows[hit, 3], rows[hit, 4] = mx, my, ux, uy, rows[hit, 4] + 1.0
         counts[m] = int(rows[hit, 4])
@@ -480,7 +483,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         bad[m] = bad[m] or _along_a_wall(g[m], walls, oa[m], ob[m], occlusion)
     # seen edge-on a T-opening's rays end by its face and say nothing; its jamb and face were
     # tested already, so no free ray is asked for
-    backed_g, free_g, deep_g, _ = backed(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
+    backed_g, free_g, deep_g, back_g = backed(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
                                     np.ones(n, dtype=np.bool_), np.zeros(walls.shape[0], dtype=np.bool_), occlusion,
                                     depth, cap_max, backed_share)
     bad |= backed_g
@@ -492,8 +495,10 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     # building wall's face, seen through deep, the side beyond the end seen free (a wall's free
     # end, not a corner); else only ever a possible door, for the map to prove (no evidence
     # counted)
+    strong = ~wk & ~gl_  # a building wall's end or a door frame's in a room's corner: a door from one scan
     for m in range(n):
         if math.hypot(g[m, 2] - g[m, 0], g[m, 3] - g[m, 1]) > max_width:
+            strong[m] = False
             if not bad[m] and not wk[m] and not gl_[m] and lengths[ob[m]] >= building_min \
                     and deep_g[m] >= max(min_free_rays, 1) \
                     and _side_free(g[m], rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc, occlusion):
@@ -521,6 +526,22 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
                 if count[q] >= 0 and not bad[m]:
                     possible[p] = g[m]
                     p += 1
+                bad[m] = True
+    strong_rows = np.flatnonzero(strong)
+    if strong_rows.shape[0] > 0:
+        # ...but a pocket seen closed once (its back within `depth`: a table's side by a wall)
+        # stays closed when seen again edge-on, rays saying nothing: only ever a possible door,
+        # for the map to prove, until rays are seen through it deep
+        through = ~bad[strong_rows] & (deep_g[strong_rows] >= max(min_free_rays, 1))
+        closed = backed_g[strong_rows] & back_g[strong_rows]  # on a back between the jambs, not a passage's side
+        # the same gap: its middle within `occlusion` / 2 (a gap from the same end to another
+        # face, a wall seen before the nearer one came into the local map, is another place)
+        evidence, count = tally(evidence, g[strong_rows], through, closed, occlusion, angle, evidence_max, True)
+        for q in range(strong_rows.shape[0]):
+            m = strong_rows[q]
+            if count[q] < 0 and not bad[m]:
+                possible[p] = g[m]
+                p += 1
                 bad[m] = True
     for m in range(n):
         # seen steeply a pocket's rays all land on its side wall's face and say nothing; from a

@@ -119,6 +119,11 @@ side), bans the place. A shorter wall's seen end so (no cap: a glimpse of a thic
 person's or a chair's side) is only ever a possible door "end_face", for the map to prove; so
 is a lone end cap (`jamb_cap_max` long, joined to nothing: a partition's end seen face on)
 whose normal towards the robot's side meets a building wall's face a door's width on.
+A building wall's T-opening, a door from one scan, is remembered in the same records: seen
+closed (backed, its rays ending on a back between the jambs within `end_face_depth`: a pocket
+beside a table standing against a wall, seen from in front) the place is closed, and seen again
+with nothing said by its rays (edge-on, the back forgotten) it is only a possible door, until
+rays pass it deep; the same place is a middle within `door_occlusion` / 2.
 """
 
 from __future__ import annotations
