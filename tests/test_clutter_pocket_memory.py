@@ -65,9 +65,13 @@ def test_a_place_closed_opens_again_when_seen_through():
     ev, count = tally(np.zeros((0, 5)), gap, no, yes, 0.1, 0.3, 8, True)
     assert count[0] == int(BANNED)
     ev, count = tally(ev, gap + 0.02, yes, no, 0.1, 0.3, 8, True)  # the same place, seen through
-    assert count[0] == 1
+    assert count[0] == 0 and ev[:, 4].tolist() == [0.0]
+    # seen through where it was never closed: no record (the short walls' counts keep their room)
+    assert len(tally(np.zeros((0, 5)), gap, yes, no, 0.1, 0.3, 8, True)[0]) == 0
+    # another place (its middle 0.06 m off, beyond 0.1 / 2) is not reopened
+    ev, _ = tally(np.zeros((0, 5)), gap, no, yes, 0.1, 0.3, 8, True)
+    ev, count = tally(ev, gap + np.array([0.0, 0.06, 0.0, 0.06]), yes, no, 0.1, 0.3, 8, True)
+    assert count[0] == 0 and ev[:, 4].tolist() == [BANNED]
     # a short wall's T-opening counting scans (reopen off) stays banned for good
     ev, _ = tally(np.zeros((0, 5)), gap, no, yes, 0.1, 0.3, 8)
     assert tally(ev, gap, yes, no, 0.1, 0.3, 8)[1][0] < 0
-    # another place (its middle 0.06 m off, beyond 0.1 / 2) is a record of its own
-    assert tally(ev, gap + np.array([0.0, 0.06, 0.0, 0.06]), yes, no, 0.1, 0.3, 8, True)[1][0] == 1

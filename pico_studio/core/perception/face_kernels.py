@@ -304,9 +304,11 @@ def tally(evidence: np.ndarray, gaps: np.ndarray, support: np.ndarray, against: 
     free rays seen through the gap, `against` (G,) blocked or backed now. A gap is the first
     record whose middle lies within min_width / 2 of its middle, about parallel (|u_r . u| >
     cos(angle)); a supporting scan adds one (the record follows the latest view), a
-    contradicting one bans the place (BANNED): for good, or with `reopen` until a supporting
-    scan counts one again. Returns the records (at most `keep`, the largest |count| first,
-    stable) and each gap's count."""
+    contradicting one bans the place (BANNED) for good. With `reopen` (a building wall's
+    T-openings, remembered only where seen closed) a supporting scan counts nothing: it reopens
+    a banned place (count 0) and makes no record where none was, so the short walls' counts are
+    not crowded out. Returns the records (at most `keep`, the largest |count| first, stable) and
+    each gap's count."""
     e, g = evidence.shape[0], gaps.shape[0]
     rows = np.empty((e + g, 5))
     rows[:e] = evidence
@@ -333,11 +335,14 @@ def tally(evidence: np.ndarray, gaps: np.ndarray, support: np.ndarray, against: 
         if not support[m]:
             counts[m] = int(rows[hit, 4]) if hit >= 0 else 0
             continue
+        if reopen:
+            if hit >= 0 and rows[hit, 4] < 0:
+                rows[hit, 4] = 0.0
+            counts[m] = int(rows[hit, 4]) if hit >= 0 else 0
+            continue
         if hit < 0:
             hit = n
             n += 1
-            rows[hit, 4] = 0.0
-        if reopen and rows[hit, 4] < 0:
             rows[hit, 4] = 0.0
         rows[hit, 0], rows[hit, 1], rows[hit, 2], rows[hit, 3], rows[hit, 4] = mx, my, ux, uy, rows[hit, 4] + 1.0
         counts[m] = int(rows[hit, 4])
