@@ -44,6 +44,7 @@ from pico_studio.core.perception.identify_kernels import (
     line_hit,
     nearer_end,
     ray_hits,
+    square_to,
 )
 from pico_studio.jit import kernel, njit
 
@@ -167,13 +168,6 @@ def _along_a_wall(gap: np.ndarray, walls: np.ndarray, own: int, face: int, tol: 
 
 
 @njit
-def _square(walls: np.ndarray, k: int, ox: float, oy: float, sin_a: float) -> bool:
-    """Is wall k about square to the ray's direction o: |e_k . o| / |e_k| <= sin_a?"""
-    kx, ky = walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]
-    return abs(kx * ox + ky * oy) / max(math.hypot(kx, ky), 1e-12) <= sin_a
-
-
-@njit
 def _face_behind(px: float, py: float, ox: float, oy: float, walls: np.ndarray, lengths: np.ndarray,
                  objects: np.ndarray, block_face: np.ndarray, t0: float, depth: float, building_min: float,
                  own: int, joined: int) -> tuple[int, float]:
@@ -266,7 +260,7 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
             continue
         mx, my = pts[r, 0] + t * out_dir[r, 0], pts[r, 1] + t * out_dir[r, 1]
         corner = _at_a_corner(walls, prop, connected, k, mx, my, cap_max, convex)
-        if corner or not _square(walls, k, out_dir[r, 0], out_dir[r, 1], sin_a):
+        if corner or not square_to(walls, k, out_dir[r, 0], out_dir[r, 1], sin_a):
             # a piece's free corner where the ray meets it (a table's end), or a piece no longer
             # than a wall's thickness askew to it (a stub or a trim against a wall, a corner seen
             # in fragments): the face is a building wall's just behind it, within a wall's
@@ -280,7 +274,7 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
                 continue
             mx, my = pts[r, 0] + t * out_dir[r, 0], pts[r, 1] + t * out_dir[r, 1]
             if _at_a_corner(walls, prop, connected, k, mx, my, cap_max, convex) or \
-                    not _square(walls, k, out_dir[r, 0], out_dir[r, 1], sin_a):
+                    not square_to(walls, k, out_dir[r, 0], out_dir[r, 1], sin_a):
                 continue
         gaps[g, 0], gaps[g, 1], gaps[g, 2], gaps[g, 3] = pts[r, 0], pts[r, 1], mx, my
         own[g], face[g], is_weak[g], is_glimpse[g] = wi[r], k, weak[r], glimpse[r]

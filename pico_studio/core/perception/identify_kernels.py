@@ -718,6 +718,21 @@ def nearer_end(walls: np.ndarray, k: int, px: float, py: float) -> int:
 
 
 @njit
+def square_to(walls: np.ndarray, k: int, ox: float, oy: float, sin_a: float) -> bool:
+    """Is wall k about square to the unit direction o: |e_k . o| / |e_k| <= sin_a?"""
+    kx, ky = walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]
+    return abs(kx * ox + ky * oy) / max(math.hypot(kx, ky), 1e-12) <= sin_a
+
+
+@njit
+def walls_square(walls: np.ndarray, a: int, b: int, sin_a: float) -> bool:
+    """Are walls a and b about square to each other (square_to, o along b)?"""
+    bx, by = walls[b, 2] - walls[b, 0], walls[b, 3] - walls[b, 1]
+    lb = max(math.hypot(bx, by), 1e-12)
+    return square_to(walls, a, bx / lb, by / lb, sin_a)
+
+
+@njit
 def joins_frame(connected: np.ndarray, lengths: np.ndarray, w: int, e: int, frame_min: float) -> bool:
     """Is wall w joined at its end e to a wall at least `frame_min` long? A short stub (or a
     short piece of a room's wall between a door and the room's corner) frames a door so."""

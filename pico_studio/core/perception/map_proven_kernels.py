@@ -42,6 +42,7 @@ from pico_studio.core.perception.identify_kernels import (
     nearer_end,
     ray_hits,
     same_opening,
+    walls_square,
 )
 from pico_studio.jit import kernel, njit
 
@@ -217,13 +218,6 @@ def _example_blocks() -> tuple:
     return walls, connected, lengths, 0.7, -2.0, 0.35, 0.3
 
 
-@njit
-def _square(walls: np.ndarray, lengths: np.ndarray, a: int, b: int, sin_a: float) -> bool:
-    """Walls a and b about square: |e_a . e_b| / (|e_a| |e_b|) < sin(angle)."""
-    dot = (walls[a, 2] - walls[a, 0]) * (walls[b, 2] - walls[b, 0]) + (walls[a, 3] - walls[a, 1]) * (walls[b, 3] - walls[b, 1])
-    return abs(dot) < sin_a * max(lengths[a] * lengths[b], 1e-12)
-
-
 @kernel(_example_blocks)
 def block_sides(walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, rx: float, ry: float, cap_max: float,
                 angle: float) -> np.ndarray:
@@ -245,7 +239,7 @@ def block_sides(walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, r
             f, b = connected[s, e], connected[s, 1 - e]
             if f < 0 or b < 0 or f == b or lengths[f] <= cap_max:
                 continue
-            if not (_square(walls, lengths, s, f, sin_a) and _square(walls, lengths, s, b, sin_a)):
+            if not (walls_square(walls, s, f, sin_a) and walls_square(walls, s, b, sin_a)):
                 continue
             px, py = walls[s, 2 * e], walls[s, 2 * e + 1]  # the block's corner
             qx, qy = walls[s, 2 * (1 - e)], walls[s, 2 * (1 - e) + 1]  # where S meets B
@@ -265,7 +259,7 @@ def block_sides(walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, r
                 continue
             # closed: F's far end turns into a second side running back towards B's line
             s2 = connected[f, 1 - fn]
-            if s2 < 0 or s2 == s or not _square(walls, lengths, f, s2, sin_a):
+            if s2 < 0 or s2 == s or not walls_square(walls, f, s2, sin_a):
                 continue
             tn = nearer_end(walls, s2, fx, fy)
             off_s2 = nx * (walls[s2, 2 * (1 - tn)] - bx) + ny * (walls[s2, 2 * (1 - tn) + 1] - by)
