@@ -278,3 +278,37 @@ def test_a_beam_that_hit_nothing_reads_below_range_min_and_the_end_beside_it_is_
     near = np.concatenate([wall, np.full(21, 0.04)])
     scan, _ = process_scan(LaserData(0.01, 10.0, -0.3, 0.3, 0.01, 0.0, near), with_value(CFG, "perception.scan.min_range", 0.05).perception.scan, P.proximity)
     assert segment_scan(scan, P).end_kind[-1, 1] == END_FLOATING
+
+
+def test_a_wall_running_out_of_the_lasers_reach_has_a_floating_end():
+    """A far wall seen up to the laser's reach (10 m): the beams past its end return nothing
+    because the wall went on beyond 10 m, not because it ended (suite:4: the right outer wall
+    9.9-10 m off, its end at the reach marked convex, 1.2-1.5 m from any corner, moved along
+    the wall for 80 s). Well inside the reach the same end beside nothing is seen."""
+    angles = np.linspace(-0.3, 0.3, 61)
+    for ahead, kind in ((9.85, END_FLOATING), (8.0, END_SEEN)):
+        ranges = ahead / np.cos(angles)  # a wall `ahead` m off, square to the middle beam
+        ranges[ranges > 10.0] = 0.0  # out of reach: nothing returned (the simulator's 0)
+        gone = ranges == 0.0
+        if ahead == 8.0:  # the wall ends at beam 45, nothing beyond
+            ranges[46:], gone = 0.0, np.arange(61) >= 46
+        assert gone.any() and not gone.all()
+        scan, _ = process_scan(LaserData(0.01, 10.0, -0.3, 0.3, 0.01, 0.0, ranges), P.scan, P.proximity)
+        segs = segment_scan(scan, P)
+        assert segs.end_kind[-1, 1] == kind, ahead
+
+
+def test_a_grazing_wall_whose_next_beam_would_meet_it_out_of_reach_has_a_floating_end():
+    """Seen at a slant, a wall's range grows 0.4 m a beam near 10 m: its last point 9.66 m off
+    lies more than the break's margin inside the reach, but the next beam would meet the wall,
+    going on, at 10.07 m: nothing returned there says nothing of an end (with the grazing
+    allowance that keeps such a wall one cluster)."""
+    angles = -0.8003 + 0.01 * np.arange(61)
+    ranges = 2.3 / -np.sin(angles)  # the wall y = -2.3, robot at the origin
+    ranges[ranges > 10.0] = 0.0
+    assert (ranges[-4:] == 0.0).all() and 9.6 < ranges[-5] < 10.0 - 0.12 - 0.02 * 9.7
+    params = with_value(CFG, "perception.scan.grazing_factor", 2.0).perception
+    laser = LaserData(0.01, 10.0, -0.8003, -0.2003, 0.01, 0.0, ranges)
+    scan, _ = process_scan(laser, params.scan, params.proximity)
+    assert scan.beam[scan.clusters[-1, 1] - 1] == 56  # the last point in the wall's cluster
+    assert segment_scan(scan, params).end_kind[-1, 1] == END_FLOATING

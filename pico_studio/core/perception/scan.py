@@ -16,7 +16,10 @@
 Each cluster end also records whether the wall's end was *seen*: the neighbouring beam
 beyond it returned nothing or hit something farther away (the laser looked past the end,
 as the spike method assumes). An end next to a nearer point (occluded) or at the edge of the
-field of view is not seen: a floating end; so is an end whose next point past the break lies
+field of view is not seen: a floating end; so is an end beside nothing returned where the
+wall going on could have run out of the laser's reach (the end within the break's margin of
+it, or the wall's line meeting that beam beyond it: a far wall seen to 10 m); so is an end
+whose next point past the break lies
 on the wall's extended line less than `grazing_max_break` away (the same wall going on,
 seen at a grazing angle; a door in line is wider).
 

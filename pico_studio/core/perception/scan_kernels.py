@@ -22,7 +22,10 @@
 4. End seen. Per cluster end, the neighbouring beam beyond it (outside the scan: not seen)
    either is valid and farther by more than break_distance + break_slope r (seen), or is
    invalid with the laser returning nothing nearer there (seen: not a dropped footprint
-   point nor a short return). An end whose next valid point past the break lies within
+   point nor a short return), unless the wall going on could have been out of reach there:
+   r + break_distance + break_slope r >= hi (a range past hi is farther by the margin only
+   when the end lies that far inside it), or the line through the end and up to three points
+   before it meets that beam beyond hi (`_runs_out_of_range`). An end whose next valid point past the break lies within
    `grazing_max_break` and on the end's extended line (see `on_line`) is the same wall going
    on at a grazing angle: not seen.
 
@@ -78,6 +81,23 @@ def _backward_on_line(xy: np.ndarray, i: int, line_distance: float) -> bool:
         return False
     b = i + 4
     return _line_distance(xy[b, 0], xy[b, 1], xy[i + 1, 0], xy[i + 1, 1], xy[i, 0], xy[i, 1]) <= line_distance
+
+
+@njit
+def _runs_out_of_range(xy: np.ndarray, j: int, b: int, cx: float, cy: float, hi: float) -> bool:
+    """Would the wall through points b and j (its last points, j the end), going on past j,
+    meet the beam of direction (cx, cy) only beyond `hi` (the laser's reach)? The ray t (cx, cy)
+    meets the line j + s (j - b) at t = (j x d) / (c x d), d = j - b, c = (cx, cy); going on
+    means s >= 0, t > 0."""
+    if b == j:
+        return False
+    dx, dy = xy[j, 0] - xy[b, 0], xy[j, 1] - xy[b, 1]
+    den = cx * dy - cy * dx
+    if abs(den) <= 1e-12:
+        return False  # along the beam: it never meets it, and says nothing
+    t = (xy[j, 0] * dy - xy[j, 1] * dx) / den
+    s = (xy[j, 0] * cy - xy[j, 1] * cx) / den
+    return t > hi and s >= 0.0
 
 
 def _example() -> tuple:
@@ -235,8 +255,15 @@ def scan_points(
             raw = ranges[nb]
             if valid[nb]:
                 seen = raw > own + break_distance + break_slope * own
-            else:  # nothing there: seen, unless the laser returned something nearer
+            else:  # nothing there: seen, unless the laser returned something nearer, or the
+                # wall going on could have been out of its reach there: farther than `hi` is
+                # farther by the break's margin only when the end lies that far inside the reach,
+                # and the wall's line (through the end and up to three points before it) meets
+                # the beam within the reach (a far wall's end at the laser's range runs on unseen)
                 seen = not (math.isfinite(raw) and raw > 0 and raw < own)
+                b = max(j - 3, ends[c, 0]) if side else min(j + 3, ends[c, 1])
+                seen = seen and own + break_distance + break_slope * own < hi \
+                    and not _runs_out_of_range(xy, j, b, cos[nb], sin[nb], hi)
             # a short break to a point on the end's extended line: the wall going on
             if side == 1 and j + 1 < m:
                 seen = seen and not (_step(xy, j) <= grazing_max_break and _forward_on_line(xy, j, grazing_line_distance))
