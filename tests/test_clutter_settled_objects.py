@@ -88,3 +88,29 @@ def _doorway_found(settle_scans: int, frames: int = 1480) -> bool:
 def test_hospital_2021s_doorway_keeps_its_jamb():
     assert _doorway_found(PARAMS.objects.settle_scans)
     assert not _doorway_found(0)
+
+
+def _paused_box(k: int, s: int) -> np.ndarray:
+    """A box 0.2 x 0.8 m, its face at x = 3, seen past its upper end, its lower part hidden
+    behind a panel at x = 2: it walks 0.3 m down (scans 10-15), stands (settles, merged), and
+    at scan `s` the panel moves up and hides its upper part instead, so it is seen past its
+    lower end: another end 0.8 m off, a new track; three scans on it walks away along x."""
+    cy = 0.9 - 0.05 * min(max(k - 10, 0), 6)
+    cx = 3.1 + 0.05 * max(k - s - 3, 0)
+    panel = [[2.0, -0.5, 2.0, 0.5]] if k < s else [[2.0, 0.55, 2.0, 0.8]]
+    return np.vstack([box(cx, cy, 0.2, 0.8), np.array(panel)])
+
+
+def test_a_settled_box_seen_by_its_other_end_takes_what_it_left_when_it_walks_on():
+    # (suite:4: a box paused by the robot for 16 s, settled and merged, then walked away seen
+    # from its other side; the face it left, hidden, stood in the local map for 15 s)
+    s = 16 + SETTLE + 5
+    wm = _run(lambda k: _paused_box(k, s), frames=s + 3 + 6)
+    lm = wm.local_map.walls
+    left = (np.abs(lm[:, 0] - 3.0) < 0.05) & (np.abs(lm[:, 2] - 3.0) < 0.05) & (np.maximum(lm[:, 1], lm[:, 3]) > 0.85)
+    assert not left.any()
+    assert len(wm.dynamic_obstacles) >= 1
+    # while it stands, settled, its face is in the local map
+    wm = _run(lambda k: _paused_box(k, s), frames=s - 1)
+    lm = wm.local_map.walls
+    assert ((np.abs(lm[:, 0] - 3.0) < 0.05) & (np.abs(lm[:, 2] - 3.0) < 0.05)).any()

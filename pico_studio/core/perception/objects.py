@@ -19,7 +19,10 @@ dynamic track seen partly hidden that then stays put (its reference within `min_
 `settle_scans` scans is a static object again, measured afresh from there, and merged: a wall
 piece seen past its end whose end cap's far corner came into view (its seen end jumped 0.15-0.3 m
 in one scan) is a wall again, and a doorway beside it gets its jamb back; a thing seen whole
-stays dynamic (a person who paused, merged, would smear the map when walking on). A whole
+stays dynamic (a person who paused, merged, would smear the map when walking on). A new
+candidate whose box overlaps a settled track's (within `min_motion`) that no candidate met is
+that thing seen by another of its ends (a box paused by the robot, seen from its other side):
+the same track, so when it walks on what it left since it settled goes too. A whole
 track seen in fewer than `confirm_scans` scans is not merged yet either (a person walking by
 is gone before that); after that, a track that stayed put is a *static object* and merged
 like any wall. A partly hidden one is merged at once unless it moves (a thick wall's end cap
@@ -54,6 +57,7 @@ class Track:
     born: int = 0  # the step it began
     still: tuple[float, float] | None = None  # where it stands: the reference since `still_since` within min_motion
     still_since: int = 0
+    settled: bool = False  # static again after it moved (settle_scans): the same thing may move on
 
 
 @dataclass(frozen=True)
@@ -161,7 +165,16 @@ def track_objects(state: ObjectsState, scan: ScanPoints, pose: Pose, params: Obj
                 if not used[i] and d < best_d:
                     best, best_d, best_ref = i, d, q
         ref = centre if whole else seen_ends[0]
-        if best < 0:
+        same = _settled_at(tracks, used, box, params.min_motion) if best < 0 else -1
+        if same >= 0:
+            # a thing that settled, seen now by another of its ends (a box paused by the robot,
+            # seen from its other side): the same track, measured afresh from this end, so
+            # when it moves on what it left since it settled goes with it
+            old = tracks[same]
+            t = Track(ref, ref, old.seen + 1, step, False, box, whole, old.origin, old.born, ref, step, True)
+            tracks[same] = t
+            used[same] = True
+        elif best < 0:
             t = Track(ref, ref, 1, step, False, box, whole, ref, step)
             tracks.append(t)
             used.append(True)
@@ -183,12 +196,12 @@ def track_objects(state: ObjectsState, scan: ScanPoints, pose: Pose, params: Obj
                     math.hypot(ref[0] - still[0], ref[1] - still[1]) > params.min_motion:
                 still, since = ref, step
             t = Track(first, ref, old.seen + 1, step, old.dynamic or moved, box, whole, old.origin, old.born,
-                      still, since)
+                      still, since, old.settled and not moved)
             if t.dynamic and not whole and params.settle_scans > 0 and step - since >= params.settle_scans:
                 # stayed put, seen partly hidden: static again, measured afresh from here (a wall
                 # piece whose seen end jumped as its end cap came into view; a box stopped half hidden)
                 t = Track(ref, ref, max(old.seen + 1, params.confirm_scans), step, False, box, whole, ref, step,
-                          ref, step)
+                          ref, step, True)
             tracks[best] = t
             used[best] = True
         dynamic[c] = t.dynamic
@@ -202,6 +215,16 @@ def track_objects(state: ObjectsState, scan: ScanPoints, pose: Pose, params: Obj
     out = Objects(held, dynamic, dyn, static, np.array(vanished, dtype=float).reshape(-1, 2),
                   np.array(ages, dtype=np.int64))
     return out, ObjectsState(tuple(tracks), step)
+
+
+def _settled_at(tracks: list[Track], used: list[bool], box: tuple[float, float, float, float],
+                margin: float) -> int:
+    """The settled track not matched this scan whose box overlaps `box` within `margin`, or -1."""
+    for i, t in enumerate(tracks):
+        if t.settled and not t.dynamic and not used[i] and t.box[0] - margin <= box[2] and box[0] <= t.box[2] + margin \
+                and t.box[1] - margin <= box[3] and box[1] <= t.box[3] + margin:
+            return i
+    return -1
 
 
 _NONE, _NO_POINTS, _NO_BOXES = np.zeros(0, dtype=np.int64), np.zeros((0, 2)), np.zeros((0, 4))
