@@ -16,6 +16,7 @@ from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.localisation.prior import prior_pose
 from pico_studio.core.perception.identify import View
 from pico_studio.core.perception.identify_kernels import ray_hits
+from pico_studio.core.perception.merge import LocalMapState
 from pico_studio.core.world_model import WorldModel
 from pico_studio.evaluation.frame_score import as_pose, zero_to_map
 
@@ -61,6 +62,14 @@ def box(cx: float, cy: float, w: float, h: float | None = None) -> np.ndarray:
     h = w if h is None else h
     x0, x1, y0, y1 = cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2
     return np.array([[x0, y0, x1, y0], [x1, y0, x1, y1], [x1, y1, x0, y1], [x0, y1, x0, y0]], dtype=float)
+
+
+def local_state(walls: list[list[float]], hits: list[float]) -> LocalMapState:
+    """A local map of `walls` seen `hits` times each, nothing connected, at step 100."""
+    n = len(walls)
+    return LocalMapState(np.array(walls, dtype=float), np.array(hits, dtype=float), np.zeros(n, dtype=np.int64),
+                         np.zeros(n, dtype=np.int64), np.zeros((n, 2), dtype=bool), np.zeros((n, 2)),
+                         np.full((n, 2), -1, dtype=np.int64), 100)
 
 
 def room(w: float = 6.0, h: float = 4.0) -> np.ndarray:

@@ -12,21 +12,14 @@ import pytest
 
 import pico_studio.core.perception.perceptor as perceptor_module
 from pico_studio.core.geometry import transform_segments
-from pico_studio.core.perception.merge import LocalMapState, drop_near
-from tests.clutter_scenes import wander
-
-
-def _state(walls: list[list[float]], hits: list[float]) -> LocalMapState:
-    n = len(walls)
-    return LocalMapState(np.array(walls, dtype=float), np.array(hits, dtype=float), np.zeros(n, dtype=np.int64),
-                         np.zeros(n, dtype=np.int64), np.zeros((n, 2), dtype=bool), np.zeros((n, 2)),
-                         np.full((n, 2), -1, dtype=np.int64), 100)
+from pico_studio.core.perception.merge import drop_near
+from tests.clutter_scenes import local_state, wander
 
 
 def test_only_walls_older_than_the_object_and_not_seen_through_stay():
     # the object's smear (seen 12 scans), a wall piece seen 300 scans and seen now, a table's side
     # seen 200 scans with the smear merged in (the scan sees through it now), a wall out of reach
-    state = _state([[0.0, 0.0, 0.4, 0.0], [0.0, 0.3, 0.8, 0.3], [0.0, -0.3, 0.6, -0.3], [5.0, 0.0, 6.0, 0.0]],
+    state = local_state([[0.0, 0.0, 0.4, 0.0], [0.0, 0.3, 0.8, 0.3], [0.0, -0.3, 0.6, -0.3], [5.0, 0.0, 6.0, 0.0]],
                    [12, 300, 200, 40])
     place, standing = np.array([[0.2, 0.1]]), np.array([True, True, False, True])
     kept = drop_near(state, place, 1.0, np.array([20]), standing)

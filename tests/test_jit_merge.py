@@ -23,7 +23,7 @@ from pico_studio.sim import Simulator
 from tests.conftest import MAPS
 from tests.jit_scenes import hospital_frames, recorded_calls
 
-PASSES = ("fold_in", "merge_similar", "see_through", "connect", "drop_mask", "compact", "shown_walls")
+PASSES = ("fold_in", "merge_similar", "see_through", "trim_through", "connect", "drop_mask", "compact", "shown_walls")
 # fuse's sin, cos and atan2 (inside fold_in) are the C library's when compiled and numpy's
 # own routines in its Python: they may differ in the last bit (a few 1e-16 m); every other
 # pass is bit-exact

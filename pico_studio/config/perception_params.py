@@ -246,6 +246,11 @@ class MergeParams:
         0.15, lo=0.01, hi=2.0, step=0.01, unit="m",
         help="The laser passes through a wall when its range exceeds the wall's distance by this",
     )
+    trim_step: float = param(
+        0.05, lo=0.0, hi=1.0, step=0.01, unit="m",
+        help="A wall's end the laser passed through (two points this far apart, then one on the wall) is cut "
+        "back to where it met the wall: a smear merged on to a wall's end (0: never)",
+    )
     forget_scans: int = param(
         0, lo=0, hi=1000000, step=10,
         help="A wall not seen for this many scans is dropped (0: never): keeps the local map local, so "

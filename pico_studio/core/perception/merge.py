@@ -20,7 +20,8 @@ with the pose instead, and every comparison is made there. One step:
    scans, at most `max_weight`), so one noisy scan cannot move a well-seen corner far. An end
    near the inside of another wall (a T, e.g. a cabinet against a wall) connects too.
 6. **Drop**: walls shorter than `min_length`; walls the laser passed through `miss_limit` scans in a row (a door opened, an
-   object moved); tentative walls not seen again within `tentative_life` scans; walls not
+   object moved) — and a wall's end it passed through, up to where it met the wall, is cut
+   back (`trim_step`: a smear merged on to a wall's end); tentative walls not seen again within `tentative_life` scans; walls not
    seen for `forget_scans` scans (when set); walls beyond `keep_radius`; beyond `max_walls`, the least seen. What is shown are walls seen at least
    `confirm_hits` times and connected to another wall — or seen `unconnected_hits` times —
    so the map holds connected walls and does not flicker when one scan misses a wall.
@@ -45,6 +46,7 @@ from pico_studio.core.perception.merge_kernels import (
     merge_similar,
     see_through,
     shown_walls,
+    trim_through,
 )
 from pico_studio.core.perception.scan import ScanPoints
 from pico_studio.core.perception.segment import END_FLOATING, END_SEEN, Segments
@@ -100,8 +102,10 @@ def merge(
     # 4. merge local walls that became similar to each other
     walls, hits, last_seen, missed, seen_end, end_weight = merge_similar(
         walls, hits, last_seen, missed, seen_end, end_weight, cos_angle, distance, gap, max_weight)
-    # 6a. walls the laser passed through
+    # 6a. walls the laser passed through; ends it passed through cut back
     _see_through(walls, last_seen, step, missed, pose, scan, params)
+    if params.trim_step > 0:
+        _trim_through(walls, pose, scan, params)
     # 5. connect ends into corners and T's
     connected, end_weight = connect(walls, hits, end_weight, seen_end, float(params.connect_radius),
                                     math.sin(params.connect_min_angle), float(params.confirm_hits), max_weight)
@@ -139,18 +143,35 @@ def _forget_window(window: tuple[tuple[int, float], ...], step: int, stamp: floa
     return window, span if forget < 0 else min(forget, span)
 
 
+def _beams(walls: np.ndarray, scan: ScanPoints) -> tuple[float, float] | None:
+    """The scan's first beam's angle and the increment, or None when there is nothing to test
+    (no walls, fewer than two beams, no usable increment)."""
+    if len(walls) == 0 or len(scan.ranges) < 2:
+        return None
+    a0 = float(scan.angles[0])
+    inc = (float(scan.angles[-1]) - a0) / (len(scan.angles) - 1)
+    return None if inc == 0 or not math.isfinite(inc) else (a0, inc)
+
+
 def _see_through(walls: np.ndarray, last_seen: np.ndarray, step: int, missed: np.ndarray, pose: Pose,
                  scan: ScanPoints, params: MergeParams) -> None:
     """Count, in place in `missed`, whether the laser passed through walls not seen this scan."""
-    if len(walls) == 0 or len(scan.ranges) < 2:
+    if (beams := _beams(walls, scan)) is None:
         return
-    a0 = float(scan.angles[0])
-    inc = (float(scan.angles[-1]) - a0) / (len(scan.angles) - 1)
-    if inc == 0 or not math.isfinite(inc):
-        return
+    a0, inc = beams
     see_through(walls, last_seen, step, missed, float(pose[0]), float(pose[1]), float(pose[2]),
                 np.ascontiguousarray(scan.ranges, dtype=float), np.ascontiguousarray(scan.valid, dtype=bool), a0, inc,
                 float(params.see_through))
+
+
+def _trim_through(walls: np.ndarray, pose: Pose, scan: ScanPoints, params: MergeParams) -> None:
+    """Cut back, in place, wall ends the laser passed through (merge_kernels.trim_through)."""
+    if (beams := _beams(walls, scan)) is None:
+        return
+    a0, inc = beams
+    trim_through(walls, float(pose[0]), float(pose[1]), float(pose[2]),
+                 np.ascontiguousarray(scan.ranges, dtype=float), np.ascontiguousarray(scan.valid, dtype=bool), a0, inc,
+                 float(params.see_through), float(params.trim_step))
 
 
 def scan_passes(walls: np.ndarray, pose: Pose, scan: ScanPoints, params: MergeParams) -> np.ndarray:
