@@ -12,8 +12,9 @@ candidate when
   `against_a_wall`), and a building's wall (|k| >= building_min) unless P's wall is;
 * min_width <= t <= max_width, and M is no nearer than `cap_max` to a free convex end of k
   (a corner there, not a face); up to `wide_width` the gap is a door only from a building
-  wall's end facing a building wall, seen deep and free beside the end (t_openings, `_side_free`),
-  else a possible door; from a wall whose far end is no concave corner, a face turning into
+  wall's end facing a building wall, seen deep and free beside the end (t_openings, `_side_seen`),
+  or seen so in `evidence_scans` scans before (`tally`), its side hidden behind the wall
+  itself now (a beam ending on the side, or the gap closed, bans the place), else a possible door; from a wall whose far end is no concave corner, a face turning into
   another wall in a concave corner within `depth` past the line, no ray reaching that deep, is a
   pocket's side: a possible door only (`_shallow_back`);
 * k is about square to the ray: |e_k . o| / |e_k| <= sin(angle).
@@ -109,29 +110,33 @@ def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
 
 
 @njit
-def _side_free(gap: np.ndarray, rx: float, ry: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray,
-               vx: float, vy: float, va: float, a0: float, inc: float, occlusion: float) -> bool:
+def _side_seen(gap: np.ndarray, rx: float, ry: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray,
+               vx: float, vy: float, va: float, a0: float, inc: float, occlusion: float) -> int:
     """Is the side beyond a T-opening's jamb P (the gap P -> M) seen free: do the scan's beams
     towards P + f n, f = 1/2 and 1, n the gap's normal away from the robot R, |n| = |PM|, reach
-    more than `occlusion` past those points, or return nothing? A wall's corner there (its other
-    wall running from P away from R, unseen edge-on) stops them; from a viewpoint behind the
-    wall itself they end on it: hidden, not free."""
+    more than `occlusion` past those points, or return nothing? 1: both free; -1: a beam ends
+    on one of them, within `occlusion` (a wall's corner there, its other wall running from P
+    away from R); 0: neither (out of view, or ending before them: from a viewpoint behind the
+    wall itself they end on it, hidden)."""
     if not has_view:
-        return False
+        return 0
     px, py = gap[0], gap[1]
     nx, ny = _away_normal(gap, rx, ry)
+    free = True
     for f in (0.5, 1.0):
         qx, qy = px + f * nx, py + f * ny
         b = _beam_towards(qx, qy, ranges.shape[0], vx, vy, va, a0, inc)
         if b < 0:
-            return False
+            return 0
         r, dist = ranges[b], math.hypot(qx - vx, qy - vy)
         if valid[b]:
+            if abs(r - dist) <= occlusion:
+                return -1
             if not r > dist + occlusion:
-                return False
+                free = False
         elif math.isfinite(r) and r > 0 and r < dist:  # (an invalid beam returned nothing, or beyond)
-            return False
-    return True
+            free = False
+    return 1 if free else 0
 
 
 @njit
@@ -495,17 +500,37 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     # end, not a corner); else only ever a possible door, for the map to prove (no evidence
     # counted)
     strong = ~wk & ~gl_  # a building wall's end or a door frame's in a room's corner: a door from one scan
+    wide = np.zeros(n, dtype=np.bool_)
+    side = np.zeros(n, dtype=np.int64)
     for m in range(n):
         if math.hypot(g[m, 2] - g[m, 0], g[m, 3] - g[m, 1]) > max_width:
             strong[m] = False
-            if not bad[m] and not wk[m] and not gl_[m] and lengths[ob[m]] >= building_min \
-                    and deep_g[m] >= max(min_free_rays, 1) \
-                    and _side_free(g[m], rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc, occlusion):
+            if not wk[m] and not gl_[m] and lengths[ob[m]] >= building_min:
+                wide[m] = True
+                side[m] = _side_seen(g[m], rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc, occlusion)
+            else:
+                if not bad[m] and not _hidden(g[m], has_view, ranges, valid, vx, vy, va, a0, inc, occlusion):
+                    possible[p] = g[m]
+                    p += 1
+                bad[m], wk[m], gl_[m] = True, False, False
+    wide_rows = np.flatnonzero(wide)
+    if wide_rows.shape[0] > 0:
+        # ...seen so in `evidence_scans` scans it is remembered, as a short wall's T-opening is:
+        # seen again from beside its wall (the side hidden behind the wall itself, its rays maybe
+        # landing on the face) it stays a door; a beam ending on the side (a room's corner, its
+        # other wall there) or the gap closed bans the place
+        through = ~bad[wide_rows] & (deep_g[wide_rows] >= max(min_free_rays, 1))
+        free = through & (side[wide_rows] > 0)
+        evidence, count = tally(evidence, g[wide_rows], free, bad[wide_rows] | (side[wide_rows] < 0), min_width,
+                                angle, evidence_max)
+        for q in range(wide_rows.shape[0]):
+            m = wide_rows[q]
+            if free[q] or (not bad[m] and evidence_scans > 0 and count[q] >= evidence_scans):
                 continue
             if not bad[m] and not _hidden(g[m], has_view, ranges, valid, vx, vy, va, a0, inc, occlusion):
                 possible[p] = g[m]
                 p += 1
-            bad[m], wk[m], gl_[m] = True, False, False
+            bad[m] = True
     weak_rows = np.flatnonzero(wk)
     if weak_rows.shape[0] > 0:
         # a scan supports the opening when a ray through the gap reached free space, or when

@@ -49,10 +49,14 @@ nor meets a face within `jamb_cap_max` of its free end (a corner, not a face: a 
 A T-opening wider than `door_max_width`, up to `wide_door_max_width`, is a door only from a
 building wall's end (no glimpse, no short wall's) facing a building wall's face, seen through
 `end_face_depth` deep and seen free beside its end: the scan's beams reach past the points half
-and one gap's width from the end, away from the robot (`face_kernels._side_free`; a corner of
+and one gap's width from the end, away from the robot (`face_kernels._side_seen`; a corner of
 walls there, its other wall edge-on and out of the local map, stops them — a passage beside a
 room's corner, which the truth counts as no opening —, and seen from behind the wall's own line
-they are hidden). Else it is only ever a possible door "end_face", for the map to prove. So
+they are hidden). Seen free so in `end_face_evidence_scans` scans (counted with the T-openings'
+evidence) it is remembered: seen again from beside its wall, the side hidden, not closed, it is
+still a door (suite:0's 1.33 m doorway beside a thick wall's end, a door only while the
+robot stood past the end's line); a beam ending on the side (a corner's other wall) bans the
+place. Else it is only ever a possible door "end_face", for the map to prove. So
 is a T-opening from a wall whose far end is no concave corner, its face turning in a concave
 corner into another wall less than `end_face_depth` past the gap's line, no ray through the gap
 reaching that deep (`face_kernels._shallow_back`): seen steeply, the pocket beside a table
