@@ -348,8 +348,8 @@ def _doors(
                                  float(params.door_angle))
             through = ((rays >= params.bay_deep_rays) | (~back & side_on)) & ~blocky[own_a] & ~blocky[own_b] \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
-                & wall_shaped(gaps, w, c, lengths, own_a, own_b, float(params.door_angle),
-                              float(params.door_wall_min_length), float(params.bay_line_offset))
+                & wall_shaped(gaps, w, c, p64, lengths, own_a, own_b, float(params.door_angle),
+                              float(params.door_wall_min_length), float(params.bay_line_offset), CONCAVE)
         doors.extend(gaps[through].tolist())
         door_kinds.extend(["bay"] * int(through.sum()))
         possible.extend(gaps[~through])

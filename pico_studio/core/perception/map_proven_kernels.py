@@ -160,18 +160,21 @@ def _example_shapes() -> tuple:
     connected = np.array([[-1, -1], [2, -1], [1, -1]], dtype=np.int64)
     gaps = np.array([[0.0, 0.0, 0.9, 0.0]])
     lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
-    return gaps, walls, connected, lengths, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), 0.3, 0.5, 0.1
+    prop = np.array([[0, 0], [3, 0], [3, 0]], dtype=np.int64)
+    return (gaps, walls, connected, prop, lengths, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), 0.3,
+            0.5, 0.1, 3)
 
 
 @kernel(_example_shapes)
-def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, own_a: np.ndarray,
-                own_b: np.ndarray, angle: float, frame_min: float, line_offset: float) -> np.ndarray:
+def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
+                own_a: np.ndarray, own_b: np.ndarray, angle: float, frame_min: float, line_offset: float,
+                concave: int) -> np.ndarray:
     """(K,) bool: the bay lies in a wall's line or across a passage, as an opening in a building's
     walls does. At each jamb J (the gap's end point, an end of its wall) the walls there (its own,
     and the one joined at that end) run from J towards their far ends F, d = (F - J) / |F - J|;
     with u = (B - A) / |B - A| the gap's direction a wall at least `frame_min` long (or joined at
-    F to one that long, `identify_kernels.joins_frame`: a room's wall running on to the room's
-    corner) at A is in line when d . u < -cos(angle) (at B: d . u > cos(angle)) and the other
+    F to one that long in a concave corner, `identify_kernels.joins_frame`: a room's wall running
+    on to the room's corner; a thick wall's end cap turns into its side at a convex one) at A is in line when d . u < -cos(angle) (at B: d . u > cos(angle)) and the other
     jamb lies within `line_offset` of its line, |d x (B - A)| (one line, not a bed's side
     pointing past a wall's cap), across it when
     |d . u| < sin(angle), on the side sign(u x d). A wall's opening has a wall in line at both jambs (a side room's mouth, a hallway's seen from
@@ -194,8 +197,8 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, leng
                 w, f, dx, dy, dn = _jamb_wall(gaps, q, j, own_a[q] if j == 0 else own_b[q], walls, connected, which)
                 if w < 0:
                     continue
-                if dn < frame_min and not joins_frame(connected, lengths, w, f, frame_min):
-                    continue  # a door frame's length (or joining one): a wall's end cap or a bed's foot is none
+                if dn < frame_min and not (joins_frame(connected, lengths, w, f, frame_min) and prop[w, f] == concave):
+                    continue  # a door frame's length (or joining one in a room's corner): a wall's end cap or a bed's foot is none
                 c = (dx * ux + dy * uy) / dn
                 ox, oy = (bx - ax, by - ay) if j == 0 else (ax - bx, ay - by)  # to the other jamb
                 if sign * c > cos_a:
