@@ -12,10 +12,11 @@ candidate when
   `against_a_wall`), and a building's wall (|k| >= building_min) unless P's wall is;
 * min_width <= t <= max_width, and M is no nearer than `cap_max` to a free convex end of k
   (a corner there, not a face); up to `wide_width` the gap is a door only from a building
-  wall's end facing a building wall, seen deep and free beside the end (t_openings, `_side_seen`),
-  or seen so in `evidence_scans` scans before (`tally`), its side hidden behind the wall
-  itself now (a beam ending on the side, or the gap closed, bans the place), else a possible door; from a wall whose far end is no concave corner, a face turning into
-  another wall in a concave corner within `depth` past the line, no ray reaching that deep, is a
+  wall's end facing a building wall, seen deep and free beside the end (t_openings,
+  `_side_seen`), or seen so in `evidence_scans` scans before (`tally`), its side hidden behind
+  the wall itself now (a beam ending on the side, or the gap closed, bans the place), else a
+  possible door; from a wall whose far end is no concave corner, a face turning into another
+  wall in a concave corner within `depth` past the line, no ray reaching that deep, is a
   pocket's side: a possible door only (`_shallow_back`);
 * k is about square to the ray: |e_k . o| / |e_k| <= sin(angle).
 
