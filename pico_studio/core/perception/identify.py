@@ -349,7 +349,7 @@ def _doors(
             through = ((rays >= params.bay_deep_rays) | (~back & side_on)) & ~blocky[own_a] & ~blocky[own_b] \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
                 & wall_shaped(gaps, w, c, p64, lengths, own_a, own_b, float(params.door_angle),
-                              float(params.door_wall_min_length), float(params.bay_line_offset), CONCAVE)
+                              float(params.door_wall_min_length), float(params.bay_line_offset), CONCAVE, FLOATING)
         doors.extend(gaps[through].tolist())
         door_kinds.extend(["bay"] * int(through.sum()))
         possible.extend(gaps[~through])

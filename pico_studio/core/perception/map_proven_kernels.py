@@ -162,13 +162,13 @@ def _example_shapes() -> tuple:
     lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
     prop = np.array([[0, 0], [3, 0], [3, 0]], dtype=np.int64)
     return (gaps, walls, connected, prop, lengths, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), 0.3,
-            0.5, 0.1, 3)
+            0.5, 0.1, 3, 0)
 
 
 @kernel(_example_shapes)
 def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
                 own_a: np.ndarray, own_b: np.ndarray, angle: float, frame_min: float, line_offset: float,
-                concave: int) -> np.ndarray:
+                concave: int, floating: int) -> np.ndarray:
     """(K,) bool: the bay lies in a wall's line or across a passage, as an opening in a building's
     walls does. At each jamb J (the gap's end point, an end of its wall) the walls there (its own,
     and the one joined at that end) run from J towards their far ends F, d = (F - J) / |F - J|;
@@ -197,7 +197,8 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop
                 w, f, dx, dy, dn = _jamb_wall(gaps, q, j, own_a[q] if j == 0 else own_b[q], walls, connected, which)
                 if w < 0:
                     continue
-                if dn < frame_min and not (joins_frame(connected, lengths, w, f, frame_min) and prop[w, f] == concave):
+                if dn < frame_min and prop[w, f] != floating and \
+                        not (joins_frame(connected, lengths, w, f, frame_min) and prop[w, f] == concave):
                     continue  # a door frame's length (or joining one in a room's corner): a wall's end cap or a bed's foot is none
                 c = (dx * ux + dy * uy) / dn
                 ox, oy = (bx - ax, by - ay) if j == 0 else (ax - bx, ay - by)  # to the other jamb
