@@ -174,7 +174,9 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop
     and the one joined at that end) run from J towards their far ends F, d = (F - J) / |F - J|;
     with u = (B - A) / |B - A| the gap's direction a wall at least `frame_min` long (or joined at
     F to one that long in a concave corner, `identify_kernels.joins_frame`: a room's wall running
-    on to the room's corner; a thick wall's end cap turns into its side at a convex one) at A is in line when d . u < -cos(angle) (at B: d . u > cos(angle)) and the other
+    on to the room's corner; a thick wall's end cap turns into its side at a convex one; or its
+    end F floating: it runs on out of view, its length unknown) at A is in line when
+    d . u < -cos(angle) (at B: d . u > cos(angle)) and the other
     jamb lies within `line_offset` of its line, |d x (B - A)| (one line, not a bed's side
     pointing past a wall's cap), across it when
     |d . u| < sin(angle), on the side sign(u x d). A wall's opening has a wall in line at both jambs (a side room's mouth, a hallway's seen from
