@@ -501,6 +501,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     # end, not a corner); else only ever a possible door, for the map to prove (no evidence
     # counted)
     strong = ~wk & ~gl_  # a building wall's end or a door frame's in a room's corner: a door from one scan
+    deep = deep_g >= max(min_free_rays, 1)  # seen through deep
     wide = np.zeros(n, dtype=np.bool_)
     side = np.zeros(n, dtype=np.int64)
     for m in range(n):
@@ -520,8 +521,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         # seen again from beside its wall (the side hidden behind the wall itself, its rays maybe
         # landing on the face) it stays a door; a beam ending on the side (a room's corner, its
         # other wall there) or the gap closed bans the place
-        through = ~bad[wide_rows] & (deep_g[wide_rows] >= max(min_free_rays, 1))
-        free = through & (side[wide_rows] > 0)
+        free = ~bad[wide_rows] & deep[wide_rows] & (side[wide_rows] > 0)
         evidence, count = tally(evidence, g[wide_rows], free, bad[wide_rows] | (side[wide_rows] < 0), min_width,
                                 angle, evidence_max)
         for q in range(wide_rows.shape[0]):
@@ -538,7 +538,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         # rays passed it and its face is seen running on `run_on` past its line into the view's
         # edge: seen steeply, the rays through a T-opening land on its own face a few dm on,
         # and a pocket's side ends at the pocket's back in a corner
-        sure = ~bad & (deep_g >= max(min_free_rays, 1))
+        sure = ~bad & deep
         for m in range(n):
             if not sure[m] and not bad[m] and run_on > 0 and free_g[m] >= max(min_free_rays, 1):
                 sure[m] = _runs_on(g[m], walls[ob[m]], prop[ob[m]], rx, ry, run_on, floating)
@@ -557,7 +557,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         # ...but a pocket seen closed once (its back within `depth`: a table's side by a wall)
         # stays closed when seen again edge-on, rays saying nothing: only ever a possible door,
         # for the map to prove, until rays are seen through it deep
-        through = ~bad[strong_rows] & (deep_g[strong_rows] >= max(min_free_rays, 1))
+        through = ~bad[strong_rows] & deep[strong_rows]
         closed = backed_g[strong_rows] & back_g[strong_rows]  # on a back between the jambs, not a passage's side
         # the same gap: its middle within `occlusion` / 2 (a gap from the same end to another
         # face, a wall seen before the nearer one came into the local map, is another place)

@@ -458,6 +458,37 @@ def see_through(walls: np.ndarray, last_seen: np.ndarray, step: int, missed: np.
             missed[k] = 0
 
 
+@njit
+def _through_to(ex: float, ey: float, ux: float, uy: float, length: float, px: float, py: float, c: float, s_: float,
+                ranges: np.ndarray, valid: np.ndarray, a0: float, inc: float, margin: float, step_len: float) -> float:
+    """How far from the end (ex, ey), walking along the unit direction (ux, uy), the wall is cut
+    back (`trim_through`'s walk): the first point on the wall after at least three seen through,
+    else 0."""
+    through_n = 0
+    t = 0.0
+    while t < length - step_len:
+        qx, qy = ex + t * ux - px, ey + t * uy - py
+        x, y = c * qx + s_ * qy, -s_ * qx + c * qy
+        dist = math.hypot(x, y)
+        if dist <= 1e-9:
+            return 0.0
+        cos_b = abs(qx * ux + qy * uy) / dist  # beam and wall: cos of the angle between
+        sin_b = math.sqrt(max(0.0, 1.0 - cos_b * cos_b))
+        if (dist * (inc / 2.0) + step_len / 2.0) * cos_b > (margin / 2.0) * sin_b:
+            return 0.0  # a slant its beams can not judge
+        measured = _reading(x, y, ranges, valid, a0, inc)
+        if math.isnan(measured):
+            return 0.0
+        if measured > dist + margin:
+            through_n += 1
+        elif abs(measured - dist) <= margin:
+            return t if through_n >= 3 else 0.0
+        else:
+            return 0.0
+        t += step_len
+    return 0.0
+
+
 def _example_trim() -> tuple:
     # a wall y = 1 from x = -1 to 1; the laser (beams 0.05 rad apart) passes its left 0.6 m
     walls = np.array([[-1.0, 1.0, 1.0, 1.0]])
@@ -490,40 +521,16 @@ def trim_through(walls: np.ndarray, px: float, py: float, pa: float, ranges: np.
         if length < 3.0 * step_len:
             continue
         ux, uy = dx / length, dy / length
-        new_t = np.array([0.0, length])  # the ends' positions along the wall, from end 0
-        for e in range(2):
-            sign = 1.0 if e == 0 else -1.0
-            ex, ey = walls[k, 2 * e], walls[k, 2 * e + 1]
-            through_n = 0
-            t = 0.0
-            while t < length - step_len:
-                qx, qy = ex + sign * t * ux - px, ey + sign * t * uy - py
-                x, y = c * qx + s_ * qy, -s_ * qx + c * qy
-                dist = math.hypot(x, y)
-                if dist <= 1e-9:
-                    break
-                cos_b = abs(qx * ux + qy * uy) / dist  # beam and wall: cos of the angle between
-                sin_b = math.sqrt(max(0.0, 1.0 - cos_b * cos_b))
-                if (dist * (inc / 2.0) + step_len / 2.0) * cos_b > (margin / 2.0) * sin_b:
-                    break  # a slant its beams can not judge
-                measured = _reading(x, y, ranges, valid, a0, inc)
-                if math.isnan(measured):
-                    break
-                if measured > dist + margin:
-                    through_n += 1
-                elif abs(measured - dist) <= margin:
-                    if through_n >= 3:
-                        new_t[e] = t if e == 0 else length - t
-                    break
-                else:
-                    break
-                t += step_len
-        if new_t[0] > 0.0 or new_t[1] < length:
-            if new_t[1] - new_t[0] >= step_len:
-                x0, y0 = walls[k, 0], walls[k, 1]
-                walls[k, 0], walls[k, 1] = x0 + new_t[0] * ux, y0 + new_t[0] * uy
-                walls[k, 2], walls[k, 3] = x0 + new_t[1] * ux, y0 + new_t[1] * uy
-                cut += 1
+        # the ends' new positions along the wall, from end 0
+        t0 = _through_to(walls[k, 0], walls[k, 1], ux, uy, length, px, py, c, s_, ranges, valid, a0, inc, margin,
+                         step_len)
+        t1 = length - _through_to(walls[k, 2], walls[k, 3], -ux, -uy, length, px, py, c, s_, ranges, valid, a0, inc,
+                                  margin, step_len)
+        if (t0 > 0.0 or t1 < length) and t1 - t0 >= step_len:
+            x0, y0 = walls[k, 0], walls[k, 1]
+            walls[k, 0], walls[k, 1] = x0 + t0 * ux, y0 + t0 * uy
+            walls[k, 2], walls[k, 3] = x0 + t1 * ux, y0 + t1 * uy
+            cut += 1
     return cut
 
 

@@ -25,9 +25,9 @@
    point nor a short return), unless the wall going on could have been out of reach there:
    r + break_distance + break_slope r >= hi (a range past hi is farther by the margin only
    when the end lies that far inside it), or the line through the end and up to three points
-   before it meets that beam beyond hi (`_runs_out_of_range`). An end whose next valid point past the break lies within
-   `grazing_max_break` and on the end's extended line (see `on_line`) is the same wall going
-   on at a grazing angle: not seen.
+   before it meets that beam beyond hi (`_runs_out_of_range`). An end whose next valid point
+   past the break lies within `grazing_max_break` and on the end's extended line (see
+   `on_line`) is the same wall going on at a grazing angle: not seen.
 
 *On the line.* Forward: does point i + 1 lie within `line_distance` of the line through
 points i - 3 and i; backward: does point i lie within it of the line through points i + 1
@@ -260,10 +260,11 @@ def scan_points(
                 # farther by the break's margin only when the end lies that far inside the reach,
                 # and the wall's line (through the end and up to three points before it) meets
                 # the beam within the reach (a far wall's end at the laser's range runs on unseen)
-                seen = not (math.isfinite(raw) and raw > 0 and raw < own)
-                b = max(j - 3, ends[c, 0]) if side else min(j + 3, ends[c, 1])
-                seen = seen and own + break_distance + break_slope * own < hi \
-                    and not _runs_out_of_range(xy, j, b, cos[nb], sin[nb], hi)
+                seen = not (math.isfinite(raw) and raw > 0 and raw < own) \
+                    and own + break_distance + break_slope * own < hi
+                if seen:
+                    b = max(j - 3, ends[c, 0]) if side else min(j + 3, ends[c, 1])
+                    seen = not _runs_out_of_range(xy, j, b, cos[nb], sin[nb], hi)
             # a short break to a point on the end's extended line: the wall going on
             if side == 1 and j + 1 < m:
                 seen = seen and not (_step(xy, j) <= grazing_max_break and _forward_on_line(xy, j, grazing_line_distance))
