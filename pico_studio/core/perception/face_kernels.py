@@ -487,9 +487,10 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     for m in range(n):  # ...or closed by a wall lying on its line (a wall piece beside an exit)
         bad[m] = bad[m] or _along_a_wall(g[m], walls, oa[m], ob[m], occlusion)
     # seen edge-on a T-opening's rays end by its face and say nothing; its jamb and face were
-    # tested already, so no free ray is asked for
+    # tested already, so no free ray is asked for; a ray ending on an object (a box standing in
+    # the room behind) says nothing of a back either
     backed_g, free_g, deep_g, back_g = backed(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
-                                    np.ones(n, dtype=np.bool_), np.zeros(walls.shape[0], dtype=np.bool_), occlusion,
+                                    np.ones(n, dtype=np.bool_), objects, occlusion,
                                     depth, cap_max, backed_share)
     bad |= backed_g
     possible = np.empty((n, 4))

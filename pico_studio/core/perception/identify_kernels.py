@@ -248,7 +248,9 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     says nothing: the local map not knowing a wall there is no free space). A ray stopping
     short of |q - R| - occlusion says nothing.
     Where the others end, in the gap's frame (s along from p, n across): a ray ending within
-    `occlusion` of a jamb's normal (|s| or |s - L|) says nothing unless deeper than
+    `occlusion` of a jamb's normal (|s| or |s - L|; for a T-opening, `face_end`, the far jamb's
+    is the face's own line, square to the gap only within door_angle: a ray landing on the face
+    run on past the gap) says nothing unless deeper than
     `jamb_cap_max` behind a jamb that is a wall's end; a ray is closed when it ends within
     `depth` of the gap line between the jambs (or deep beside one). A ray ending within
     `occlusion` of a wall marked in `things` (W,) (a small object's: a box standing in a side
@@ -265,6 +267,11 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
         length = np.hypot(segs[m, 2] - segs[m, 0], segs[m, 3] - segs[m, 1])
         den = max(length, 1e-12)
         alx, aly = (segs[m, 2] - segs[m, 0]) / den, (segs[m, 3] - segs[m, 1]) / den
+        # a T-opening's far jamb is the face's line, square to the gap only within door_angle
+        fk = own_b[m]
+        fx, fy = walls[fk, 2] - walls[fk, 0], walls[fk, 3] - walls[fk, 1]
+        fl = max(np.hypot(fx, fy), 1e-12)
+        fnx, fny = -fy / fl, fx / fl
         inf_n = 0
         closed_n = 0
         behind_n = 0
@@ -322,7 +329,10 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
             n_ = abs(ex_ * aly - ey_ * alx)
             ended = informative and finite
             near_first = abs(s_) < occlusion
-            near_last = abs(s_ - length) < occlusion
+            if face_end[m]:
+                near_last = abs((rx + r_ * dx - walls[fk, 0]) * fnx + (ry + r_ * dy - walls[fk, 1]) * fny) < occlusion
+            else:
+                near_last = abs(s_ - length) < occlusion
             side = ended and (near_first or near_last)
             deep_side = side and n_ > jamb_cap_max and (near_first or not face_end[m])
             informative = informative and (not side or deep_side)
