@@ -67,6 +67,26 @@ def test_a_corridor_joining_a_hall_has_a_mouth_and_a_closed_corridor_has_none() 
     assert mids == [[2.0, 3.0]]
 
 
+@pytest.mark.parametrize("depth, mouth", [(0.7, False), (1.2, True)])
+def test_a_niche_between_two_blocks_is_no_mouth_a_passage_as_wide_is(depth: float, mouth: bool) -> None:
+    """restaurant_2024.png: two tables against the top wall, their outlines fused with the wall's,
+    0.6 m apart and 0.7 m deep: a niche (straight in from its mouth closed within `mouth_depth`,
+    0.8 m, all across), no door; the same gap running 1.2 m deep (a side room's short passage)
+    is a mouth."""
+    top = 4.0
+    y = top - depth  # the blocks' fronts
+    # one outline, as a heightmap traces it: the room 0..6 by 0..y, the blocks' fronts along y
+    # from its side walls to the gap, the niche 2.7..3.3 up to the top wall
+    segs = np.array([
+        (0, 0, 6, 0), (6, 0, 6, y), (0, y, 0, 0),
+        (6, y, 3.3, y), (3.3, y, 3.3, top), (3.3, top, 2.7, top), (2.7, top, 2.7, y), (2.7, y, 0, y),
+    ], dtype=float)
+    o = door_openings(segs)
+    mids = np.round((o[:, :2] + o[:, 2:]) / 2, 3).tolist()
+    assert mids == ([[3.0, y]] if mouth else [])
+    assert door_openings(segs, mouth_depth=0.0).shape == (1, 4)  # with no depth asked, a mouth either way
+
+
 def test_vertex_pairs_a_doors_width_apart_come_in_chunks_as_from_the_whole_matrix():
     """The passage mouths' candidate pairs (`openings._pairs_within`) are read a few hundred
     rows of the distance matrix at a time — a heightmap's thousands of vertices never need the

@@ -89,6 +89,7 @@ class GlobalMap:
                 self.wall_segments, self.door_polygons, obstacles=np.vstack(objects) if objects else None,
                 min_width=p.door_min_width, max_width=p.door_max_width, max_thickness=p.max_wall_thickness,
                 mouth_probe=p.mouth_probe, mouth_margin=p.mouth_margin, mouth_wall_length=p.mouth_wall_length,
+                mouth_depth=p.mouth_depth,
                 straight_tolerance=p.straight_tolerance, abut=p.abut_tolerance,
             )
         return self._openings[p].copy()

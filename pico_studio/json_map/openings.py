@@ -21,7 +21,11 @@ Door openings (`door_openings`), in this order:
    (parallel to J1 J2) at `mouth_probe` either side of the middle, a free width of at most
    |J1 J2| + `mouth_margin` on one side (the passage, walled on both sides) and at least
    |J1 J2| + min_width on the other (the room, or the open outside), and at both corners a
-   wall at least `mouth_wall_length` long leaving towards the passage side (within 15 degrees of square to J1 J2). An escape room's
+   wall at least `mouth_wall_length` long leaving towards the passage side (within 15 degrees of square to J1 J2),
+   and the passage running on free at least `mouth_depth` in from the mouth (straight in from one
+   of five points across it: a box standing in a side room leaves its sides free): the niche
+   between two tables standing against a wall, their outlines fused with the wall's on a
+   heightmap, is closed behind its mouth, no passage. An escape room's
    corridor has one at each end; a corridor joining a wider one has one at the junction.
    A doorway in a wall (free area on both sides) is not a mouth: rules 1-3 find it.
 Openings within `min_width / 2` of an earlier one (e.g. a map door's own gap) are dropped.
@@ -194,6 +198,7 @@ def door_openings(
     mouth_wall_length: float = 0.5,
     straight_tolerance: float = 0.15,
     abut: float = 0.03,
+    mouth_depth: float = 0.8,
 ) -> np.ndarray:
     """The map's door openings (D, 4), each from one jamb to the other (see the module doc).
 
@@ -209,7 +214,8 @@ def door_openings(
         ends, outward = wall_ends(graph, walls, max_thickness)
         out += _paired_gaps(ends, outward, walls, solid, min_width, max_width, out)
         out += _passage_mouths(
-            graph, solid, min_width, max_width, mouth_probe, mouth_margin, mouth_wall_length, straight_tolerance, out
+            graph, solid, min_width, max_width, mouth_probe, mouth_margin, mouth_wall_length, straight_tolerance, out,
+            mouth_depth,
         )
     return np.array(out).reshape(-1, 4)
 
@@ -224,6 +230,7 @@ def _passage_mouths(
     wall_length: float,
     straight_tolerance: float,
     found: list[np.ndarray],
+    depth: float = 0.0,
 ) -> list[np.ndarray]:
     """Rule 4 of the module doc: where a passage of a door's width opens into a larger area."""
     cand = np.array([v for v, d in enumerate(graph.directions) if len(d) >= 1], dtype=np.int64)
@@ -267,6 +274,9 @@ def _passage_mouths(
         inward = n if sides[0] <= sides[1] else -n  # towards the passage
         if not (along(cand[i], inward) and along(cand[j], inward)):
             continue  # the passage is not walled at both corners: two unrelated corners
+        if depth > 0 and max(cast_rays(tuple(a + f * (b - a)), np.array([math.atan2(inward[1], inward[0])]), solid)[0]
+                             for f in (0.1, 0.3, 0.5, 0.7, 0.9)) < depth:
+            continue  # closed within `depth` all across: a niche (between two tables by a wall), no passage
         if any(float(np.hypot(*(mid - (f[:2] + f[2:]) / 2))) < lo / 2 for f in found + out):
             continue
         out.append(np.concatenate([a, b]))
