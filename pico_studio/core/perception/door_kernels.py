@@ -54,11 +54,11 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
                max_width: float, wide_width: float, angle: float, offset: float, offset_short: float, min_free_rays: int,
                occlusion: float, depth: float, backed_share: float, floating: int, convex: int, concave: int,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                          np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(wi, we, capped, long (C,): the candidates, pts, out_dir, far (C, 2): their ends, outward
+                          np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(wi, we, capped, long, partial (C,): the candidates, pts, out_dir, far (C, 2): their ends, outward
     directions and far ends, is_convex (C,), lengths (W,), doors (D, 4), possible (P, 4),
     possible_convex (P,): one of its ends convex)."""
-    wi, we, capped, long, stub, cap_sized, cap_seen, lengths = jamb_candidates(
+    wi, we, capped, long, stub, cap_sized, cap_seen, partial, lengths = jamb_candidates(
         walls, connected, prop, objects, cap_max, frame_min, floating, convex, building_min, rx, ry, object_max)
     c = wi.shape[0]
     pts, far, out_dir = np.empty((c, 2)), np.empty((c, 2)), np.empty((c, 2))
@@ -103,6 +103,14 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
         pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, min_width,
         max_width, wide_width, angle, offset, offset_short)
+    # an end joined to a cap seen in part is a jamb only between two building walls in one line
+    cos_a = math.cos(angle)
+    for r in range(ia.shape[0]):
+        i, j = ia[r], ja[r]
+        if (partial[i] or partial[j]) and not (
+                building[i] and building[j] and abs(out_dir[i, 0] * out_dir[j, 0] + out_dir[i, 1] * out_dir[j, 1]) > cos_a
+                and off_ij[r] < offset and off_ji[r] < offset):
+            is_door[r] = False
     g = ia.shape[0]
     segs = np.empty((g, 4))
     own_a, own_b = np.empty(g, dtype=np.int64), np.empty(g, dtype=np.int64)
@@ -131,7 +139,7 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
     possible_convex = np.empty(maybe.shape[0], dtype=np.bool_)
     for q in range(maybe.shape[0]):
         possible_convex[q] = is_convex[ia[maybe[q]]] or is_convex[ja[maybe[q]]]
-    return wi, we, capped, long, pts, out_dir, far, is_convex, lengths, doors, segs[maybe], possible_convex
+    return wi, we, capped, long, partial, pts, out_dir, far, is_convex, lengths, doors, segs[maybe], possible_convex
 
 
 def _example_loose() -> tuple:

@@ -243,7 +243,10 @@ def _doors(
     # A jamb is a wall's end: joined to nothing there, or to an end cap no longer than a wall's
     # thickness (`jamb_cap_max`; a longer wall there makes a block's corner, a table against a
     # wall, unless the wall is a building's, `end_face_min_length`: a thin wall's corner) that is whole (its far end seen or joined: a side seen in part may run deep, a
-    # table's between two tables standing in a row by a wall). The wall a door continues is
+    # table's between two tables standing in a row by a wall; a building wall's end joined to
+    # such a piece is a jamb only opposite another building wall in its line, no T-opening's:
+    # a doorway's frame corner seen at a slant comes out in fragments, a bed's side has no such
+    # partner). The wall a door continues is
     # long (`door_wall_min_length`), or a short stub whose far end joins a long wall (a
     # cabinet's side is short and joins another short side; then the gap must continue it
     # closely: `door_offset_short`). The loop: identify_kernels.jamb_candidates.
@@ -254,7 +257,7 @@ def _doors(
     # the gap is out of view); the tests and their maths: identify_kernels.door_pairs
     # a door is an opening some ray was seen to pass (a possible door is the unknown case), best
     # aligned first, one per opening; the pipeline and its maths: door_kernels.jamb_doors
-    wi, we, capped, long, pts, out_dir, other, is_convex, lengths, jamb_gaps, maybe, maybe_convex = jamb_doors(
+    wi, we, capped, long, partial, pts, out_dir, other, is_convex, lengths, jamb_gaps, maybe, maybe_convex = jamb_doors(
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool), float(robot[0]),
         float(robot[1]), *scan, float(params.jamb_cap_max), float(params.door_wall_min_length),
@@ -288,7 +291,7 @@ def _doors(
         # ends' evidence over scans (end_face_evidence_scans) and the doors not found already
         # (the loops and their maths: face_kernels.t_openings, face_gaps, tally)
         found, maybe_t, evidence, lone = t_openings(
-            pts, out_dir, other, wi, we, is_convex, long, capped, np.ascontiguousarray(walls, dtype=float),
+            pts, out_dir, other, wi, we, is_convex & ~partial, long, capped, np.ascontiguousarray(walls, dtype=float),
             np.ascontiguousarray(connected, dtype=np.int64), np.ascontiguousarray(prop, dtype=np.int64),
             np.ascontiguousarray(objects, dtype=bool), lengths, np.array(doors, dtype=float).reshape(-1, 4),
             np.ascontiguousarray(evidence, dtype=float).reshape(-1, 5), float(robot[0]), float(robot[1]),

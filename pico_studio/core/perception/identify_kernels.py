@@ -671,7 +671,7 @@ def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, 
                     cap_max: float, frame_min: float, floating: int, convex: int, building_min: float,
                     rx: float, ry: float, object_max: float,
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                               np.ndarray]:
+                               np.ndarray, np.ndarray]:
     """The door-point candidates (identify._doors says what and why): every wall end (i, e)
     that is convex or floating, not on an object, and either joined to nothing or *capped*
     there, or convex on a wall at least `building_min` long turning away from the robot at
@@ -681,7 +681,10 @@ def jamb_candidates(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, 
 far end, if any, runs back the same way as i (`_step`: else a box against a wall). Per candidate, in row order
     (i, then e): (wall i, end e, capped, long: |i| >= frame_min, stub: not long and the wall
     joined at i's far end is long, cap_sized: |i| <= cap_max, cap_seen: neither of i's ends
-    floating (seen whole), lengths (W,) of every wall)."""
+    floating (seen whole), partial: joined to a cap seen in part, lengths (W,) of every wall).
+    A convex end of a wall `building_min` long joined to a piece no longer than a cap seen in
+    part is a candidate too (`partial`): a door's jamb whose frame corner came out in fragments,
+    seen at a slant; as a jamb only in line with another building wall (jamb_doors)."""
     n = walls.shape[0]
     lengths = np.empty(n)
     for i in range(n):
@@ -689,6 +692,7 @@ far end, if any, runs back the same way as i (`_step`: else a box against a wall
     wi, we = np.empty(2 * n, dtype=np.int64), np.empty(2 * n, dtype=np.int64)
     capped, long, stub = np.empty(2 * n, dtype=np.bool_), np.empty(2 * n, dtype=np.bool_), np.empty(2 * n, dtype=np.bool_)
     cap_sized, cap_seen = np.empty(2 * n, dtype=np.bool_), np.empty(2 * n, dtype=np.bool_)
+    partial = np.zeros(2 * n, dtype=np.bool_)
     m = 0
     for i in range(n):
         for e in range(2):
@@ -704,7 +708,9 @@ far end, if any, runs back the same way as i (`_step`: else a box against a wall
                 if whole and _step(walls, connected, i, e, k):
                     whole = False
                 if not whole:
-                    continue
+                    if not (lengths[i] >= building_min and prop[i, e] == convex):
+                        continue
+                    partial[m] = True
             elif k >= 0 and not (prop[i, e] == convex and lengths[i] >= building_min
                                  and _turns_away(walls, i, e, k, rx, ry) and not _block_corner(connected, prop, lengths, i, k, convex, object_max)):
                 # a block's corner (a table against a wall); a building's wall turning is a jamb
@@ -718,7 +724,7 @@ far end, if any, runs back the same way as i (`_step`: else a box against a wall
             cap_seen[m] = prop[i, 0] != floating and prop[i, 1] != floating
             m += 1
     return (wi[:m].copy(), we[:m].copy(), capped[:m].copy(), long[:m].copy(), stub[:m].copy(), cap_sized[:m].copy(),
-            cap_seen[:m].copy(), lengths)
+            cap_seen[:m].copy(), partial[:m].copy(), lengths)
 
 
 @njit

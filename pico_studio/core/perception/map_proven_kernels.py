@@ -64,12 +64,12 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
     that are the same opening as one of `doors` (D, 4) (identify_kernels.same_opening), and
     each one's two jambs' walls (K,), (K,)."""
     none = np.zeros(0, dtype=np.int64)
-    wi_all, we_all, _, long_all, stub_all, sized_all, seen_all, _ = jamb_candidates(
+    wi_all, we_all, _, long_all, stub_all, sized_all, seen_all, partial, _ = jamb_candidates(
         walls, connected, prop, objects, cap_max, frame_min, floating, convex, 0.0, rx, ry, 0.0)
     keep = np.empty(wi_all.shape[0], dtype=np.int64)
     n = 0
     for r in range(wi_all.shape[0]):
-        if prop[wi_all[r], we_all[r]] == convex:
+        if prop[wi_all[r], we_all[r]] == convex and not partial[r]:
             keep[n] = r
             n += 1
     if n < 2:
