@@ -127,7 +127,12 @@ A building wall's T-opening, a door from one scan, is remembered in the same rec
 closed (backed, its rays ending on a back between the jambs within `end_face_depth`: a pocket
 beside a table standing against a wall, seen from in front) the place is closed, and seen again
 with nothing said by its rays (edge-on, the back forgotten) it is only a possible door, until
-rays pass it deep; the same place is a middle within `door_occlusion` / 2.
+rays pass it deep; the same place is a middle within `door_occlusion` / 2. The bays keep
+records of their own beside them (kind 1; the T-openings' are kind 0): a bay refused at a block
+seen closed is banned for good, so when the local map has forgotten the block's far side (unseen
+for `merge.forget_seconds`) and the open table reads as a room's wall turning into a passage,
+the place stays a possible door. A T-opening's place seen closed (a pocket's back) says nothing
+of a side room's mouth: the kinds never match each other's records.
 """
 
 from __future__ import annotations
@@ -139,7 +144,7 @@ import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.door_kernels import away_from, jamb_doors, loose_gaps
-from pico_studio.core.perception.face_kernels import t_openings
+from pico_studio.core.perception.face_kernels import t_openings, tally
 from pico_studio.core.perception.identify_kernels import (
     backed,
     group_spans,
@@ -173,7 +178,7 @@ class Identified:
     possible_door_kind: list[str]
     door_kind: list[str]  # (D,) one of DOOR_KINDS
     object_wall: np.ndarray  # (W,) bool: the wall belongs to a small object (no building)
-    evidence: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))  # (E, 5) short-wall T-openings: middle, unit gap direction, scans for
+    evidence: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))  # (E, 6) T-openings' and bays' records: middle, unit gap direction, scans for (`face_kernels.tally`), kind (0 T-opening, 1 bay)
 
 
 @dataclass(frozen=True)
@@ -200,7 +205,7 @@ def identify(
     prop, corners, convex = junctions(np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
                                       np.ascontiguousarray(seen_end, dtype=bool), rx, ry, FLOATING, CONVEX, CONCAVE)
     objects = object_walls(walls, connected, prop, params.object_max_size, params.object_min_depth)
-    ev = np.zeros((0, 5)) if evidence is None else evidence
+    ev = np.zeros((0, 6)) if evidence is None else evidence
     doors, door_kinds, possible, kinds, ev = _doors(walls, prop, connected, objects, (rx, ry), view, params, ev)
     return Identified(
         prop,
@@ -213,6 +218,21 @@ def identify(
         objects,
         ev,
     )
+
+
+def _split_records(evidence: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The T-openings' and the bays' records (each (E, 5), `face_kernels.tally`'s) from
+    `Identified.evidence` (E, 6), the last column the kind; an (E, 5) array is all T-openings'."""
+    ev = np.ascontiguousarray(evidence, dtype=float)
+    if ev.ndim != 2 or ev.shape[1] == 5:
+        return ev.reshape(-1, 5), np.zeros((0, 5))
+    bay = ev[:, 5] == 1
+    return np.ascontiguousarray(ev[~bay, :5]), np.ascontiguousarray(ev[bay, :5])
+
+
+def _records(t_ev: np.ndarray, bay_ev: np.ndarray) -> np.ndarray:
+    """`Identified.evidence` (E, 6) from the T-openings' and the bays' records."""
+    return np.vstack([np.column_stack([t_ev, np.zeros(len(t_ev))]), np.column_stack([bay_ev, np.ones(len(bay_ev))])])
 
 
 def object_walls(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float,
@@ -236,8 +256,9 @@ def _doors(
     view: View | None, params: IdentifyParams, evidence: np.ndarray,
 ) -> tuple[np.ndarray, list[str], np.ndarray, list[str], np.ndarray]:
     empty = np.zeros((0, 4))
+    t_ev, bay_ev = _split_records(evidence)  # the T-openings' records, the bays' (`Identified.evidence`)
     if len(walls) < 2:
-        return empty, [], empty, [], evidence
+        return empty, [], empty, [], _records(t_ev, bay_ev)
     scan = _view_arrays(view)  # the current scan as the kernels take it
     # door-point candidates: (wall, end) with a convex or floating property, not on an object.
     # A jamb is a wall's end: joined to nothing there, or to an end cap no longer than a wall's
@@ -266,7 +287,7 @@ def _doors(
         float(params.door_offset), float(params.door_offset_short), int(params.door_min_free_rays), float(params.door_occlusion),
         float(params.door_depth), float(params.door_backed_share), FLOATING, CONVEX, CONCAVE)
     if len(wi) < 1:
-        return empty, [], empty, [], evidence
+        return empty, [], empty, [], _records(t_ev, bay_ev)
     doors: list[list[float]] = jamb_gaps.tolist()
     door_kinds: list[str] = ["jambs"] * len(doors)
     possible: list[np.ndarray] = list(maybe)
@@ -290,11 +311,11 @@ def _doors(
         # then the ray from each such convex end to the face it meets, the gap's tests, the weak
         # ends' evidence over scans (end_face_evidence_scans) and the doors not found already
         # (the loops and their maths: face_kernels.t_openings, face_gaps, tally)
-        found, maybe_t, evidence, lone = t_openings(
+        found, maybe_t, t_ev, lone = t_openings(
             pts, out_dir, other, wi, we, is_convex & ~partial, long, capped, np.ascontiguousarray(walls, dtype=float),
             np.ascontiguousarray(connected, dtype=np.int64), np.ascontiguousarray(prop, dtype=np.int64),
             np.ascontiguousarray(objects, dtype=bool), lengths, np.array(doors, dtype=float).reshape(-1, 4),
-            np.ascontiguousarray(evidence, dtype=float).reshape(-1, 5), float(robot[0]), float(robot[1]),
+            t_ev, float(robot[0]), float(robot[1]),
             *scan, float(params.door_min_width), float(params.door_max_width), float(params.wide_door_max_width),
             float(params.jamb_cap_max), float(params.end_face_min_length), float(params.object_max_size),
             float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
@@ -353,6 +374,14 @@ def _doors(
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
                 & wall_shaped(gaps, w, c, p64, lengths, own_a, own_b, float(params.door_angle),
                               float(params.door_wall_min_length), float(params.bay_line_offset), CONCAVE, FLOATING)
+            # a bay seen at a block's corner stays refused when the block's far side is forgotten
+            # (the local map drops a wall unseen for `merge.forget_seconds`; its front and near side,
+            # still seen, make a side room's mouth): banned for good in the bays' own records (a
+            # T-opening's place seen closed, a pocket's back, says nothing of a side room's mouth)
+            bay_ev, count = tally(bay_ev, np.ascontiguousarray(gaps, dtype=float), np.zeros(len(gaps), dtype=bool),
+                                  blocky[own_a] | blocky[own_b], float(params.door_min_width),
+                                  float(params.door_angle), int(params.end_face_evidence_max))
+            through &= count >= 0
         doors.extend(gaps[through].tolist())
         door_kinds.extend(["bay"] * int(through.sum()))
         possible.extend(gaps[~through])
@@ -378,7 +407,7 @@ def _doors(
                          float(params.door_min_width) / 2)
         p = p[keep]
         kinds = [k for k, ok in zip(kinds, keep.tolist(), strict=True) if ok]
-    return d, door_kinds, p, kinds, evidence
+    return d, door_kinds, p, kinds, _records(t_ev, bay_ev)
 
 
 def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np.ndarray, objects: np.ndarray,
