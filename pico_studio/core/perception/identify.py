@@ -223,16 +223,24 @@ def identify(
 def _split_records(evidence: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The T-openings' and the bays' records (each (E, 5), `face_kernels.tally`'s) from
     `Identified.evidence` (E, 6), the last column the kind; an (E, 5) array is all T-openings'."""
-    ev = np.ascontiguousarray(evidence, dtype=float)
-    if ev.ndim != 2 or ev.shape[1] == 5:
-        return ev.reshape(-1, 5), np.zeros((0, 5))
+    ev = np.asarray(evidence, dtype=float)
+    if ev.ndim != 2 or ev.shape[1] == 5 or len(ev) == 0:
+        return np.ascontiguousarray(ev).reshape(-1, 5), _NO_RECORDS
     bay = ev[:, 5] == 1
+    if not bay.any():
+        return np.ascontiguousarray(ev[:, :5]), _NO_RECORDS
     return np.ascontiguousarray(ev[~bay, :5]), np.ascontiguousarray(ev[bay, :5])
 
 
 def _records(t_ev: np.ndarray, bay_ev: np.ndarray) -> np.ndarray:
     """`Identified.evidence` (E, 6) from the T-openings' and the bays' records."""
-    return np.vstack([np.column_stack([t_ev, np.zeros(len(t_ev))]), np.column_stack([bay_ev, np.ones(len(bay_ev))])])
+    out = np.empty((len(t_ev) + len(bay_ev), 6))
+    out[:len(t_ev), :5], out[:len(t_ev), 5] = t_ev, 0.0
+    out[len(t_ev):, :5], out[len(t_ev):, 5] = bay_ev, 1.0
+    return out
+
+
+_NO_RECORDS = np.zeros((0, 5))
 
 
 def object_walls(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float,
@@ -378,10 +386,12 @@ def _doors(
             # (the local map drops a wall unseen for `merge.forget_seconds`; its front and near side,
             # still seen, make a side room's mouth): banned for good in the bays' own records (a
             # T-opening's place seen closed, a pocket's back, says nothing of a side room's mouth)
-            bay_ev, count = tally(bay_ev, np.ascontiguousarray(gaps, dtype=float), np.zeros(len(gaps), dtype=bool),
-                                  blocky[own_a] | blocky[own_b], float(params.door_min_width),
-                                  float(params.door_angle), int(params.end_face_evidence_max))
-            through &= count >= 0
+            refused = blocky[own_a] | blocky[own_b]
+            if len(bay_ev) or refused.any():
+                bay_ev, count = tally(bay_ev, np.ascontiguousarray(gaps, dtype=float), np.zeros(len(gaps), dtype=bool),
+                                      refused, float(params.door_min_width), float(params.door_angle),
+                                      int(params.end_face_evidence_max))
+                through &= count >= 0
         doors.extend(gaps[through].tolist())
         door_kinds.extend(["bay"] * int(through.sum()))
         possible.extend(gaps[~through])
