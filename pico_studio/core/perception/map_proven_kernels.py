@@ -308,7 +308,11 @@ def deep_sides(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop:
     jamb hides it: a side whose F is `floating` (it runs on into the view's edge) needs only
     `run_on` (0 < run_on < depth; 0: off). A pocket's side, as short, ends at its back in a
     corner, concave or joined (restaurant_2024's pocket between two tables against the wall,
-    0.7 m deep, seen from in front)."""
+    0.7 m deep, seen from in front).
+
+    A side ending at a seen end (`convex`) may be a bed's foot; but both jambs' sides running
+    `depth` deep and ending so joined to nothing, the laser seen past both, are a passage running
+    out into the open: an escape room's exit, 1 m long, its far mouth seen past."""
     k = gaps.shape[0]
     out = np.zeros(k, dtype=np.bool_)
     sin_a = math.sin(angle)
@@ -317,7 +321,14 @@ def deep_sides(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop:
         ln = max(math.hypot(bx - ax, by - ay), 1e-12)
         ux, uy = (bx - ax) / ln, (by - ay) / ln
         robot_side = ux * (ry - ay) - uy * (rx - ax)
+        free_ends = 0  # jambs whose side runs `depth` deep and ends free: the laser seen past it
         for j in range(2):
+            for which in range(2):
+                w, f, dx, dy, dn = _jamb_wall(gaps, q, j, own_a[q] if j == 0 else own_b[q], walls, connected, which)
+                if w >= 0 and prop[w, f] == convex and connected[w, f] < 0 and dn >= depth \
+                        and abs(dx * ux + dy * uy) / dn < sin_a and (ux * dy - uy * dx) * robot_side < 0:
+                    free_ends += 1
+                    break
             for which in range(2):
                 w, f, dx, dy, dn = _jamb_wall(gaps, q, j, own_a[q] if j == 0 else own_b[q], walls, connected, which)
                 if w < 0 or prop[w, f] == convex:
@@ -330,6 +341,9 @@ def deep_sides(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop:
                 across = ux * dy - uy * dx
                 if across * robot_side < 0 and abs(across) >= reach:
                     out[q] = True
+        # both sides running out into the open (a short exit passage between two mouths); one
+        # side ending at a seen end may be a bed's foot
+        out[q] = out[q] or free_ends == 2
     return out
 
 
