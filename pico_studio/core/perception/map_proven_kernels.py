@@ -323,15 +323,14 @@ def deep_sides(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop:
         robot_side = ux * (ry - ay) - uy * (rx - ax)
         free_ends = 0  # jambs whose side runs `depth` deep and ends free: the laser seen past it
         for j in range(2):
+            free_here = False
             for which in range(2):
                 w, f, dx, dy, dn = _jamb_wall(gaps, q, j, own_a[q] if j == 0 else own_b[q], walls, connected, which)
-                if w >= 0 and prop[w, f] == convex and connected[w, f] < 0 and dn >= depth \
-                        and abs(dx * ux + dy * uy) / dn < sin_a and (ux * dy - uy * dx) * robot_side < 0:
-                    free_ends += 1
-                    break
-            for which in range(2):
-                w, f, dx, dy, dn = _jamb_wall(gaps, q, j, own_a[q] if j == 0 else own_b[q], walls, connected, which)
-                if w < 0 or prop[w, f] == convex:
+                if w < 0:
+                    continue
+                if prop[w, f] == convex:
+                    free_here = free_here or (connected[w, f] < 0 and dn >= depth and abs(dx * ux + dy * uy) / dn < sin_a
+                                              and (ux * dy - uy * dx) * robot_side < 0)
                     continue
                 # as deep as `depth`, any end but a seen corner; down to `run_on`, only an end
                 # floating into the view's edge (a pocket's side ends at its back in a corner)
@@ -341,6 +340,7 @@ def deep_sides(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop:
                 across = ux * dy - uy * dx
                 if across * robot_side < 0 and abs(across) >= reach:
                     out[q] = True
+            free_ends += free_here
         # both sides running out into the open (a short exit passage between two mouths); one
         # side ending at a seen end may be a bed's foot
         out[q] = out[q] or free_ends == 2
