@@ -608,14 +608,16 @@ def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, ma
 
 def _example_objects() -> tuple:
     walls, connected, prop, max_size, floating = _example_groups()
-    return walls, connected, prop, max_size, 0.1, floating
+    return walls, connected, prop, max_size, 0.1, floating, 3
 
 
 @kernel(_example_objects)
 def small_objects(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float, min_depth: float,
-                  floating: int) -> np.ndarray:
+                  floating: int, concave: int) -> np.ndarray:
     """(W,) bool: the wall belongs to a candidate group (`object_groups`) at least `min_depth`
-    deep across its main direction. The group's wall ends p_k, centred on their mean, have the
+    deep across its main direction and turning nowhere at a concave corner (`concave` at an end
+    joined to another wall: the laser looks into a corner, a thing standing against a wall or
+    a wall's corner; a free-standing thing seen from outside turns at convex corners only). The group's wall ends p_k, centred on their mean, have the
     second moments sxx, sxy, syy; the main direction is at theta = atan2(2 sxy, sxx - syy) / 2
     (the principal axis), its normal m = (-sin theta, cos theta), and the depth is the spread
     max - min of p_k . m."""
@@ -623,6 +625,10 @@ def small_objects(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, ma
     n = walls.shape[0]
     out = np.zeros(n, dtype=np.bool_)
     done = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        for e in range(2):
+            if prop[i, e] == concave and connected[i, e] >= 0:
+                done[group[i]] = True
     for i in range(n):
         g = group[i]
         if not candidate[i] or done[g]:
