@@ -16,6 +16,7 @@ import numpy as np
 
 from pico_studio.config import load_config
 from pico_studio.core.perception.identify import identify, object_walls
+from pico_studio.core.perception.identify_kernels import object_groups
 from tests.clutter_scenes import laser_view
 
 PARAMS = load_config(None).perception.identify
@@ -44,7 +45,8 @@ def test_a_jambs_piece_fused_with_a_box_beside_it_keeps_the_doorway():
 
 def test_the_same_group_turning_only_at_convex_corners_is_an_object():
     """A box seen from outside (two faces, a convex corner) under a metre across is an object;
-    the same walls turning into each other at a concave corner are not."""
+    the same walls turning into each other at a concave corner are not, nor a thing seen whole
+    for the bays' rays (`object_groups`: one definition for both)."""
     box = np.array([[0.0, 0.0, 0.0, -0.6], [0.0, -0.6, 0.6, -0.6]])
     conn = np.array([[-1, 1], [0, -1]], dtype=np.int64)
     size, depth = PARAMS.object_max_size, PARAMS.object_min_depth
@@ -52,3 +54,5 @@ def test_the_same_group_turning_only_at_convex_corners_is_an_object():
     assert object_walls(box, conn, convex, size, depth).tolist() == [True, True]
     into_a_corner = np.array([[2, 3], [3, 2]], dtype=np.int64)
     assert object_walls(box, conn, into_a_corner, size, depth).tolist() == [False, False]
+    assert object_groups(box, conn, convex, size, 0, 3)[1].tolist() == [True, True]
+    assert object_groups(box, conn, into_a_corner, size, 0, 3)[1].tolist() == [False, False]

@@ -371,7 +371,7 @@ def _doors(
             # a ray ending on a thing standing there says nothing of the back: a small object's
             # walls, or any small group seen whole, however thin (a box seen as an L, a person's
             # two feet; the objects' depth keeps a thick wall's end from being one, for jambs)
-            _, seen_whole = object_groups(w, c, p64, float(params.object_max_size), FLOATING)
+            _, seen_whole = object_groups(w, c, p64, float(params.object_max_size), FLOATING, CONCAVE)
             things = ob | seen_whole
             rays, back = _deep_rays(gaps, own_a, own_b, walls, things, robot, scan, params)
             side_on = deep_sides(gaps, w, c, p64, own_a, own_b,

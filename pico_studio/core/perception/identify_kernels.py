@@ -584,21 +584,23 @@ def inside_corners(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, g
 def _example_groups() -> tuple:
     walls, connected = _example_spans()
     prop = np.array([[1, 2], [2, 1], [0, 0]], dtype=np.int64)
-    return walls, connected, prop, 2.0, 0
+    return walls, connected, prop, 2.0, 0, 3
 
 
 @kernel(_example_groups)
 def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float,
-                  floating: int) -> tuple[np.ndarray, np.ndarray]:
+                  floating: int, concave: int) -> tuple[np.ndarray, np.ndarray]:
     """(group (W,) int64: a label shared by connected walls, candidate (W,) bool: the wall's
-    group spans at most `max_size` (its bounding box's diagonal, `group_spans`) and none of its
-    ends has the property `floating`)."""
+    group spans at most `max_size` (its bounding box's diagonal, `group_spans`), none of its
+    ends has the property `floating` and it turns nowhere at a corner `concave` (an end so,
+    joined to another wall: the laser looks into a corner, a thing standing against a wall or
+    a wall's corner; a free-standing thing seen from outside turns at convex corners only))."""
     group, span = group_spans(walls, connected)
     n = walls.shape[0]
     loose = np.zeros(n, dtype=np.bool_)
     for i in range(n):
         for e in range(2):
-            if prop[i, e] == floating:
+            if prop[i, e] == floating or (prop[i, e] == concave and connected[i, e] >= 0):
                 loose[group[i]] = True
     candidate = np.empty(n, dtype=np.bool_)
     for i in range(n):
@@ -607,28 +609,22 @@ def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, ma
 
 
 def _example_objects() -> tuple:
-    walls, connected, prop, max_size, floating = _example_groups()
-    return walls, connected, prop, max_size, 0.1, floating, 3
+    walls, connected, prop, max_size, floating, concave = _example_groups()
+    return walls, connected, prop, max_size, 0.1, floating, concave
 
 
 @kernel(_example_objects)
 def small_objects(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float, min_depth: float,
                   floating: int, concave: int) -> np.ndarray:
-    """(W,) bool: the wall belongs to a candidate group (`object_groups`) at least `min_depth`
-    deep across its main direction and turning nowhere at a concave corner (`concave` at an end
-    joined to another wall: the laser looks into a corner, a thing standing against a wall or
-    a wall's corner; a free-standing thing seen from outside turns at convex corners only). The group's wall ends p_k, centred on their mean, have the
+    """(W,) bool: the wall belongs to a candidate group (`object_groups`: small, seen whole,
+    turning at no concave corner) at least `min_depth` deep across its main direction. The group's wall ends p_k, centred on their mean, have the
     second moments sxx, sxy, syy; the main direction is at theta = atan2(2 sxy, sxx - syy) / 2
     (the principal axis), its normal m = (-sin theta, cos theta), and the depth is the spread
     max - min of p_k . m."""
-    group, candidate = object_groups(walls, connected, prop, max_size, floating)
+    group, candidate = object_groups(walls, connected, prop, max_size, floating, concave)
     n = walls.shape[0]
     out = np.zeros(n, dtype=np.bool_)
     done = np.zeros(n, dtype=np.bool_)
-    for i in range(n):
-        for e in range(2):
-            if prop[i, e] == concave and connected[i, e] >= 0:
-                done[group[i]] = True
     for i in range(n):
         g = group[i]
         if not candidate[i] or done[g]:
