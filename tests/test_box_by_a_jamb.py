@@ -6,8 +6,9 @@ wall (one cluster at that angle), so the jamb's short piece of wall, the box's s
 front make one connected group under a metre across, its ends seen past: a small object's
 shape, and an object's walls make no jamb. But the group turns at a concave corner where the
 box's side meets the wall: the laser looks into a corner, which no free-standing thing seen from
-outside shows (its corners all turn convex), so the group is no object and the doorway keeps its
-jamb (120 s wander through hospital_2021, `run --localise`: own door recall 0.780 -> 0.865).
+outside shows (its corners all turn convex; seen all round, a closed loop, it is a thing however
+its far corners look through it), so the group is no object and the doorway keeps its jamb
+(120 s wander through hospital_2021, `run --localise`: own door recall 0.780 -> 0.865).
 """
 
 from __future__ import annotations
@@ -56,3 +57,13 @@ def test_the_same_group_turning_only_at_convex_corners_is_an_object():
     assert object_walls(box, conn, into_a_corner, size, depth).tolist() == [False, False]
     assert object_groups(box, conn, convex, size, 0, 3)[1].tolist() == [True, True]
     assert object_groups(box, conn, into_a_corner, size, 0, 3)[1].tolist() == [False, False]
+
+
+def test_a_box_seen_all_round_is_an_object_though_its_far_corner_looks_concave():
+    """A closed loop (every end joined: the box seen all round over a drive) is a thing however
+    its corners look from here: its far corner, seen through the box, comes out concave."""
+    sides = np.array([[0.0, 0.0, 0.4, 0.0], [0.4, 0.0, 0.4, 0.4], [0.4, 0.4, 0.0, 0.4], [0.0, 0.4, 0.0, 0.0]])
+    conn = np.array([[3, 1], [0, 2], [1, 3], [2, 0]], dtype=np.int64)
+    far_concave = np.array([[2, 2], [2, 3], [3, 2], [2, 2]], dtype=np.int64)
+    size, depth = PARAMS.object_max_size, PARAMS.object_min_depth
+    assert object_walls(sides, conn, far_concave, size, depth).all()

@@ -592,16 +592,27 @@ def object_groups(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, ma
                   floating: int, concave: int) -> tuple[np.ndarray, np.ndarray]:
     """(group (W,) int64: a label shared by connected walls, candidate (W,) bool: the wall's
     group spans at most `max_size` (its bounding box's diagonal, `group_spans`), none of its
-    ends has the property `floating` and it turns nowhere at a corner `concave` (an end so,
-    joined to another wall: the laser looks into a corner, a thing standing against a wall or
-    a wall's corner; a free-standing thing seen from outside turns at convex corners only))."""
+    ends has the property `floating` and, unless it is a closed loop (every end joined: seen all
+    round, its far corners look concave through it), it turns nowhere at a corner `concave` (an
+    end so, joined to another wall: the laser looks into a corner, a thing standing against a
+    wall or a wall's corner; a free-standing thing seen from outside turns at convex corners
+    only))."""
     group, span = group_spans(walls, connected)
     n = walls.shape[0]
     loose = np.zeros(n, dtype=np.bool_)
+    open_ = np.zeros(n, dtype=np.bool_)  # a group with an end joined to nothing
+    inside = np.zeros(n, dtype=np.bool_)  # a group turning at a concave corner
     for i in range(n):
         for e in range(2):
-            if prop[i, e] == floating or (prop[i, e] == concave and connected[i, e] >= 0):
+            if prop[i, e] == floating:
                 loose[group[i]] = True
+            if connected[i, e] < 0:
+                open_[group[i]] = True
+            elif prop[i, e] == concave:
+                inside[group[i]] = True
+    for g in range(n):
+        if inside[g] and open_[g]:
+            loose[g] = True
     candidate = np.empty(n, dtype=np.bool_)
     for i in range(n):
         candidate[i] = not (span[i] > max_size) and not loose[group[i]]
