@@ -408,7 +408,8 @@ class IdentifyParams:
     object_max_size: float = param(
         1.0, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="Connected local walls spanning at most this (bounding-box diagonal), their free ends seen past "
-        "and turning at no concave corner, are an object (a cabinet, a person), not a building: no door jamb",
+        "and turning at no concave corner (unless they close a loop), are an object (a cabinet, a person), "
+        "not a building: no door jamb",
     )
     object_min_depth: float = param(
         0.25, lo=0.0, hi=5.0, step=0.01, unit="m",

@@ -249,15 +249,16 @@ def object_walls(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max
     (diagonal), at least `min_depth` across its main direction, and none of whose ends is
     floating (the laser saw past all its free ends): a table, a cabinet, a person seen as a
     few short connected walls. A piece of a building's wall seen in part has a floating end
-    where the view stopped; a thick wall's end with its cap is thin; a group turning at a
-    concave corner is seen into a corner, no free-standing thing (a box a few cm off a wall
+    where the view stopped; a thick wall's end with its cap is thin; an open group turning at
+    a concave corner is seen into a corner, no free-standing thing (a box a few cm off a wall
     beside a doorway, its side fused with the wall across the gap, leaves the jamb's piece of
-    wall a jamb)."""
+    wall a jamb), while a closed loop is one however its far corners look through it."""
     n = len(walls)
     if n == 0 or max_size <= 0:
         return np.zeros(n, dtype=bool)
-    # the groups of connected walls that are small with no floating end, and deep enough (the
-    # loops and the principal axis: identify_kernels.small_objects)
+    # the groups of connected walls that are small with no floating end, no corner seen into
+    # unless closed, and deep enough (the loops and the principal axis:
+    # identify_kernels.object_groups, small_objects)
     return small_objects(np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
                          np.ascontiguousarray(prop, dtype=np.int64), float(max_size), float(min_depth), FLOATING, CONCAVE)
 

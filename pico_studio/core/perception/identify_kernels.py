@@ -627,9 +627,10 @@ def _example_objects() -> tuple:
 @kernel(_example_objects)
 def small_objects(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, max_size: float, min_depth: float,
                   floating: int, concave: int) -> np.ndarray:
-    """(W,) bool: the wall belongs to a candidate group (`object_groups`: small, seen whole,
-    turning at no concave corner) at least `min_depth` deep across its main direction. The group's wall ends p_k, centred on their mean, have the
-    second moments sxx, sxy, syy; the main direction is at theta = atan2(2 sxy, sxx - syy) / 2
+    """(W,) bool: the wall belongs to a candidate group (`object_groups`: small, seen whole, an
+    open chain turning at no concave corner, or a closed loop) at least `min_depth` deep across
+    its main direction. The group's wall ends p_k, centred on their mean, have the second
+    moments sxx, sxy, syy; the main direction is at theta = atan2(2 sxy, sxx - syy) / 2
     (the principal axis), its normal m = (-sin theta, cos theta), and the depth is the spread
     max - min of p_k . m."""
     group, candidate = object_groups(walls, connected, prop, max_size, floating, concave)
