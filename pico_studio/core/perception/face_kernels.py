@@ -190,6 +190,23 @@ def _face_behind(px: float, py: float, ox: float, oy: float, walls: np.ndarray, 
     return best_k, best_t
 
 
+@njit
+def _met_in_part(rows: np.ndarray, pts: np.ndarray, out_dir: np.ndarray, walls: np.ndarray, floats: np.ndarray,
+                 eligible: np.ndarray, span: float, hit_t: np.ndarray, hit_k: np.ndarray, has_view: bool,
+                 ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float, inc: float,
+                 occlusion: float) -> None:
+    """The ends `rows` whose ray meets an `eligible` wall's line at most `span` past one of its
+    floating ends (the wall seen in part, extended_hits) meet it there, unless the scan looks
+    past that point (beam_at: the wall ends short of it): `hit_t`, `hit_k` set in place."""
+    ext_t, ext_k = extended_hits(pts[rows], out_dir[rows], walls, floats, eligible, span)
+    for q in range(rows.shape[0]):
+        r = rows[q]
+        if ext_k[q] >= 0:
+            px, py = pts[r, 0] + ext_t[q] * out_dir[r, 0], pts[r, 1] + ext_t[q] * out_dir[r, 1]
+            if beam_at(px, py, has_view, ranges, valid, vx, vy, va, a0, inc, occlusion) <= 0:
+                hit_t[r], hit_k[r] = ext_t[q], ext_k[q]
+
+
 def _example_faces() -> tuple:
     walls = np.array([[0.0, 0.0, 0.0, 2.0], [0.0, 2.0, 0.2, 2.0], [1.0, -1.0, 1.0, 4.0]])
     connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
@@ -227,19 +244,31 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
         if hit_k[r] < 0 or hit_t[r] > wide_width:
             miss[nm] = r
             nm += 1
+    floats = np.empty((n_walls, 2), dtype=np.bool_)
+    eligible = np.empty(n_walls, dtype=np.bool_)
+    for k in range(n_walls):
+        floats[k, 0], floats[k, 1] = prop[k, 0] == floating, prop[k, 1] == floating
     if reach > 0 and nm > 0:
-        eligible = np.empty(n_walls, dtype=np.bool_)
-        floats = np.empty((n_walls, 2), dtype=np.bool_)
         for k in range(n_walls):
             eligible[k] = lengths[k] >= building_min and not objects[k]
-            floats[k, 0], floats[k, 1] = prop[k, 0] == floating, prop[k, 1] == floating
-        ext_t, ext_k = extended_hits(pts[miss[:nm]], out_dir[miss[:nm]], walls, floats, eligible, reach)
-        for q in range(nm):
-            r = miss[q]
-            if ext_k[q] >= 0:
-                px, py = pts[r, 0] + ext_t[q] * out_dir[r, 0], pts[r, 1] + ext_t[q] * out_dir[r, 1]
-                if beam_at(px, py, has_view, ranges, valid, vx, vy, va, a0, inc, occlusion) <= 0:
-                    hit_t[r], hit_k[r] = ext_t[q], ext_k[q]
+        _met_in_part(miss[:nm], pts, out_dir, walls, floats, eligible, reach, hit_t, hit_k, has_view, ranges, valid,
+                     vx, vy, va, a0, inc, occlusion)
+    # ...or, from a building wall's end, a face seen only through the gap: a piece of any length
+    # floating at both ends, the jamb's end hiding it on one side and the view's edge on the
+    # other (a wall beyond a doorway seen obliquely, the room's side of it out of view), reaching
+    # the jamb wall's line within `occlusion`: a piece seen so says nothing of how far it runs (a
+    # partition's face beside a block's corner ends short of its line)
+    still = np.empty(nm, dtype=np.int64)
+    ns = 0
+    for q in range(nm):
+        if building[miss[q]] and hit_k[miss[q]] < 0:
+            still[ns] = miss[q]
+            ns += 1
+    if ns > 0:
+        for k in range(n_walls):
+            eligible[k] = floats[k, 0] and floats[k, 1] and not objects[k]
+        _met_in_part(still[:ns], pts, out_dir, walls, floats, eligible, occlusion, hit_t, hit_k, has_view, ranges,
+                     valid, vx, vy, va, a0, inc, occlusion)
     missed = np.empty(f, dtype=np.bool_)
     for r in range(f):
         # a face beyond max_width leaves the end a lone jamb too: the map proves that one (from the

@@ -45,7 +45,9 @@ block's face (both its ends convex and shorter than `end_face_min_length`: a tab
 cabinet's front; or, longer than an end cap, turning in a convex corner into a short wall that
 runs back to a wall in a concave corner: a table standing against a wall, `face_kernels.against_a_wall`),
 nor meets a face within `jamb_cap_max` of its free end (a corner, not a face: a table's end). The face may be a building's wall seen in part, its floating end within
-`end_face_reach` short of the gap's line, when the scan does not look past the meeting point.
+`end_face_reach` short of the gap's line, when the scan does not look past the meeting point;
+from a building wall's end, any piece floating at both ends (a face seen only through the gap,
+the jamb hiding one side, the view's edge the other) within `door_occlusion` of it.
 A T-opening wider than `door_max_width`, up to `wide_door_max_width`, is a door only from a
 building wall's end (no glimpse, no short wall's) facing a building wall's face, seen through
 `end_face_depth` deep and seen free beside its end: the scan's beams reach past the points half
