@@ -33,7 +33,8 @@ side as long as a building's wall); a
 wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a
 long wall's line that is no block's face: a table's front seen whole, both ends free, shorter
 than a building's wall) or a door frame's wall (at least `door_wall_min_length`, or a stub on
-one): a box's or a person's lone face is not, nor any wall across a block face's line. A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
+one): a box's or a person's lone face is not, nor any wall across a block face's line, nor a block's
+face across a stub's line (a bed's foot a metre behind a thick wall's doorway, across its cap's line). A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
 wall — one at least `end_face_min_length` long (but not a block's front against a wall: its far
 end turning at a convex corner into a side longer than `jamb_cap_max`, at most
 `object_max_size`, that meets a wall in a concave corner, a table 1.4-1.6 m long; that is only

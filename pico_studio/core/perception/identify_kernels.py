@@ -148,7 +148,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     (`block`: a table's front seen whole; a cap seen in part from the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
     person's side seen in part looks the same): a lone short wall across the line, a box's or
     a person's side, is no jamb; nor is anything standing across a block face's line (a table's
-    front pointing at a partition's end). Nor are two walls in one line a door when either is
+    front pointing at a partition's end), nor a block's face across a stub's line (a thick wall's cap
+pointing into the room at a bed's foot). Nor are two walls in one line a door when either is
     `lone`: a block's face shorter than a door frame's wall, joined to nothing, whose line runs on
     in no other wall past its far end
     (a box standing in line with a partition's side; a piece of wall between two doors runs on
@@ -181,8 +182,12 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             frame_i = long[i] or stub[i] or (cap_sized[i] and (cap_seen[i] or (long[j] and not block[j])))
             frame_j = long[j] or stub[j] or (cap_sized[j] and (cap_seen[j] or (long[i] and not block[i])))
             in_line = not lone[i] and not lone[j]
-            door_ij = line_i and ((-uj > cos_a and in_line) or (abs(uj) < sin_a and frame_j and not block[i]))
-            door_ji = line_j and ((ui > cos_a and in_line) or (abs(ui) < sin_a and frame_i and not block[j]))
+            # a stub's line (a thick wall's cap) ends at no block's face across it: a bed's foot
+            # facing a doorway a metre in, seen past the cap's inner corner
+            door_ij = line_i and ((-uj > cos_a and in_line)
+                                  or (abs(uj) < sin_a and frame_j and not block[i] and not (stub[i] and block[j])))
+            door_ji = line_j and ((ui > cos_a and in_line)
+                                  or (abs(ui) < sin_a and frame_i and not block[j] and not (stub[j] and block[i])))
             both_convex = is_convex[i] and is_convex[j]
             is_door = both_convex and (door_ij or door_ji)
             if wide:
