@@ -96,6 +96,18 @@ def _turns_into_a_side(connected: np.ndarray, prop: np.ndarray, lengths: np.ndar
 
 
 @njit
+def _turns_into_a_glimpse(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, k: int, e: int,
+                          depth: float, convex: int, floating: int) -> bool:
+    """Does wall k turn at its end e, a convex corner, into a side seen in part (its other end
+    floating), seen at most `depth` long?"""
+    j = connected[k, e]
+    if j < 0 or prop[k, e] != convex or lengths[j] > depth:
+        return False
+    other = 1 if connected[j, 0] == k else 0
+    return prop[j, other] == floating
+
+
+@njit
 def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, cap: float, short: float,
                    depth: float, convex: int, concave: int) -> np.ndarray:
     """(W,) bool: a wall longer than `cap`, shorter than `short`, turning at a convex corner into
@@ -480,9 +492,12 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         # a block's front against a wall as long as a building's wall (a table 1.4-1.6 m long:
         # its far end turns into a side longer than an end cap, a partition's cap being none) is
         # only ever a possible door's jamb, for the map to prove (a glimpse); an exit hallway's
-        # side turning into the short piece of room wall beside it has the same shape
-        block = building[r] and _turns_into_a_side(connected, prop, lengths, i, 1 - we[r], cap_max, object_max,
-                                                   convex, concave)
+        # side turning into the short piece of room wall beside it has the same shape; so is one
+        # whose far end turns at a convex corner into a side seen in part (its first few cm, the
+        # rest hidden or out of view: the table's back, the pocket's, unseen)
+        block = building[r] and (
+            _turns_into_a_side(connected, prop, lengths, i, 1 - we[r], cap_max, object_max, convex, concave)
+            or _turns_into_a_glimpse(connected, prop, lengths, i, 1 - we[r], object_max, convex, floating))
         building[r] = building[r] and not block
         cornered[r] = long[r] and far_end == concave and not building[r] and not block
         weak[r] = (long[r] or capped[r]) and not building[r] and not block and far_end == floating and evidence_scans > 0

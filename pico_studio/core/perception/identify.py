@@ -37,8 +37,9 @@ one): a box's or a person's lone face is not, nor any wall across a block face's
 face across a stub's line (a bed's foot a metre behind a thick wall's doorway, across its cap's line). A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
 wall — one at least `end_face_min_length` long (but not a block's front against a wall: its far
 end turning at a convex corner into a side longer than `jamb_cap_max`, at most
-`object_max_size`, that meets a wall in a concave corner, a table 1.4-1.6 m long; that is only
-ever a possible door "end_face", for the map to prove), or a door frame's length ending in a whole
+`object_max_size`, that meets a wall in a concave corner, a table 1.4-1.6 m long, or into a side
+seen in part, its other end floating; that is only ever a possible door "end_face", for the map
+to prove), or a door frame's length ending in a whole
 cap (a thick wall's end; a table's end is as wide as the table), or a door frame's length
 whose far end turns into another wall in a concave corner (a room's wall) facing a building
 wall's face (at least `end_face_min_length` long) — and never ends on a
