@@ -340,7 +340,8 @@ class IdentifyParams:
     )
     door_occlusion: float = param(
         0.1, lo=0.0, hi=2.0, step=0.01, unit="m",
-        help="A ray stopping this far before the gap was blocked in front of it: it says nothing about the gap",
+        help="A ray stopping this far before the gap was blocked in front of it: it says nothing about the gap "
+        "(and a face seen only through a T-opening's gap must reach the jamb wall's line within this)",
     )
     end_face_doors: bool = param(
         True, help="A convex wall end facing another wall's face across a door's width is a door (a T-opening)",
