@@ -256,31 +256,32 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
         if hit_k[r] < 0 or hit_t[r] > wide_width:
             miss[nm] = r
             nm += 1
-    floats = np.empty((n_walls, 2), dtype=np.bool_)
-    eligible = np.empty(n_walls, dtype=np.bool_)
-    for k in range(n_walls):
-        floats[k, 0], floats[k, 1] = prop[k, 0] == floating, prop[k, 1] == floating
-    if reach > 0 and nm > 0:
+    if nm > 0:
+        floats = np.empty((n_walls, 2), dtype=np.bool_)
+        eligible = np.empty(n_walls, dtype=np.bool_)
         for k in range(n_walls):
-            eligible[k] = lengths[k] >= building_min and not objects[k]
-        _met_in_part(miss[:nm], pts, out_dir, walls, floats, eligible, reach, hit_t, hit_k, has_view, ranges, valid,
-                     vx, vy, va, a0, inc, occlusion)
-    # ...or, from a building wall's end, a face seen only through the gap: a piece of any length
-    # floating at both ends, the jamb's end hiding it on one side and the view's edge on the
-    # other (a wall beyond a doorway seen obliquely, the room's side of it out of view), reaching
-    # the jamb wall's line within `occlusion`: a piece seen so says nothing of how far it runs (a
-    # partition's face beside a block's corner ends short of its line)
-    still = np.empty(nm, dtype=np.int64)
-    ns = 0
-    for q in range(nm):
-        if building[miss[q]] and hit_k[miss[q]] < 0:
-            still[ns] = miss[q]
-            ns += 1
-    if ns > 0:
-        for k in range(n_walls):
-            eligible[k] = floats[k, 0] and floats[k, 1] and not objects[k]
-        _met_in_part(still[:ns], pts, out_dir, walls, floats, eligible, occlusion, hit_t, hit_k, has_view, ranges,
-                     valid, vx, vy, va, a0, inc, occlusion)
+            floats[k, 0], floats[k, 1] = prop[k, 0] == floating, prop[k, 1] == floating
+        if reach > 0:
+            for k in range(n_walls):
+                eligible[k] = lengths[k] >= building_min and not objects[k]
+            _met_in_part(miss[:nm], pts, out_dir, walls, floats, eligible, reach, hit_t, hit_k, has_view, ranges,
+                         valid, vx, vy, va, a0, inc, occlusion)
+        # ...or, from a building wall's end, a face seen only through the gap: a piece of any
+        # length floating at both ends, the jamb's end hiding it on one side and the view's edge
+        # on the other (a wall beyond a doorway seen obliquely, the room's side of it out of
+        # view), reaching the jamb wall's line within `occlusion`: a piece seen so says nothing
+        # of how far it runs (a partition's face beside a block's corner ends short of its line)
+        still = np.empty(nm, dtype=np.int64)
+        ns = 0
+        for q in range(nm):
+            if building[miss[q]] and hit_k[miss[q]] < 0:
+                still[ns] = miss[q]
+                ns += 1
+        if ns > 0:
+            for k in range(n_walls):
+                eligible[k] = floats[k, 0] and floats[k, 1] and not objects[k]
+            _met_in_part(still[:ns], pts, out_dir, walls, floats, eligible, occlusion, hit_t, hit_k, has_view,
+                         ranges, valid, vx, vy, va, a0, inc, occlusion)
     missed = np.empty(f, dtype=np.bool_)
     for r in range(f):
         # a face beyond max_width leaves the end a lone jamb too: the map proves that one (from the

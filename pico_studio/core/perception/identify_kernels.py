@@ -148,8 +148,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     (`block`: a table's front seen whole; a cap seen in part from the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
     person's side seen in part looks the same): a lone short wall across the line, a box's or
     a person's side, is no jamb; nor is anything standing across a block face's line (a table's
-    front pointing at a partition's end), nor a block's face across a stub's line (a thick wall's cap
-pointing into the room at a bed's foot). Nor are two walls in one line a door when either is
+    front pointing at a partition's end), nor a block's face across a stub's line (a thick wall's
+    cap pointing into the room at a bed's foot). Nor are two walls in one line a door when either is
     `lone`: a block's face shorter than a door frame's wall, joined to nothing, whose line runs on
     in no other wall past its far end
     (a box standing in line with a partition's side; a piece of wall between two doors runs on
