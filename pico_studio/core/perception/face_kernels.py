@@ -11,7 +11,8 @@ candidate when
   and shorter than a building's wall, or the front of a block against a wall:
   `against_a_wall`), and a building's wall (|k| >= building_min) unless P's wall is;
 * min_width <= t <= max_width, and M is no nearer than `cap_max` to a free convex end of k
-  (a corner there, not a face); up to `wide_width` the gap is a door only from a building
+  (a corner there, not a face) unless k is a building's wall on the robot's side of the gap's
+  line, only that end past it (`_room_wall_past_the_line`); up to `wide_width` the gap is a door only from a building
   wall's end facing a building wall, seen deep and free beside the end (t_openings,
   `_side_seen`), or seen so in `evidence_scans` scans before (`tally`), its side hidden behind
   the wall itself now (a beam ending on the side, or the gap closed, bans the place), else a
@@ -164,6 +165,26 @@ def _at_a_corner(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, k: 
 
 
 @njit
+def _room_wall_past_the_line(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, k: int, mx: float,
+                             my: float, px: float, py: float, ox: float, oy: float, vx: float, vy: float,
+                             cap_max: float, convex: int) -> bool:
+    """Is the free convex end of wall k within `cap_max` of M the only part of k beyond the gap's
+    line P + t o (away from the viewpoint V), the rest of k on V's side: the room's own wall
+    ending just past the doorway's line (a thick wall turning there), its face met near the corner?"""
+    side_v = ox * (vy - py) - oy * (vx - px)
+    for b in range(2):
+        cx, cy = walls[k, 2 * b], walls[k, 2 * b + 1]
+        if prop[k, b] != convex or connected[k, b] >= 0 or math.hypot(mx - cx, my - cy) >= cap_max:
+            continue
+        qx, qy = walls[k, 2 - 2 * b], walls[k, 3 - 2 * b]
+        side_c = ox * (cy - py) - oy * (cx - px)
+        side_q = ox * (qy - py) - oy * (qx - px)
+        if side_c * side_v < 0 and side_q * side_v > 0:
+            return True
+    return False
+
+
+@njit
 def _along_a_wall(gap: np.ndarray, walls: np.ndarray, own: int, face: int, tol: float) -> bool:
     """Does a wall other than the gap's own two lie on the gap's line (both its ends within
     `tol` of it) over part of the gap's middle 80%? (blocked_many counts only walls crossing
@@ -308,6 +329,13 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
             continue
         mx, my = pts[r, 0] + t * out_dir[r, 0], pts[r, 1] + t * out_dir[r, 1]
         corner = _at_a_corner(walls, prop, connected, k, mx, my, cap_max, convex)
+        if corner and has_view and lengths[k] >= building_min and \
+                _room_wall_past_the_line(walls, prop, connected, k, mx, my, pts[r, 0], pts[r, 1], out_dir[r, 0],
+                                         out_dir[r, 1], vx, vy, cap_max, convex):
+            # the room's own wall (a building's) ending just past the doorway's line, turning
+            # there: its face met near that corner, a T-opening; a table's corner poking into
+            # the line is the other way round (its side runs on beyond the line)
+            corner = False
         if corner or not square_to(walls, k, out_dir[r, 0], out_dir[r, 1], sin_a):
             # a piece's free corner where the ray meets it (a table's end), or a piece no longer
             # than a wall's thickness askew to it (a stub or a trim against a wall, a corner seen

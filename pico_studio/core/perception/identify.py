@@ -46,7 +46,9 @@ wall's face (at least `end_face_min_length` long) — and never ends on a
 block's face (both its ends convex and shorter than `end_face_min_length`: a table's or a
 cabinet's front; or, longer than an end cap, turning in a convex corner into a short wall that
 runs back to a wall in a concave corner: a table standing against a wall, `face_kernels.against_a_wall`),
-nor meets a face within `jamb_cap_max` of its free end (a corner, not a face: a table's end). The face may be a building's wall seen in part, its floating end within
+nor meets a face within `jamb_cap_max` of its free end (a corner, not a face: a table's end),
+unless that wall is a building's lying on the robot's side, only its end past the gap's line
+(the room's side wall turning just past a doorway in the room's corner). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point;
 from a building wall's end, any piece floating at both ends (a face seen only through the gap,
 the jamb hiding one side, the view's edge the other) within `door_occlusion` of it.
