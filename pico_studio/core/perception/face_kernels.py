@@ -12,7 +12,9 @@ candidate when
   `against_a_wall`), and a building's wall (|k| >= building_min) unless P's wall is;
 * min_width <= t <= max_width, and M is no nearer than `cap_max` to a free convex end of k
   (a corner there, not a face) unless k is a building's wall on the robot's side of the gap's
-  line, only that end past it (`_room_wall_past_the_line`); up to `wide_width` the gap is a door only from a building
+  line, only that end past it (`_room_wall_past_the_line`); from a corner whose other wall runs
+  on beyond the line, facing a face running on into the robot's side (`_corridor_mouth`), a
+  possible door only; up to `wide_width` the gap is a door only from a building
   wall's end facing a building wall, seen deep and free beside the end (t_openings,
   `_side_seen`), or seen so in `evidence_scans` scans before (`tally`), its side hidden behind
   the wall itself now (a beam ending on the side, or the gap closed, bans the place), else a
@@ -182,6 +184,34 @@ def _room_wall_past_the_line(walls: np.ndarray, prop: np.ndarray, connected: np.
         if side_c * side_v < 0 and side_q * side_v > 0:
             return True
     return False
+
+
+@njit
+def _corridor_mouth(gap: np.ndarray, walls: np.ndarray, connected: np.ndarray, lengths: np.ndarray, k: int,
+                    face: int, rx: float, ry: float, cap_max: float) -> bool:
+    """Does wall k turn at the gap's jamb P into a wall longer than `cap_max` whose far end lies
+    more than `cap_max` beyond the gap's line (away from the robot R), while the face runs on
+    more than `cap_max` on R's side of it: P a corner, that wall a corridor's side, the face
+    its other side running straight on as the room's wall (no wall's end at P: a thick wall's
+    cap is no longer; a face ending at the line, a corner there too, makes a passage's mouth)?"""
+    j = connected[k, nearer_end(walls, k, gap[0], gap[1])]
+    if j < 0 or lengths[j] <= cap_max:
+        return False
+    ux, uy = gap[2] - gap[0], gap[3] - gap[1]
+    norm = math.hypot(ux, uy)
+    if norm <= 1e-12:
+        return False
+    ux, uy = ux / norm, uy / norm
+    e = nearer_end(walls, j, gap[0], gap[1])
+    qx, qy = walls[j, 2 - 2 * e], walls[j, 3 - 2 * e]
+    side_r = ux * (ry - gap[1]) - uy * (rx - gap[0])
+    side_q = ux * (qy - gap[1]) - uy * (qx - gap[0])
+    if not (side_q * side_r < 0 and abs(side_q) > cap_max):
+        return False
+    sign = 1.0 if side_r > 0 else -1.0
+    run_on0 = sign * (ux * (walls[face, 1] - gap[1]) - uy * (walls[face, 0] - gap[0]))
+    run_on1 = sign * (ux * (walls[face, 3] - gap[1]) - uy * (walls[face, 2] - gap[0]))
+    return max(run_on0, run_on1) > cap_max
 
 
 @njit
@@ -566,6 +596,11 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
                                     np.ones(n, dtype=np.bool_), objects, occlusion,
                                     depth, cap_max, backed_share)
     bad |= backed_g
+    for m in range(n):
+        # a corridor's mouth beside a room's wall running straight on: only ever a possible
+        # door, for the map to prove
+        if not bad[m] and _corridor_mouth(g[m], walls, connected, lengths, oa[m], ob[m], rx, ry, cap_max):
+            gl_[m], wk[m] = True, False
     possible = np.empty((n, 4))
     p = 0
     # wider than a door (a wall's end facing a face up to `wide_width` on): among furniture as

@@ -48,7 +48,11 @@ cabinet's front; or, longer than an end cap, turning in a convex corner into a s
 runs back to a wall in a concave corner: a table standing against a wall, `face_kernels.against_a_wall`),
 nor meets a face within `jamb_cap_max` of its free end (a corner, not a face: a table's end),
 unless that wall is a building's lying on the robot's side, only its end past the gap's line
-(the room's side wall turning just past a doorway in the room's corner). The face may be a building's wall seen in part, its floating end within
+(the room's side wall turning just past a doorway in the room's corner). From a corner whose
+other wall (longer than `jamb_cap_max`) runs on beyond the gap's line, facing a face that runs
+on into the robot's side, it is a corridor's mouth beside a room's wall running straight on,
+no wall's end: only ever a possible door "end_face", for the map to prove
+(`face_kernels._corridor_mouth`; a face ending at the line makes a passage's mouth, a door). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point;
 from a building wall's end, any piece floating at both ends (a face seen only through the gap,
 the jamb hiding one side, the view's edge the other) within `door_occlusion` of it.
