@@ -1,8 +1,8 @@
 """A corridor's mouth is no T-opening.
 
 A room's wall ends where it turns into the side of a corridor as wide as a door, facing the
-corridor's other wall, which runs straight on as the room's wall (ward:4's 1.3 m corridor,
-hospital_2021's four, wards' rooms opening into a corridor at a corner). From beside the end
+corridor's other wall, which runs straight on as the room's wall (hospital_2021's four
+corridors; rooms opening into a corridor at a corner in ward:131, slant:95). From beside the end
 its far side hides behind the wall itself; once the local map holds that side (seen before,
 from elsewhere), the end is a corner whose other wall runs on beyond the gap's line, no wall's
 end: only a possible door, for the map to prove. A thick wall's end cap (no longer than
