@@ -197,21 +197,19 @@ def _corridor_mouth(gap: np.ndarray, walls: np.ndarray, connected: np.ndarray, l
     j = connected[k, nearer_end(walls, k, gap[0], gap[1])]
     if j < 0 or lengths[j] <= cap_max:
         return False
-    ux, uy = gap[2] - gap[0], gap[3] - gap[1]
-    norm = math.hypot(ux, uy)
-    if norm <= 1e-12:
+    nx, ny = _away_normal(gap, rx, ry)
+    width = math.hypot(nx, ny)
+    if width <= 1e-12:
         return False
-    ux, uy = ux / norm, uy / norm
+    nx, ny = nx / width, ny / width  # depths past the gap's line, away from R, are along n
+
+    def beyond(x: float, y: float) -> float:
+        return nx * (x - gap[0]) + ny * (y - gap[1])
+
     e = nearer_end(walls, j, gap[0], gap[1])
-    qx, qy = walls[j, 2 - 2 * e], walls[j, 3 - 2 * e]
-    side_r = ux * (ry - gap[1]) - uy * (rx - gap[0])
-    side_q = ux * (qy - gap[1]) - uy * (qx - gap[0])
-    if not (side_q * side_r < 0 and abs(side_q) > cap_max):
+    if beyond(walls[j, 2 - 2 * e], walls[j, 3 - 2 * e]) <= cap_max:
         return False
-    sign = 1.0 if side_r > 0 else -1.0
-    run_on0 = sign * (ux * (walls[face, 1] - gap[1]) - uy * (walls[face, 0] - gap[0]))
-    run_on1 = sign * (ux * (walls[face, 3] - gap[1]) - uy * (walls[face, 2] - gap[0]))
-    return max(run_on0, run_on1) > cap_max
+    return -min(beyond(walls[face, 0], walls[face, 1]), beyond(walls[face, 2], walls[face, 3])) > cap_max
 
 
 @njit
