@@ -100,9 +100,16 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
                 if _in_line_beyond(walls, objects, i, 1 - e, k, cos_a, offset_short, max_width, True):
                     lone[r] = False
                     break
+    # a wall shorter than a door frame's seen in part: its far end floating (the view stopped
+    # there, behind a nearer doorway's jamb), its end a wall's end (joined to nothing or to a
+    # whole cap), no object's
+    part = np.zeros(c, dtype=np.bool_)
+    for r in range(c):
+        i, e = wi[r], we[r]
+        part[r] = not long[r] and not stub[r] and not objects[i] and prop[i, 1 - e] == floating and wall_end[r]
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
-        pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, min_width,
-        max_width, wide_width, angle, offset, offset_short)
+        pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, part,
+        min_width, max_width, wide_width, angle, offset, offset_short)
     # an end joined to a cap seen in part is a jamb only between two building walls in one line
     cos_a = math.cos(angle)
     for r in range(ia.shape[0]):

@@ -112,14 +112,17 @@ def _example_pairs() -> tuple:
     building = np.array([True, True, False])
     lone = np.zeros(3, dtype=np.bool_)
     wall_end = np.ones(3, dtype=np.bool_)
-    return (pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, 0.6, 1.2,
+    part = np.zeros(3, dtype=np.bool_)
+    return (pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, part,
+            0.6, 1.2,
             1.5, 0.3, 0.1, 0.05)
 
 
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
                long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
-               block: np.ndarray, building: np.ndarray, wall_end: np.ndarray, lone: np.ndarray, min_width: float,
+               block: np.ndarray, building: np.ndarray, wall_end: np.ndarray, lone: np.ndarray, part: np.ndarray,
+               min_width: float,
                max_width: float, wide_width: float,
                angle: float, offset: float, offset_short: float,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -153,7 +156,13 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     `lone`: a block's face shorter than a door frame's wall, joined to nothing, whose line runs on
     in no other wall past its far end
     (a box standing in line with a partition's side; a piece of wall between two doors runs on
-    in the building's walls). A possible door: not both convex,
+    in the building's walls). Two walls in one line, each continuing through the gap (off < offset),
+    are a door too when one is seen in part and the other is a door frame's wall or seen in part
+    (`part`: shorter than a door frame's, its far end floating, its end a wall's end, no
+    object's): a doorway seen through a nearer one, whose jambs hide all but a few dm of the
+    far wall on each side (hospital_2019's rooms in a row); a table's side seen in part in line
+    with a partition's short end is neither (the partition's piece is a stub, no frame's wall
+    nor seen in part). A possible door: not both convex,
     the two walls collinear (|o_i . o_j| > cos, both offsets < offset) and facing (u_i > 0,
     u_j < 0)."""
     n = pts.shape[0]
@@ -189,7 +198,11 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             door_ji = line_j and ((ui > cos_a and in_line)
                                   or (abs(ui) < sin_a and frame_i and not block[j] and not (stub[j] and block[i])))
             both_convex = is_convex[i] and is_convex[j]
-            is_door = both_convex and (door_ij or door_ji)
+            # two walls in one line, each continuing through the gap, one or both seen in part
+            # (`part`), the other a door frame's: a doorway seen through another doorway
+            parts = (part[i] or part[j]) and (long[i] or part[i]) and (long[j] or part[j]) and ui > cos_a \
+                and -uj > cos_a and off_ij < offset and off_ji < offset and in_line
+            is_door = both_convex and (door_ij or door_ji or parts)
             if wide:
                 is_door = both_convex and ((building[i] and building[j] and line_i and line_j)
                                            or (building[i] and wall_end[i] and line_i and -uj > cos_a and in_line
