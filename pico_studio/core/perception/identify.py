@@ -16,7 +16,9 @@ doorway; a table's front is shorter, its side no cap; or from a building wall's 
 nothing or to a whole cap, no corner of walls — to a door frame's wall coming back along its
 line, no block's face: a doorway's short end beside a junction seen in part) and no wall across it; the gap continues P's wall (Q ahead of P's end, within
 `door_angle` of its direction and `door_offset` of its line), and Q's wall comes back along
-that line towards P (the two walls in one line, seed 001) or stands across it (the end cap
+that line towards P (the two walls in one line, seed 001; one or both may be seen in part,
+shorter than a door frame's with its far end floating: a doorway seen through a nearer one,
+`identify_kernels.door_pairs`) or stands across it (the end cap
 of a thick wall seen from the side while the face beyond the gap is out of view). Possible doors (seed 001), with the same width range: a convex point and a loose
 (floating) end, two loose ends, or a loose end whose wall, continued, hits another wall
 within `facing_distance`.
