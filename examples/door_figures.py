@@ -37,8 +37,8 @@ def _summary(result: dict[str, Any]) -> dict[str, Any]:
 def _cell(values: list[float]) -> str:
     if not values:
         return "-"
-    mean = sum(values) / len(values)
-    return f"{mean:.3f}" if len(values) == 1 or min(values) == mean else f"{mean:.3f} ({min(values):.3f})"
+    mean, worst = f"{sum(values) / len(values):.3f}", f"{min(values):.3f}"
+    return mean if worst == mean else f"{mean} ({worst})"
 
 
 def pooled(rows: list[dict[str, Any]]) -> tuple[float, float]:

@@ -36,8 +36,10 @@ def _identify(pieces: list[list[float]], far_seen: list[bool]):
     return identify(np.array(walls), connected, seen, ROBOT, PARAMS, view)
 
 
-def _far_doors(out) -> list[np.ndarray]:
-    return [d for d in np.asarray(out.doors).reshape(-1, 4) if min(d[1], d[3]) > 3.0]
+def _far_doors(out) -> list[tuple[np.ndarray, str]]:
+    """The doors found on the far wall's line, with their kinds."""
+    doors = np.asarray(out.doors).reshape(-1, 4)
+    return [(d, k) for d, k in zip(doors, out.door_kind, strict=True) if min(d[1], d[3]) > 3.0]
 
 
 def test_the_near_jambs_hide_all_but_a_few_dm_of_the_far_wall():
@@ -54,8 +56,9 @@ def test_the_far_doorway_is_a_door():
     out = _identify([LEFT, RIGHT], [False, False])
     far = _far_doors(out)
     assert len(far) == 1
-    assert np.allclose(sorted(far[0][[0, 2]]), [0.8, 1.7]) and np.allclose(far[0][[1, 3]], 4.0)
-    assert out.door_kind[[i for i, d in enumerate(np.asarray(out.doors).reshape(-1, 4)) if d[1] > 3.0][0]] == "jambs"
+    door, kind = far[0]
+    assert np.allclose(sorted(door[[0, 2]]), [0.8, 1.7]) and np.allclose(door[[1, 3]], 4.0)
+    assert kind == "jambs"
 
 
 def test_pieces_seen_whole_are_no_door():

@@ -84,9 +84,13 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
     # a wall's end: joined to nothing, or to a whole cap (a thick wall's end); a building wall
     # turning at a convex corner is a jamb too, but 1.3-1.5 m from a short wall in its line it
     # is as often a room's corner beside a corridor's wall (door_pairs' wide doorways)
-    wall_end = np.empty(c, dtype=np.bool_)
+    # ...and a wall shorter than a door frame's seen in part (`part`): its far end floating (the
+    # view stopped there, behind a nearer doorway's jamb), its end a wall's end, no object's
+    wall_end, part = np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_)
     for r in range(c):
-        wall_end[r] = connected[wi[r], we[r]] < 0 or capped[r]
+        i, e = wi[r], we[r]
+        wall_end[r] = connected[i, e] < 0 or capped[r]
+        part[r] = wall_end[r] and not long[r] and not stub[r] and not objects[i] and prop[i, 1 - e] == floating
     # a lone block face: shorter than a door frame's wall, joined to nothing, its line running on
     # in no other wall past its far end (a box's or a person's face; a piece of wall between two
     # doors runs on in the building's walls)
@@ -100,13 +104,6 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
                 if _in_line_beyond(walls, objects, i, 1 - e, k, cos_a, offset_short, max_width, True):
                     lone[r] = False
                     break
-    # a wall shorter than a door frame's seen in part: its far end floating (the view stopped
-    # there, behind a nearer doorway's jamb), its end a wall's end (joined to nothing or to a
-    # whole cap), no object's
-    part = np.zeros(c, dtype=np.bool_)
-    for r in range(c):
-        i, e = wi[r], we[r]
-        part[r] = not long[r] and not stub[r] and not objects[i] and prop[i, 1 - e] == floating and wall_end[r]
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
         pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, part,
         min_width, max_width, wide_width, angle, offset, offset_short)
