@@ -43,7 +43,7 @@ import math
 import numpy as np
 
 from pico_studio.core.perception.identify_kernels import (
-    backed,
+    backed_beside_things,
     blocked_many,
     extended_hits,
     line_hit,
@@ -588,11 +588,12 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     for m in range(n):  # ...or closed by a wall lying on its line (a wall piece beside an exit)
         bad[m] = bad[m] or _along_a_wall(g[m], walls, oa[m], ob[m], occlusion)
     # seen edge-on a T-opening's rays end by its face and say nothing; its jamb and face were
-    # tested already, so no free ray is asked for; a ray ending on an object (a box standing in
-    # the room behind) says nothing of a back either
-    backed_g, free_g, deep_g, back_g = backed(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
-                                    np.ones(n, dtype=np.bool_), objects, occlusion,
-                                    depth, cap_max, backed_share)
+    # tested already, so no free ray is asked for; a ray ending on an object, or on a wall whose
+    # seen end stands in the gap's shadow (a box, a cabinet standing in the room behind, the
+    # laser seeing past it), says nothing of a back either
+    backed_g, free_g, deep_g, back_g = backed_beside_things(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy,
+                                                            va, a0, inc, np.ones(n, dtype=np.bool_), objects,
+                                                            occlusion, depth, cap_max, backed_share, prop, convex)
     bad |= backed_g
     for m in range(n):
         # a corridor's mouth beside a room's wall running straight on: only ever a possible

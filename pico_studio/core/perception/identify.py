@@ -137,7 +137,9 @@ is a lone end cap (`jamb_cap_max` long, joined to nothing: a partition's end see
 whose normal towards the robot's side meets a building wall's face a door's width on.
 A building wall's T-opening, a door from one scan, is remembered in the same records: seen
 closed (backed, its rays ending on a back between the jambs within `end_face_depth`: a pocket
-beside a table standing against a wall, seen from in front) the place is closed, and seen again
+beside a table standing against a wall, seen from in front; a ray ending on a thing standing in
+the room beyond says nothing of a back — an object's wall, or a wall with a seen end in the
+gap's shadow, a cabinet half a metre in: `identify_kernels.backed_beside_things`) the place is closed, and seen again
 with nothing said by its rays (edge-on, the back forgotten) it is only a possible door, until
 rays pass it deep; the same place is a middle within `door_occlusion` / 2. The bays keep
 records of their own beside them (kind 1; the T-openings' are kind 0): a bay refused at a block
