@@ -5,9 +5,10 @@ it is a door: the rays through the gap that end within `end_face_depth` behind i
 its jambs, are a pocket's back (a table standing against a wall makes one). A box or a
 cabinet standing in the room beyond, half a metre in, catches those rays too; but the laser
 saw past its end, there in the gap's shadow, which no pocket's back shows (it runs across the
-whole shadow into its corners). Rays ending on a wall with a seen end in the shadow say
-nothing of a back (`identify_kernels.backed_beside_things`); rooms' closets and wards'
-doorways with a cabinet behind were missed for it.
+whole shadow into its corners). Rays ending on a wall with a seen end in the shadow, joined to
+neither jamb's walls, say nothing of a back (`identify_kernels.backed_beside_things`); rooms'
+closets and wards' doorways with a cabinet behind were missed for it. Nor is the side wall
+turning into a wall just past the line a pocket's back while such a thing stands there.
 """
 
 from __future__ import annotations
@@ -66,3 +67,28 @@ def test_a_cabinet_seen_as_a_back_without_its_end_is_no_door():
     local = [JAMB, FACE, FRONT]
     seen = [[False, True], [False, False], [False, False]]
     assert _doorway_doors(local, [[-1, -1]] * 3, seen, [JAMB, FACE, *CABINET]) == []
+
+
+# The side wall turning, 0.7 m past the doorway's line, into a wall along the room beyond (the
+# top of a cabinet standing against it, fused with its corner): from a wall whose far end is no
+# room's corner, that is a pocket's back (a table 1.5 m long standing against a wall), unless
+# a thing stands in the shadow apart from the jambs' walls, its end seen past.
+SHORT_FACE = [4.0, -2.0, 4.0, 0.7]
+TURN = [4.0, 0.7, 3.75, 0.7]
+PIECE = [3.7, 0.5, 3.3, 0.5]  # the cabinet's front, its left end seen past
+SOLID = [JAMB, SHORT_FACE, TURN, *box(3.5, 0.7, 0.4).tolist()]
+
+
+def _turning(piece_joined: bool) -> list[str]:
+    local = [JAMB, SHORT_FACE, TURN, PIECE]
+    connected = [[-1, -1], [-1, 2], [1, 3 if piece_joined else -1], [2 if piece_joined else -1, -1]]
+    seen = [[False, True], [False, False], [False, False], [False, True]]
+    return _doorway_doors(local, connected, seen, SOLID)
+
+
+def test_a_cabinet_standing_apart_in_a_shallow_turn_leaves_a_door():
+    assert _turning(piece_joined=False) == ["end_face"]
+
+
+def test_a_piece_joined_to_the_face_is_the_pocket_s_own():
+    assert _turning(piece_joined=True) == []

@@ -46,10 +46,12 @@ from pico_studio.core.perception.identify_kernels import (
     backed_beside_things,
     blocked_many,
     extended_hits,
+    group_spans,
     line_hit,
     nearer_end,
     ray_hits,
     square_to,
+    standing_in_shadow,
 )
 from pico_studio.jit import kernel, njit
 
@@ -503,6 +505,20 @@ def _shallow_back(gap: np.ndarray, face: np.ndarray, far_props: np.ndarray, rx: 
 
 
 @njit
+def _something_stands_there(gap: np.ndarray, walls: np.ndarray, prop: np.ndarray, objects: np.ndarray,
+                            group: np.ndarray, own: int, face: int, rx: float, ry: float, depth: float,
+                            convex: int) -> bool:
+    """Does a wall (no small object's: a chair in a pocket is one) with a seen end stand in the
+    gap's shadow (identify_kernels.standing_in_shadow)? The laser saw past it into the space
+    behind the opening: a cabinet standing in the room beyond, no pocket."""
+    standing = standing_in_shadow(gap, walls, prop, objects, group, own, face, rx, ry, depth, convex)
+    for k in range(walls.shape[0]):
+        if standing[k] and not objects[k]:
+            return True
+    return False
+
+
+@njit
 def _same_place(a: np.ndarray, b: np.ndarray, min_width: float, angle: float) -> bool:
     """Two gaps about parallel whose middles lie within min_width / 2: one opening."""
     max_, may = (a[0] + a[2]) / 2, (a[1] + a[3]) / 2
@@ -585,6 +601,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         return empty, empty, evidence, lone
     # no wall across the gap (blocked_many)...
     bad = blocked_many(g, walls, oa, ob)
+    group, _ = group_spans(walls, connected)  # connected walls' labels (a thing standing apart is no jamb's)
     for m in range(n):  # ...or closed by a wall lying on its line (a wall piece beside an exit)
         bad[m] = bad[m] or _along_a_wall(g[m], walls, oa[m], ob[m], occlusion)
     # seen edge-on a T-opening's rays end by its face and say nothing; its jamb and face were
@@ -593,7 +610,8 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     # laser seeing past it), says nothing of a back either
     backed_g, free_g, deep_g, back_g = backed_beside_things(g, walls, oa, ob, rx, ry, has_view, ranges, valid, vx, vy,
                                                             va, a0, inc, np.ones(n, dtype=np.bool_), objects,
-                                                            occlusion, depth, cap_max, backed_share, prop, convex)
+                                                            occlusion, depth, cap_max, backed_share, prop, group,
+                                                            convex)
     bad |= backed_g
     for m in range(n):
         # a corridor's mouth beside a room's wall running straight on: only ever a possible
@@ -686,7 +704,8 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         k = oa[m]
         far_end = 1 - nearer_end(walls, k, g[m, 0], g[m, 1])
         if not bad[m] and deep_g[m] < max(min_free_rays, 1) and prop[k, far_end] != concave \
-                and _shallow_back(g[m], walls[ob[m]], prop[ob[m]], rx, ry, depth, occlusion, concave):
+                and _shallow_back(g[m], walls[ob[m]], prop[ob[m]], rx, ry, depth, occlusion, concave) \
+                and not _something_stands_there(g[m], walls, prop, objects, group, oa[m], ob[m], rx, ry, depth, convex):
             gl_[m] = True
         if gl_[m] and not bad[m]:
             possible[p] = g[m]

@@ -71,7 +71,9 @@ robot stood past the end's line); a beam ending on the side (a corner's other wa
 place. Else it is only ever a possible door "end_face", for the map to prove. So
 is a T-opening from a wall whose far end is no concave corner, its face turning in a concave
 corner into another wall less than `end_face_depth` past the gap's line, no ray through the gap
-reaching that deep (`face_kernels._shallow_back`): seen steeply, the pocket beside a table
+reaching that deep (`face_kernels._shallow_back`), no thing standing in the gap's shadow apart
+from the jambs' walls, its end seen past (a cabinet beyond a doorway, its corner fused with the
+wall's: `identify_kernels.standing_in_shadow`): seen steeply, the pocket beside a table
 standing against a wall shows its back only there (a table 1.5-1.6 m long has a building wall's
 length; a room's wall ending in the room's corner keeps its door beside a cabinet standing against
 the doorway's side wall 0.44 m on). A T-opening whose gap the scan's beams find hidden (two of three, at a quarter, half and three
@@ -139,7 +141,8 @@ A building wall's T-opening, a door from one scan, is remembered in the same rec
 closed (backed, its rays ending on a back between the jambs within `end_face_depth`: a pocket
 beside a table standing against a wall, seen from in front; a ray ending on a thing standing in
 the room beyond says nothing of a back — an object's wall, or a wall with a seen end in the
-gap's shadow, a cabinet half a metre in: `identify_kernels.backed_beside_things`) the place is closed, and seen again
+gap's shadow, joined to neither jamb's walls, a cabinet half a metre in:
+`identify_kernels.backed_beside_things`) the place is closed, and seen again
 with nothing said by its rays (edge-on, the back forgotten) it is only a possible door, until
 rays pass it deep; the same place is a middle within `door_occlusion` / 2. The bays keep
 records of their own beside them (kind 1; the T-openings' are kind 0): a bay refused at a block

@@ -373,13 +373,15 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
 
 
 @njit
-def standing_in_shadow(gap: np.ndarray, walls: np.ndarray, prop: np.ndarray, things: np.ndarray, own: int,
-                       face: int, rx: float, ry: float, depth: float, convex: int) -> np.ndarray:
+def standing_in_shadow(gap: np.ndarray, walls: np.ndarray, prop: np.ndarray, things: np.ndarray, group: np.ndarray,
+                       own: int, face: int, rx: float, ry: float, depth: float, convex: int) -> np.ndarray:
     """(W,) bool: `things`, and every wall with a seen (convex) end E standing in the gap's
     shadow: with the gap (P, Q), u = (Q - P) / |Q - P| and n its normal away from the robot R,
-    0 < u . (E - P) < |Q - P| and 0 < n . (E - P) < `depth`. The laser saw past that end into
-    the space behind the opening: a box or a cabinet standing in the room beyond, not a
-    pocket's back (which runs across the whole shadow into its corners)."""
+    0 < u . (E - P) < |Q - P| and 0 < n . (E - P) < `depth`; no wall of the jambs' own groups
+    (`group`, group_spans' labels: a cabinet in a pocket's corner, joined to its face, is the
+    pocket's). The laser saw past that end into the space behind the opening: a box or a
+    cabinet standing in the room beyond, not a pocket's back (which runs across the whole
+    shadow into its corners)."""
     out = things.copy()
     lx, ly = gap[2] - gap[0], gap[3] - gap[1]
     length = max(math.hypot(lx, ly), 1e-12)
@@ -388,7 +390,7 @@ def standing_in_shadow(gap: np.ndarray, walls: np.ndarray, prop: np.ndarray, thi
     if (rx - gap[0]) * nx + (ry - gap[1]) * ny > 0:
         nx, ny = -nx, -ny
     for k in range(walls.shape[0]):
-        if k == own or k == face or out[k]:
+        if out[k] or group[k] == group[own] or group[k] == group[face]:
             continue
         for e in range(2):
             if prop[k, e] != convex:
@@ -402,7 +404,7 @@ def standing_in_shadow(gap: np.ndarray, walls: np.ndarray, prop: np.ndarray, thi
 
 def _example_beside() -> tuple:
     segs, walls, own_a, own_b, *rest = _example_backed()
-    return (segs, walls, own_a, own_b, *rest, np.zeros((3, 2), dtype=np.int64), 2)
+    return (segs, walls, own_a, own_b, *rest, np.zeros((3, 2), dtype=np.int64), np.arange(3), 2)
 
 
 @kernel(_example_beside)
@@ -410,7 +412,7 @@ def backed_beside_things(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray,
                          ry: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float,
                          va: float, a0: float, inc: float, face_end: np.ndarray, things: np.ndarray,
                          occlusion: float, depth: float, jamb_cap_max: float, backed_share: float, prop: np.ndarray,
-                         convex: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                         group: np.ndarray, convex: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """`backed`, where a ray ending on a thing standing in a gap's shadow says nothing of its
     back (standing_in_shadow: a wall's seen end there): a gap found backed is looked at again
     with those walls among the `things`."""
@@ -419,7 +421,7 @@ def backed_beside_things(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray,
     for m in range(segs.shape[0]):
         if not out[m]:
             continue
-        standing = standing_in_shadow(segs[m], walls, prop, things, own_a[m], own_b[m], rx, ry, depth, convex)
+        standing = standing_in_shadow(segs[m], walls, prop, things, group, own_a[m], own_b[m], rx, ry, depth, convex)
         if np.array_equal(standing, things):
             continue
         o1, f1, d1, b1 = backed(segs[m:m + 1], walls, own_a[m:m + 1], own_b[m:m + 1], rx, ry, has_view, ranges,
