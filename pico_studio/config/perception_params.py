@@ -340,8 +340,7 @@ class IdentifyParams:
     )
     door_occlusion: float = param(
         0.1, lo=0.0, hi=2.0, step=0.01, unit="m",
-        help="A ray stopping this far before the gap was blocked in front of it: it says nothing about the gap "
-        "(and a face seen only through a T-opening's gap must reach the jamb wall's line within this)",
+        help="A ray stopping this far before the gap was blocked in front of it: it says nothing about the gap",
     )
     end_face_doors: bool = param(
         True, help="A convex wall end facing another wall's face across a door's width is a door (a T-opening)",
@@ -354,8 +353,10 @@ class IdentifyParams:
     )
     end_face_reach: float = param(
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
-        help="...also onto a building's wall seen in part: its line, up to this past its floating end (it runs "
-        "on out of view), unless the scan looks past that point (0: off)",
+        help="...also onto a building's wall seen in part, or from a building wall's end onto any piece seen "
+        "only through the gap (both ends floating): its line, up to this past its floating end (it runs on out "
+        "of view), unless the scan looks past that point (0: off; a piece seen through the gap still within "
+        "door_occlusion)",
     )
     end_face_evidence_scans: int = param(
         3, lo=0, hi=50, step=1,

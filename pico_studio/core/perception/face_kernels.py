@@ -320,8 +320,10 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
         # ...or, from a building wall's end, a face seen only through the gap: a piece of any
         # length floating at both ends, the jamb's end hiding it on one side and the view's edge
         # on the other (a wall beyond a doorway seen obliquely, the room's side of it out of
-        # view), reaching the jamb wall's line within `occlusion`: a piece seen so says nothing
-        # of how far it runs (a partition's face beside a block's corner ends short of its line)
+        # view; or through a gap beside the jamb, that gap's far corner hiding the rest), met
+        # on its line up to `reach` past its floating end (at least `occlusion`), unless the scan
+        # looks past that point (a partition's face beside a block's corner, ending short of the
+        # line, is seen to end there)
         still = np.empty(nm, dtype=np.int64)
         ns = 0
         for q in range(nm):
@@ -331,7 +333,7 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
         if ns > 0:
             for k in range(n_walls):
                 eligible[k] = floats[k, 0] and floats[k, 1] and not objects[k]
-            _met_in_part(still[:ns], pts, out_dir, walls, floats, eligible, occlusion, hit_t, hit_k, has_view,
+            _met_in_part(still[:ns], pts, out_dir, walls, floats, eligible, max(reach, occlusion), hit_t, hit_k, has_view,
                          ranges, valid, vx, vy, va, a0, inc, occlusion)
     missed = np.empty(f, dtype=np.bool_)
     for r in range(f):

@@ -57,7 +57,8 @@ no wall's end: only ever a possible door "end_face", for the map to prove
 (`face_kernels._corridor_mouth`; a face ending at the line makes a passage's mouth, a door). The face may be a building's wall seen in part, its floating end within
 `end_face_reach` short of the gap's line, when the scan does not look past the meeting point;
 from a building wall's end, any piece floating at both ends (a face seen only through the gap,
-the jamb hiding one side, the view's edge the other) within `door_occlusion` of it.
+the jamb hiding one side, the view's edge the other) met up to `end_face_reach` past its
+floating end, unless the scan looks past that point (at least `door_occlusion`).
 A T-opening wider than `door_max_width`, up to `wide_door_max_width`, is a door only from a
 building wall's end (no glimpse, no short wall's) facing a building wall's face, seen through
 `end_face_depth` deep and seen free beside its end: the scan's beams reach past the points half
