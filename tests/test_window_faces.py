@@ -3,8 +3,9 @@
 Seen obliquely past a room's wall's end, the wall beyond a doorway shows only the piece the
 jamb does not hide, out to the view's edge: a piece floating at both ends (cafe:131's doorway,
 missed in most poses before this rule). From a building wall's end a face so is still a face,
-when it reaches the jamb wall's line within `door_occlusion`; a piece ending farther short says
-nothing of whether the wall runs on there (a block's corner beside a partition).
+met on its line up to `end_face_reach` past its floating end while the scan does not look past
+that point (`tests/test_face_seen_through_a_side_gap.py`: a piece ending farther short makes
+none).
 """
 
 from __future__ import annotations
@@ -46,7 +47,10 @@ def test_a_face_seen_only_through_the_gap_makes_a_door():
 
 
 @pytest.mark.parametrize("short", [0.15, 0.3])
-def test_a_piece_ending_short_of_the_jambs_line_makes_none(short):
-    """The same piece ending `short` m before the jamb's line: a possible door at most."""
+def test_a_piece_ending_short_of_the_jambs_line_within_reach_makes_one(short):
+    """The same piece ending `short` m before the jamb's line, the scan not looking there (the
+    view's edge): it may run on, within end_face_reach, so the door stands."""
+    assert short < PARAMS.end_face_reach
     out = _identify([short, 0.85, 0.42, 0.85])
-    assert "end_face" not in out.door_kind
+    assert out.door_kind == ["end_face"]
+    assert np.allclose(out.doors[0], [0.0, 0.0, 0.0, 0.85], atol=1e-6)
