@@ -15,7 +15,7 @@ import numpy as np
 
 from pico_studio.config import load_config
 from pico_studio.core.perception.identify import identify
-from tests.clutter_scenes import laser_view
+from tests.clutter_scenes import box, laser_view
 
 PARAMS = load_config(None).perception.identify
 ROBOT, HEADING = (1.0, 5.6), 0.6  # in the room below, looking up and right
@@ -25,12 +25,16 @@ STUB = [2.2, 6.6, 2.2, 7.4]  # ...turning up there to the outer wall (out of vie
 OUTER = [0.0, 7.4, 6.0, 7.4]  # the outer wall, the doorway's face
 
 
-def _doorway(face_piece: list[float]) -> list[str]:
-    """The kinds of the doors found in the doorway (3.0, 6.6)-(3.0, 7.4)."""
+def _identify(face_piece: list[float], solid: list[list[float]] | None = None):
     walls = np.array([PARTITION, TOP, face_piece])
     seen = np.array([[False, True], [False, True], [False, False]])  # the face floats at both ends
-    view = laser_view(np.array([PARTITION, TOP, STUB, OUTER]), ROBOT, HEADING)
-    out = identify(walls, np.full((3, 2), -1, dtype=np.int64), seen, ROBOT, PARAMS, view)
+    view = laser_view(np.array(solid or [PARTITION, TOP, STUB, OUTER]), ROBOT, HEADING)
+    return identify(walls, np.full((3, 2), -1, dtype=np.int64), seen, ROBOT, PARAMS, view)
+
+
+def _doorway(face_piece: list[float]) -> list[str]:
+    """The kinds of the doors found in the doorway (3.0, 6.6)-(3.0, 7.4)."""
+    out = _identify(face_piece)
     doors = np.asarray(out.doors).reshape(-1, 4)
     return [k for d, k in zip(doors, out.door_kind, strict=True)
             if np.allclose(d[[0, 2]], 3.0, atol=0.05) and np.allclose(sorted(d[[1, 3]]), [6.6, 7.4], atol=0.05)]
@@ -53,3 +57,29 @@ def test_a_piece_beyond_reach_makes_no_door():
     """Seen only from 0.7 m past the line on, more than end_face_reach: nothing says it runs on."""
     assert PARAMS.end_face_reach < 0.7
     assert _doorway([3.7, 7.4, 4.6, 7.4]) == []
+
+
+def test_hidden_now_the_end_stays_a_lone_jamb_for_the_map():
+    """Something standing in front hides the gap: no door, and the partition's end stays a lone
+    jamb (a possible door of kind "jamb", from the end along the partition), which the combined
+    map makes the map's opening there; a face met only past the glimpse's end takes nothing away."""
+    person = box(2.0, 6.3, 0.2, 0.4).tolist()
+    out = _identify([3.16, 7.4, 4.6, 7.4], [PARTITION, TOP, STUB, OUTER, *person])
+    assert "end_face" not in out.door_kind
+    jambs = [p for p, k in zip(np.asarray(out.possible_doors).reshape(-1, 4), out.possible_door_kind, strict=True)
+             if k == "jamb"]
+    assert any(np.allclose(p[:2], [3.0, 6.6]) and p[3] > 6.6 for p in jambs)
+
+
+def test_found_the_door_leaves_no_lone_jamb_beside_it():
+    """A narrower doorway (0.6 m), the top wall stopping 0.6 m short: the face seen from 0.24 m
+    past the line. The lone jamb from the same end (its middle 0.35 m from the door's) goes."""
+    top, stub, outer = [0.0, 6.6, 2.4, 6.6], [2.4, 6.6, 2.4, 7.2], [0.0, 7.2, 6.0, 7.2]
+    walls = np.array([PARTITION, top, [3.24, 7.2, 4.6, 7.2]])
+    seen = np.array([[False, True], [False, True], [False, False]])
+    view = laser_view(np.array([PARTITION, top, stub, outer]), ROBOT, HEADING)
+    out = identify(walls, np.full((3, 2), -1, dtype=np.int64), seen, ROBOT, PARAMS, view)
+    doors = np.asarray(out.doors).reshape(-1, 4)
+    assert any(k == "end_face" and np.allclose(d, [3.0, 6.6, 3.0, 7.2], atol=0.02)
+               for d, k in zip(doors, out.door_kind, strict=True))
+    assert "jamb" not in out.possible_door_kind

@@ -307,9 +307,11 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
         if hit_k[r] < 0 or hit_t[r] > wide_width:
             miss[nm] = r
             nm += 1
+    floats = np.empty((n_walls, 2), dtype=np.bool_)
+    eligible = np.empty(n_walls, dtype=np.bool_)
+    still = np.empty(nm, dtype=np.int64)
+    ns = 0
     if nm > 0:
-        floats = np.empty((n_walls, 2), dtype=np.bool_)
-        eligible = np.empty(n_walls, dtype=np.bool_)
         for k in range(n_walls):
             floats[k, 0], floats[k, 1] = prop[k, 0] == floating, prop[k, 1] == floating
         if reach > 0:
@@ -324,8 +326,6 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
         # on its line up to `reach` past its floating end (at least `occlusion`), unless the scan
         # looks past that point (a partition's face beside a block's corner, ending short of the
         # line, is seen to end there)
-        still = np.empty(nm, dtype=np.int64)
-        ns = 0
         for q in range(nm):
             if building[miss[q]] and hit_k[miss[q]] < 0:
                 still[ns] = miss[q]
@@ -333,13 +333,24 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
         if ns > 0:
             for k in range(n_walls):
                 eligible[k] = floats[k, 0] and floats[k, 1] and not objects[k]
-            _met_in_part(still[:ns], pts, out_dir, walls, floats, eligible, max(reach, occlusion), hit_t, hit_k, has_view,
+            _met_in_part(still[:ns], pts, out_dir, walls, floats, eligible, occlusion, hit_t, hit_k, has_view,
                          ranges, valid, vx, vy, va, a0, inc, occlusion)
     missed = np.empty(f, dtype=np.bool_)
     for r in range(f):
         # a face beyond max_width leaves the end a lone jamb too: the map proves that one (from the
         # end along its wall) where the wide gap's far side is no jamb of its opening
         missed[r] = hit_k[r] < 0 or hit_t[r] > max_width
+    if ns > 0 and reach > occlusion:
+        # ...and so does a face seen through the gap met only farther than `occlusion` past its
+        # floating end: the T-opening to it may be hidden or refused, and the end stays the map's
+        # to prove (t_openings drops the lone jamb where that door is found)
+        for q in range(ns):
+            if hit_k[still[q]] >= 0:
+                still[q] = -1
+        rest = still[:ns][still[:ns] >= 0]
+        if rest.shape[0] > 0:
+            _met_in_part(rest, pts, out_dir, walls, floats, eligible, reach, hit_t, hit_k, has_view, ranges, valid,
+                         vx, vy, va, a0, inc, occlusion)
     # the face is a building's: no block's face, nor a block's front against a wall
     block_face = against_a_wall(connected, prop, lengths, cap_max, building_min, object_max, convex, concave)
     for k in range(n_walls):
@@ -729,4 +740,10 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         if not same:
             found[d] = g[m]
             d += 1
-    return found[:d].copy(), possible[:p].copy(), evidence, lone
+    # a lone jamb whose end's T-opening was found is that door (its face met past a glimpse's end)
+    keep = np.ones(lone.shape[0], dtype=np.bool_)
+    for j in range(lone.shape[0]):
+        for k in range(d):
+            if lone[j, 0] == found[k, 0] and lone[j, 1] == found[k, 1]:
+                keep[j] = False
+    return found[:d].copy(), possible[:p].copy(), evidence, lone[keep]
