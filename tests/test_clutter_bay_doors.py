@@ -63,6 +63,12 @@ def _identify(view: View, params=PARAMS):
     return identify(WALLS, CONNECTED, SEEN, ROBOT, params, view)
 
 
+def _no_ends_seen(walls: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """`_deep_rays`' end properties and groups for walls none of whose ends was seen past (every
+    end floating, each wall its own group): nothing stands in a gap's shadow."""
+    return np.full((len(walls), 2), FLOATING, dtype=np.int64), np.arange(len(walls))
+
+
 HALLWAY = [TOP, ABOVE, SIDE, [0.0, 2.11, -1.18, 2.11], [0.0, 2.11, 0.0, 0.0]]
 
 
@@ -360,11 +366,31 @@ def test_a_thin_thing_standing_in_a_side_room_is_not_its_back_either(monkeypatch
     out = identify(walls, connected, seen, SLANT_ROBOT, PARAMS, view)
     assert not out.object_wall.any()
     assert _is(out.doors[[k == "bay" for k in out.door_kind]], SLANT_MOUTH)
-    # with only the small objects' walls for things, the rays on the box are the pocket's back
+    # with only the small objects' walls for things, and no end taken for seen past (nothing
+    # standing in the shadow, `identify_kernels.standing_in_shadow`), the rays on the box are
+    # the pocket's back
     real = identify_module._deep_rays
     monkeypatch.setattr(identify_module, "_deep_rays",
-                        lambda gaps, a, b, w, things, *rest: real(gaps, a, b, w, out.object_wall, *rest))
+                        lambda gaps, a, b, w, things, robot, scan, params, prop, group:
+                        real(gaps, a, b, w, out.object_wall, robot, scan, params, *_no_ends_seen(w)))
     out = identify(walls, connected, seen, SLANT_ROBOT, PARAMS, view)
+    assert not _is(out.doors[[k == "bay" for k in out.door_kind]], SLANT_MOUTH)
+
+
+def test_a_box_seen_in_part_standing_in_a_side_room_is_not_its_back_either():
+    """The box's front seen only up to where the side room's side hides it (its far end
+    floating: no object, not seen whole), its side's far end seen past, there in the mouth's
+    shadow: something standing in the room, not a pocket's back (`standing_in_shadow`). Joined
+    to the side room's walls it would be their own, and the back."""
+    walls, connected, seen, view = _slanted(*ROOMS_WALL, box=True)
+    k = len(ROOMS_WALL[0])
+    seen[k + 2] = [True, False]  # the front: its end at the side joined, its far end hidden
+    out = identify(walls, connected, seen, SLANT_ROBOT, PARAMS, view)
+    assert not out.object_wall.any()
+    assert _is(out.doors[[k == "bay" for k in out.door_kind]], SLANT_MOUTH)
+    joined = connected.copy()
+    joined[k + 2, 1], joined[k, 1] = k, k + 2  # the front's far end joined to the side room's side
+    out = identify(walls, joined, seen, SLANT_ROBOT, PARAMS, view)
     assert not _is(out.doors[[k == "bay" for k in out.door_kind]], SLANT_MOUTH)
 
 
@@ -405,7 +431,8 @@ def test_a_hallway_seen_at_a_slant_is_a_door_by_its_side_running_on():
     assert out.door_kind == ["bay"] and _is(out.doors, MOUTH)
     walls = np.ascontiguousarray(SLANT_WALLS)
     gap = np.array([MOUTH])
-    rays, back = identify_module._deep_rays(gap, np.array([3]), np.array([2]), walls, np.zeros(len(walls), dtype=bool), SLANT, _view_arrays(view), PARAMS)
+    rays, back = identify_module._deep_rays(gap, np.array([3]), np.array([2]), walls, np.zeros(len(walls), dtype=bool), SLANT, _view_arrays(view), PARAMS,
+                                            *_no_ends_seen(walls))
     assert rays[0] == 0 and not back[0]  # no ray reached door_depth: they all end on the side
     prop = junctions(walls, CONNECTED, UNSEEN, *SLANT, FLOATING, CONVEX, CONCAVE)[0]
     args = (gap, walls, CONNECTED, prop, np.array([3]), np.array([2]), *SLANT, PARAMS.door_angle)
@@ -424,7 +451,8 @@ def test_a_pocket_whose_back_the_rays_see_is_no_passage_though_a_side_runs_on():
     out, view = _slant([TOP, ABOVE, LONG_SIDE, back, BELOW], robot=ROBOT, heading=np.pi)
     assert len(out.doors) == 0
     rays, seen_back = identify_module._deep_rays(np.array([MOUTH]), np.array([3]), np.array([2]), SLANT_WALLS,
-                                                 np.zeros(len(SLANT_WALLS), dtype=bool), ROBOT, _view_arrays(view), PARAMS)
+                                                 np.zeros(len(SLANT_WALLS), dtype=bool), ROBOT, _view_arrays(view), PARAMS,
+                                                 *_no_ends_seen(SLANT_WALLS))
     assert rays[0] == 0 and seen_back[0]
 
 
@@ -439,7 +467,8 @@ def test_a_side_room_seen_steeply_is_a_door_by_its_side_running_on_into_the_view
     walls = np.array([TOP, ABOVE, SEEN_SIDE, BELOW])
     view = _view(STEEP_ROOM, SLANT, 2.0)
     rays, back = identify_module._deep_rays(np.array([MOUTH]), np.array([3]), np.array([2]), walls,
-                                            np.zeros(len(walls), dtype=bool), SLANT, _view_arrays(view), PARAMS)
+                                            np.zeros(len(walls), dtype=bool), SLANT, _view_arrays(view), PARAMS,
+                                            *_no_ends_seen(walls))
     assert rays[0] == 0 and not back[0]  # no ray reaches door_depth, none ends on a back
     on = identify(walls, CONNECTED, UNSEEN, SLANT, PARAMS, view)
     assert on.door_kind == ["bay"] and _is(on.doors, MOUTH)

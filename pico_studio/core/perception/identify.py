@@ -96,7 +96,8 @@ no seen corner: a hallway seen at a slant — or `bay_run_on`, longer than a wal
 far end floating into the view's edge: a side room seen steeply, a pocket's side ending at its
 back in a corner; a ray ending on a small object says nothing, a box standing in a side room
 being no pocket's back — nor any small group seen whole, however thin: a box seen as an L, a
-person's two feet)
+person's two feet; nor a wall with a seen end standing in the gap's shadow, joined to neither
+jamb's walls: a box seen in part)
 is a door of kind "bay" when it opens a building's walls: both jambs' connected walls span at least `bay_jamb_span` (a table with its
 sides spans no more than its diagonal), or turn at a concave corner where two walls longer
 than `jamb_cap_max` meet end to end (`identify_kernels.inside_corners`): the robot sees a room's
@@ -164,7 +165,7 @@ from pico_studio.config.perception_params import IdentifyParams
 from pico_studio.core.perception.door_kernels import away_from, jamb_doors, loose_gaps
 from pico_studio.core.perception.face_kernels import t_openings, tally
 from pico_studio.core.perception.identify_kernels import (
-    backed,
+    backed_beside_things,
     group_spans,
     in_line_spans,
     inside_corners,
@@ -392,7 +393,7 @@ def _doors(
             # two feet; the objects' depth keeps a thick wall's end from being one, for jambs)
             _, seen_whole = object_groups(w, c, p64, float(params.object_max_size), FLOATING, CONCAVE)
             things = ob | seen_whole
-            rays, back = _deep_rays(gaps, own_a, own_b, walls, things, robot, scan, params)
+            rays, back = _deep_rays(gaps, own_a, own_b, walls, things, robot, scan, params, p64, group)
             side_on = deep_sides(gaps, w, c, p64, own_a, own_b,
                                  float(robot[0]), float(robot[1]), float(params.door_angle),
                                  float(params.door_depth), float(params.bay_run_on), CONVEX, FLOATING)
@@ -445,17 +446,19 @@ def _doors(
 def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np.ndarray, objects: np.ndarray,
                robot: tuple[float, float],
                scan: tuple[bool, np.ndarray, np.ndarray, float, float, float, float, float],
-               params: IdentifyParams) -> tuple[np.ndarray, np.ndarray]:
+               params: IdentifyParams, prop: np.ndarray, group: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """((K,) how many of each gap's five rays reached `door_depth` past its line, or never ended
     (identify_kernels.backed: a backed gap has none), (K,) bool: most of the rays ending behind
-    it ended between its jambs within `door_depth`: its back seen)."""
+    it ended between its jambs within `door_depth`: its back seen). A ray ending on `objects`, or
+    on a wall whose seen end stands in the gap's shadow apart from the jambs' walls (`group`:
+    a box in a side room), says nothing (identify_kernels.backed_beside_things)."""
     if len(gaps) == 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
-    _, _, deep, back = backed(np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float),
-                              own_a, own_b, float(robot[0]), float(robot[1]), *scan,
-                              np.zeros(len(gaps), dtype=bool), np.ascontiguousarray(objects, dtype=bool),
-                              float(params.door_occlusion),
-                              float(params.door_depth), float(params.jamb_cap_max), float(params.door_backed_share))
+    _, _, deep, back = backed_beside_things(
+        np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float), own_a, own_b,
+        float(robot[0]), float(robot[1]), *scan, np.zeros(len(gaps), dtype=bool),
+        np.ascontiguousarray(objects, dtype=bool), float(params.door_occlusion), float(params.door_depth),
+        float(params.jamb_cap_max), float(params.door_backed_share), prop, group, CONVEX)
     return deep, back
 
 

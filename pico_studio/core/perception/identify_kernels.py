@@ -414,12 +414,12 @@ def backed_beside_things(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray,
                          occlusion: float, depth: float, jamb_cap_max: float, backed_share: float, prop: np.ndarray,
                          group: np.ndarray, convex: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """`backed`, where a ray ending on a thing standing in a gap's shadow says nothing of its
-    back (standing_in_shadow: a wall's seen end there): a gap found backed is looked at again
-    with those walls among the `things`."""
+    back (standing_in_shadow: a wall's seen end there): a gap found backed, or its back seen, is
+    looked at again with those walls among the `things`."""
     out, free, deep, back = backed(segs, walls, own_a, own_b, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
                                    face_end, things, occlusion, depth, jamb_cap_max, backed_share)
     for m in range(segs.shape[0]):
-        if not out[m]:
+        if not (out[m] or back[m]):
             continue
         standing = standing_in_shadow(segs[m], walls, prop, things, group, own_a[m], own_b[m], rx, ry, depth, convex)
         if np.array_equal(standing, things):
