@@ -323,9 +323,9 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
         # length floating at both ends, the jamb's end hiding it on one side and the view's edge
         # on the other (a wall beyond a doorway seen obliquely, the room's side of it out of
         # view; or through a gap beside the jamb, that gap's far corner hiding the rest), met
-        # on its line up to `reach` past its floating end (at least `occlusion`), unless the scan
-        # looks past that point (a partition's face beside a block's corner, ending short of the
-        # line, is seen to end there)
+        # on its line past its floating end, unless the scan looks past that point (a partition's
+        # face beside a block's corner, ending short of the line, is seen to end there): here
+        # within `occlusion`, below (once the lone jambs are known) up to `reach`
         for q in range(nm):
             if building[miss[q]] and hit_k[miss[q]] < 0:
                 still[ns] = miss[q]
