@@ -43,6 +43,7 @@ import math
 import numpy as np
 
 from pico_studio.core.perception.identify_kernels import (
+    away_normal,
     backed_beside_things,
     blocked_many,
     extended_hits,
@@ -139,7 +140,7 @@ def _side_seen(gap: np.ndarray, rx: float, ry: float, has_view: bool, ranges: np
     if not has_view:
         return 0
     px, py = gap[0], gap[1]
-    nx, ny = _away_normal(gap, rx, ry)
+    nx, ny = away_normal(gap, rx, ry)
     free = True
     for f in (0.5, 1.0):
         qx, qy = px + f * nx, py + f * ny
@@ -199,7 +200,7 @@ def _corridor_mouth(gap: np.ndarray, walls: np.ndarray, connected: np.ndarray, l
     j = connected[k, nearer_end(walls, k, gap[0], gap[1])]
     if j < 0 or lengths[j] <= cap_max:
         return False
-    nx, ny = _away_normal(gap, rx, ry)
+    nx, ny = away_normal(gap, rx, ry)
     width = math.hypot(nx, ny)
     if width <= 1e-12:
         return False
@@ -479,19 +480,10 @@ def _hidden(gap: np.ndarray, has_view: bool, ranges: np.ndarray, valid: np.ndarr
 
 
 @njit
-def _away_normal(gap: np.ndarray, rx: float, ry: float) -> tuple[float, float]:
-    """The normal n of a gap (P -> M), |n| = |PM|, pointing away from the robot R."""
-    nx, ny = -(gap[3] - gap[1]), gap[2] - gap[0]
-    if nx * (rx - gap[0]) + ny * (ry - gap[1]) > 0:
-        nx, ny = -nx, -ny
-    return nx, ny
-
-
-@njit
 def _face_ends_past(gap: np.ndarray, face: np.ndarray, rx: float, ry: float) -> tuple[float, float]:
     """How far each end E of the face (x0, y0, x1, y1) lies past the gap's line away from the
-    robot R: n . (E - P) / |n|, n = _away_normal."""
-    nx, ny = _away_normal(gap, rx, ry)
+    robot R: n . (E - P) / |n|, n = away_normal."""
+    nx, ny = away_normal(gap, rx, ry)
     den = max(math.hypot(nx, ny), 1e-12)
     return ((nx * (face[0] - gap[0]) + ny * (face[1] - gap[1])) / den,
             (nx * (face[2] - gap[0]) + ny * (face[3] - gap[1])) / den)

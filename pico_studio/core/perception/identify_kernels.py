@@ -373,6 +373,15 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
 
 
 @njit
+def away_normal(gap: np.ndarray, rx: float, ry: float) -> tuple[float, float]:
+    """The normal n of a gap (P -> M), |n| = |PM|, pointing away from the robot R."""
+    nx, ny = -(gap[3] - gap[1]), gap[2] - gap[0]
+    if nx * (rx - gap[0]) + ny * (ry - gap[1]) > 0:
+        nx, ny = -nx, -ny
+    return nx, ny
+
+
+@njit
 def standing_in_shadow(gap: np.ndarray, walls: np.ndarray, prop: np.ndarray, things: np.ndarray, group: np.ndarray,
                        own: int, face: int, rx: float, ry: float, depth: float, convex: int) -> np.ndarray:
     """(W,) bool: `things`, and every wall with a seen (convex) end E standing in the gap's
@@ -386,9 +395,8 @@ def standing_in_shadow(gap: np.ndarray, walls: np.ndarray, prop: np.ndarray, thi
     lx, ly = gap[2] - gap[0], gap[3] - gap[1]
     length = max(math.hypot(lx, ly), 1e-12)
     ux, uy = lx / length, ly / length
-    nx, ny = -uy, ux
-    if (rx - gap[0]) * nx + (ry - gap[1]) * ny > 0:
-        nx, ny = -nx, -ny
+    nx, ny = away_normal(gap, rx, ry)
+    nx, ny = nx / length, ny / length
     for k in range(walls.shape[0]):
         if out[k] or group[k] == group[own] or group[k] == group[face]:
             continue
