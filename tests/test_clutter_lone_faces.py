@@ -67,14 +67,20 @@ def test_a_piece_of_wall_between_two_doors_still_is():
 def test_in_line_across_a_gap_is_judged_where_the_walls_face_each_other():
     """A 0.18 m piece fitted 3.4 degrees off, 0.88 m past a 0.4 m piece's end: its facing end
     lies on the longer piece's line (within `door_offset_short`), its own line drawn on to the
-    other's far end is 5.5 cm off (ward:11's wall between two doors, seen from below)."""
+    other's far end is 5.5 cm off (ward:11's wall between two doors, seen from below): the
+    longer piece's line is the one to judge by."""
     walls = np.array([[9.863, 2.132, 9.461, 2.133], [10.925, 2.123, 10.743, 2.134]])
     none = np.zeros(2, dtype=np.bool_)
     cos_a = math.cos(PARAMS.door_angle)
     assert _in_line_beyond(walls, none, 0, 0, 1, cos_a, PARAMS.door_offset_short, PARAMS.door_max_width, True)
     assert _in_line_beyond(walls, none, 1, 1, 0, cos_a, PARAMS.door_offset_short, PARAMS.door_max_width, True)
-    # asked for all four ends (lending a building's span), the short piece's line is too far off
-    assert not _in_line_beyond(walls, none, 0, 0, 1, cos_a, PARAMS.door_offset_short, PARAMS.door_max_width)
+    # asked for both of the shorter piece's ends (lending a building's span), they lie on the
+    # longer piece's line too; but not when its far end turns 6 cm off it (its facing end still on)
+    assert _in_line_beyond(walls, none, 0, 0, 1, cos_a, PARAMS.door_offset_short, PARAMS.door_max_width)
+    turned = walls.copy()
+    turned[1, 1] += 0.06
+    assert _in_line_beyond(turned, none, 0, 0, 1, cos_a, PARAMS.door_offset_short, PARAMS.door_max_width, True)
+    assert not _in_line_beyond(turned, none, 0, 0, 1, cos_a, PARAMS.door_offset_short, PARAMS.door_max_width)
     # a wall beside the line (8 cm off) is not in it, nor one a door's width too far on
     beside = walls.copy()
     beside[1, [1, 3]] += 0.08

@@ -504,7 +504,9 @@ def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: i
     than `offset`. With `facing`, only the shorter one's end facing across the gap need lie
     within `offset` of the longer one's line: a short piece's own line, drawn on, wanders by its
     angle's error times the distance. A rule that refuses asks it so (what spares it should not
-    hang on a 0.2 m piece's angle); one that lends a building's span asks all four ends."""
+    hang on a 0.2 m piece's angle); one that lends a building's span asks both ends of the
+    shorter to lie within `offset` of the longer one's line (the better fitted: a 0.7 m wall seen
+    1.6 degrees askew, drawn on 2 m, misses the piece it continues by 0.06 m)."""
     if j == i or objects[j]:
         return False
     ax, ay = walls[i, 0], walls[i, 1]
@@ -522,8 +524,10 @@ def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: i
         off = abs((nx - ax) * uy - (ny - ay) * ux) if li >= lj else abs((ex - cx) * vy - (ey - cy) * vx)
         if off > offset:
             return False
-    elif abs((cx - ax) * uy - (cy - ay) * ux) > offset or abs((walls[j, 2] - ax) * uy - (walls[j, 3] - ay) * ux) > offset \
-            or abs((ax - cx) * vy - (ay - cy) * vx) > offset or abs((walls[i, 2] - cx) * vy - (walls[i, 3] - cy) * vx) > offset:
+    elif li >= lj:
+        if abs((cx - ax) * uy - (cy - ay) * ux) > offset or abs((walls[j, 2] - ax) * uy - (walls[j, 3] - ay) * ux) > offset:
+            return False
+    elif abs((ax - cx) * vy - (ay - cy) * vx) > offset or abs((walls[i, 2] - cx) * vy - (walls[i, 3] - cy) * vx) > offset:
         return False
     s0 = (cx - ax) * ux + (cy - ay) * uy
     s1 = (walls[j, 2] - ax) * ux + (walls[j, 3] - ay) * uy
