@@ -271,7 +271,6 @@ def test_a_wall_seen_in_part_in_line_with_a_piece_between_two_doors_is_the_build
     assert np.array_equal(alone, group_spans(walls[1:], connected[1:])[1])
 
 
-
 def test_a_short_wall_seen_a_little_askew_still_lies_in_the_pieces_line():
     """rooms:173: the same row, the wall past the second door seen only 0.7 m before it runs out
     of view, its fitted line 1.6 degrees off (0.02 m over its length). Drawn on 2 m back to the
@@ -292,6 +291,7 @@ def test_a_short_wall_seen_a_little_askew_still_lies_in_the_pieces_line():
     # a wall stepped off the piece's line by more than door_offset_short lends and borrows nothing
     stepped = lent([2.1, 0.08, 2.8, 0.08])
     assert stepped[1] == pytest.approx(1.1) and stepped[2] == pytest.approx(0.7)
+
 
 def test_a_tables_face_in_line_with_a_wall_on_one_side_only_is_not():
     """restaurant_2024: a table's face in line with a building wall's face across a door's
