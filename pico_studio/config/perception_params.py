@@ -351,6 +351,13 @@ class IdentifyParams:
         "table or a cabinet (a passage between furniture and a wall is no door); such a wall turning at a "
         "convex corner is a door jamb too (a thin wall's corner; a table's front is shorter)",
     )
+    line_jamb_run: float = param(
+        0.3, lo=0.0, hi=5.0, step=0.05, unit="m",
+        help="A building wall's end with no jamb in the local map is a door when the scan shows its line running on "
+        "past a door's width (door_min_width..door_max_width) in at least three points spanning this, within "
+        "door_offset_short of the line, and a ray seen through the gap: a doorway far along a corridor's wall, the "
+        "wall past it seen at a grazing angle too sparsely for a wall (0: off)",
+    )
     end_face_reach: float = param(
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
         help="...also onto a building's wall seen in part, or from a building wall's end onto any piece seen "

@@ -173,6 +173,7 @@ from pico_studio.core.perception.identify_kernels import (
     small_objects,
 )
 from pico_studio.core.perception.junction_kernels import junctions
+from pico_studio.core.perception.line_jambs import line_jamb_doors
 from pico_studio.core.perception.map_proven import bays, lone_caps
 from pico_studio.core.perception.map_proven_kernels import block_sides, deep_sides, wall_shaped
 from pico_studio.core.world_model import CONCAVE, CONNECTED, CONVEX, FLOATING
@@ -208,6 +209,9 @@ class View:
     angles: np.ndarray
     valid: np.ndarray
     pose: tuple[float, float, float]
+    # (n,) bool, the beams ending on an object being tracked (a walking person, a box that has
+    # not settled): no wall's points (line_jambs); None: none known
+    tracked: np.ndarray | None = None
 
 
 def identify(
@@ -357,6 +361,16 @@ def _doors(
         kinds.extend(["end_face"] * len(maybe_t))
         doors.extend(found.tolist())
         door_kinds.extend(["end_face"] * len(found))
+        # a lone jamb whose wall the scan shows running on in points past a door's width, the
+        # gap seen through: a doorway far along a corridor's wall seen at a grazing angle
+        # (line_jambs.line_jamb_doors)
+        if view is not None and len(lone):
+            wall_beams = view.valid if view.tracked is None else view.valid & ~view.tracked
+            in_line, used = line_jamb_doors(lone, walls, view.ranges, view.angles, view.valid, wall_beams, view.pose,
+                                            params)
+            doors.extend(in_line.tolist())
+            door_kinds.extend(["jambs"] * len(in_line))
+            lone = lone[~used]
         possible.extend(lone)
         kinds.extend(["jamb"] * len(lone))
     if params.bay_doors:

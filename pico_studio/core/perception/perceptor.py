@@ -35,7 +35,7 @@ from pico_studio.core.perception.objects import ObjectsState, track_objects
 from pico_studio.core.perception.plugin_hooks import perceive_with_plugins
 from pico_studio.core.perception.proximity import proximity_flags
 from pico_studio.core.perception.rooms import rooms
-from pico_studio.core.perception.scan import process_scan
+from pico_studio.core.perception.scan import ScanPoints, process_scan
 from pico_studio.core.perception.scan_match import match_scan
 from pico_studio.core.perception.segment import Segments, segment_scan
 from pico_studio.core.world_model import LocalMap, WorldModel
@@ -138,7 +138,7 @@ def _perceive(
     local = merge(local_before, free, loc.pose, scan, params.merge, stamp)
     lap("merge")
     idx, conn = local.shown_walls(params.merge)
-    view = View(scan.ranges, scan.angles, scan.valid, loc.pose)
+    view = View(scan.ranges, scan.angles, scan.valid, loc.pose, _tracked_beams(scan, objs.held))
     ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view,
                      state.door_evidence)
     lap("identify")
@@ -196,3 +196,14 @@ class Perceptor:
     def reset(self) -> None:
         self.state = PerceptorState.initial()
         self.last = None
+
+
+def _tracked_beams(scan: ScanPoints, held: np.ndarray) -> np.ndarray | None:
+    """(n,) bool: the beams of the clusters `held` (objects being tracked), from each one's first
+    kept point's beam to its last; None when none is held."""
+    if not held.any():
+        return None
+    out = np.zeros(len(scan.ranges), dtype=bool)
+    for start, end in scan.clusters[held]:
+        out[scan.beam[start] : scan.beam[end - 1] + 1] = True
+    return out
