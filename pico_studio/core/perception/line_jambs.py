@@ -31,6 +31,8 @@ import math
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
+from pico_studio.core.perception.face_kernels import _beam_towards
+from pico_studio.core.perception.identify_kernels import _on_any
 from pico_studio.jit import kernel, njit
 
 
@@ -75,6 +77,8 @@ def line_jambs(lone: np.ndarray, walls: np.ndarray, ranges: np.ndarray, angles: 
     n = ranges.shape[0]
     reach = 2.0 * max_width  # the gap and the wall running on past it
     found = np.empty(n)
+    every = np.ones(walls.shape[0], dtype=np.bool_)
+    a0, inc = angles[0], (angles[-1] - angles[0]) / (n - 1)  # as identify._view_arrays
     for k in range(n_lone):
         ex, ey = lone[k, 0], lone[k, 1]
         dx, dy = lone[k, 2] - ex, lone[k, 3] - ey
@@ -98,7 +102,7 @@ def line_jambs(lone: np.ndarray, walls: np.ndarray, ranges: np.ndarray, angles: 
             along = px * dx + py * dy
             if along <= 0 or along > reach or abs(px * dy - py * dx) > offset:
                 continue
-            if _near_a_wall(px + ex, py + ey, walls, offset):
+            if _on_any(px + ex, py + ey, walls, every, offset):
                 continue  # a wall of the local map's: door_pairs' to judge
             found[m] = along
             m += 1
@@ -115,7 +119,7 @@ def line_jambs(lone: np.ndarray, walls: np.ndarray, ranges: np.ndarray, angles: 
         if count < 3 or last - first < run:
             continue
         fx, fy = ex + first * dx, ey + first * dy
-        if _free_rays(ex, ey, fx, fy, ranges, angles, valid, x, y, heading, occlusion) < min_free:
+        if inc == 0 or _free_rays(ex, ey, fx, fy, ranges, valid, x, y, heading, a0, inc, occlusion) < min_free:
             continue
         doors[k, 0], doors[k, 1], doors[k, 2], doors[k, 3] = ex, ey, fx, fy
         used[k] = True
@@ -129,39 +133,20 @@ def _bearing(px: float, py: float, x: float, y: float, heading: float) -> float:
 
 
 @njit
-def _near_a_wall(px: float, py: float, walls: np.ndarray, tol: float) -> bool:
-    """Does point p lie within `tol` of one of `walls`?"""
-    for w in range(walls.shape[0]):
-        ax, ay = walls[w, 0], walls[w, 1]
-        bx, by = walls[w, 2] - ax, walls[w, 3] - ay
-        l2 = bx * bx + by * by
-        t = 0.0 if l2 <= 1e-18 else min(max(((px - ax) * bx + (py - ay) * by) / l2, 0.0), 1.0)
-        qx, qy = px - ax - t * bx, py - ay - t * by
-        if qx * qx + qy * qy <= tol * tol:
-            return True
-    return False
-
-
-@njit
-def _free_rays(ax: float, ay: float, bx: float, by: float, ranges: np.ndarray, angles: np.ndarray,
-               valid: np.ndarray, x: float, y: float, heading: float, occlusion: float) -> int:
+def _free_rays(ax: float, ay: float, bx: float, by: float, ranges: np.ndarray, valid: np.ndarray, x: float, y: float,
+               heading: float, a0: float, inc: float, occlusion: float) -> int:
     """How many of five rays from the robot to points across the gap a -> b run on more than
-    `occlusion` past the point, or return nothing (the beam nearest each ray's direction, none
-    outside the field of view). Along the ray, not off the gap's line: at a grazing angle a ray
-    through a doorway ends on the far jamb's side a few cm behind the line, a metre on."""
-    lo, hi = min(angles[0], angles[-1]), max(angles[0], angles[-1])
+    `occlusion` past the point, or return nothing (the beam towards each point,
+    face_kernels._beam_towards; none out of view). Along the ray, not off the gap's line: at a
+    grazing angle a ray through a doorway ends on the far jamb's side a few cm behind the line,
+    a metre on."""
     free = 0
     for f in (0.1, 0.3, 0.5, 0.7, 0.9):
         px, py = ax + f * (bx - ax), ay + f * (by - ay)
-        dist = math.hypot(px - x, py - y)
-        rel = _bearing(px, py, x, y, heading)
-        if rel < lo or rel > hi:
+        beam = _beam_towards(px, py, ranges.shape[0], x, y, heading, a0, inc)
+        if beam < 0:
             continue
-        beam = 0
-        for b in range(angles.shape[0]):  # the nearest beam (any layout)
-            if abs(angles[b] - rel) < abs(angles[beam] - rel):
-                beam = b
-        r = ranges[beam]
+        r, dist = ranges[beam], math.hypot(px - x, py - y)
         if valid[beam]:
             if r > dist + occlusion:
                 free += 1
