@@ -342,6 +342,13 @@ class IdentifyParams:
         0.1, lo=0.0, hi=2.0, step=0.01, unit="m",
         help="A ray stopping this far before the gap was blocked in front of it: it says nothing about the gap",
     )
+    line_jamb_run: float = param(
+        0.3, lo=0.0, hi=5.0, step=0.05, unit="m",
+        help="A building wall's end with no jamb in the local map is a door when the scan shows its line running on "
+        "past a door's width (door_min_width..door_max_width) in at least three points spanning this, within "
+        "door_offset_short of the line, and a ray seen through the gap: a doorway far along a corridor's wall, the "
+        "wall past it seen at a grazing angle too sparsely for a wall (the lone jambs are end_face_doors'; 0: off)",
+    )
     end_face_doors: bool = param(
         True, help="A convex wall end facing another wall's face across a door's width is a door (a T-opening)",
     )
@@ -350,13 +357,6 @@ class IdentifyParams:
         help="...when the wall whose end it is is at least this long: a building's wall, not the side of a "
         "table or a cabinet (a passage between furniture and a wall is no door); such a wall turning at a "
         "convex corner is a door jamb too (a thin wall's corner; a table's front is shorter)",
-    )
-    line_jamb_run: float = param(
-        0.3, lo=0.0, hi=5.0, step=0.05, unit="m",
-        help="A building wall's end with no jamb in the local map is a door when the scan shows its line running on "
-        "past a door's width (door_min_width..door_max_width) in at least three points spanning this, within "
-        "door_offset_short of the line, and a ray seen through the gap: a doorway far along a corridor's wall, the "
-        "wall past it seen at a grazing angle too sparsely for a wall (0: off)",
     )
     end_face_reach: float = param(
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",

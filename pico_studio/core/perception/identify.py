@@ -183,8 +183,10 @@ DOOR_KINDS = ("jambs", "end_face", "bay")
 # the possible doors that a door's shape makes and only the global map can prove: once
 # localised, the combined map makes them doors where it has an opening (combined.combine)
 MAP_PROVEN_KINDS = ("end_face", "bay")
-# a jamb whose other side is out of view (a building wall's end with nothing ahead): once
-# localised, the map's opening at that end is the door (combined.combine)
+# a jamb whose other side is out of view (a building wall's end with nothing ahead; unless the
+# scan shows its line running on in points past a door's width, a doorway seen at a grazing
+# angle: then a door, line_jambs): once localised, the map's opening at that end is the door
+# (combined.combine)
 JAMB_KIND = "jamb"
 
 
