@@ -63,6 +63,11 @@ class RasterParams:
         3, lo=1, hi=50, step=1, unit="px",
         help="Line width of a (zero-thickness) JSON wall when it is drawn into an image",
     )
+    solid_loop_width: float = param(
+        0.35, lo=0.0, hi=5.0, step=0.05, unit="m",
+        help="A closed loop of JSON walls no wider than this (twice its area over its perimeter) is a solid "
+        "wall drawn as its outline: filled when drawn into an image (0: never)",
+    )
     margin: float = param(
         0.25, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="Free border around the map's bounds in a written image",

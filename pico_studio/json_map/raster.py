@@ -9,7 +9,11 @@
 The image is what the emc simulator reads: walls and cabinets/tables black (0), closed
 doors grey (128), free white (255). How walls are drawn depends on what they are:
 
-- hand-written JSON walls are zero-thickness lines: drawn `wall_thickness` px wide;
+- hand-written JSON walls are zero-thickness lines: drawn `wall_thickness` px wide; but a
+  closed loop of them no wider than `solid_loop_width` (twice its area over its perimeter) is
+  a solid wall drawn as its outline (a generated world's walls, a thick wall in a hand-made
+  map): filled, its edge one pixel, so it comes out solid with square corners rather than
+  as two lines with a free pixel between them and notched where they meet;
 - walls vectorised from a heightmap (the map has `"heightmap": {"walls": "outlines"}`)
   are the outlines of solid blobs: their closed loops are filled even-odd (a ring of
   walls around a room stays a ring), plus a one-pixel line so slivers survive.
@@ -29,7 +33,8 @@ import numpy as np
 from pico_studio.config.map_params import RasterParams
 from pico_studio.json_map.grid import GridFrame
 from pico_studio.json_map.image_header import check_raster_size
-from pico_studio.json_map.model import GlobalMap
+from pico_studio.json_map.model import GlobalMap, cycle_vertices
+from pico_studio.json_map.model import wall_loops as closed_wall_groups
 
 FREE = 255
 DOOR = 128
@@ -111,15 +116,62 @@ def rasterise(
         cv2.fillPoly(img, polys, OCCUPIED, cv2.LINE_8, _SHIFT)
         cv2.polylines(img, polys, True, OCCUPIED, 1, cv2.LINE_8, _SHIFT)
     else:
-        segs = m.wall_segments
-        a, b = px(segs[:, :2]), px(segs[:, 2:])
-        lines = [np.stack([a[k], b[k]]) for k in range(len(segs))]
-        cv2.polylines(img, lines, False, OCCUPIED, params.wall_thickness, cv2.LINE_8, _SHIFT)
+        solid, rest = solid_loops(m, params.solid_loop_width)
+        if solid:
+            polys = [px(m.points[loop]) for loop in solid]
+            cv2.fillPoly(img, polys, OCCUPIED, cv2.LINE_8, _SHIFT)
+            cv2.polylines(img, polys, True, OCCUPIED, 1, cv2.LINE_8, _SHIFT)
+        bands = wall_bands(m.wall_segments[rest], params.wall_thickness * frame.resolution / 2)
+        for band in bands:  # one by one: fillPoly's even-odd rule would clear where two overlap
+            cv2.fillConvexPoly(img, px(band), OCCUPIED, cv2.LINE_8, _SHIFT)
 
     if m.objects:
         polys = [px(p) for p in m.object_polygons]
         cv2.fillPoly(img, polys, OCCUPIED, cv2.LINE_8, _SHIFT)
     return Raster(img, frame)
+
+
+def wall_bands(segs: np.ndarray, half: float) -> np.ndarray:
+    """Each zero-thickness wall as the rectangle (N, 4, 2) it is drawn as: `half` either side
+    of it, lengthened by `half` at an end it shares with another wall (the same point) so two
+    walls meeting at a corner fill its square, and cut square at a free end (a doorway keeps
+    its width; a thick line's round caps would notch the corner and bulge into the door)."""
+    if len(segs) == 0:
+        return np.zeros((0, 4, 2))
+    ends = segs.reshape(-1, 2)
+    _, inverse, counts = np.unique(
+        np.round(ends / 1e-6).astype(np.int64), axis=0, return_inverse=True, return_counts=True
+    )
+    joined = (counts[inverse.reshape(-1)] >= 2).reshape(-1, 2)
+    d = segs[:, 2:] - segs[:, :2]
+    length = np.hypot(d[:, 0], d[:, 1])
+    u = np.where(length[:, None] > 1e-12, d / np.maximum(length, 1e-12)[:, None], [1.0, 0.0])
+    n = np.stack([-u[:, 1], u[:, 0]], axis=1) * half
+    a = segs[:, :2] - half * joined[:, :1] * u
+    b = segs[:, 2:] + half * joined[:, 1:] * u
+    return np.stack([a + n, b + n, b - n, a - n], axis=1)
+
+
+def solid_loops(m: GlobalMap, max_width: float) -> tuple[list[np.ndarray], np.ndarray]:
+    """The closed loops of a JSON map's walls that are solid walls drawn as their outlines
+    (mean width 2 A / L at most `max_width`: a room's ring of walls is far wider), as point
+    indices in order, and the rows of the other walls."""
+    rest = np.ones(len(m.walls), dtype=bool)
+    loops: list[np.ndarray] = []
+    if max_width <= 0:
+        return loops, np.flatnonzero(rest)
+    for group in closed_wall_groups(m.walls):
+        order = cycle_vertices(m.walls[group])
+        if order is None:
+            continue
+        xy = m.points[order]
+        x, y = xy[:, 0], xy[:, 1]
+        area = 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+        perimeter = float(np.hypot(*(np.roll(xy, -1, axis=0) - xy).T).sum())
+        if perimeter > 0 and 2 * area / perimeter <= max_width:
+            loops.append(order)
+            rest[group] = False
+    return loops, np.flatnonzero(rest)
 
 
 def wall_loops(walls: np.ndarray) -> list[np.ndarray] | None:
