@@ -62,6 +62,28 @@ def test_a_furnished_world_brings_its_people_and_is_scored_among_its_furniture(t
     assert _world(next(iter(load_scenarios(p))), Config())[3].objects == ()
 
 
+def test_a_map_or_world_seen_as_a_heightmap_is_scored_on_its_outlines(tmp_path: Path) -> None:
+    """`heightmap: true` draws the map or world into an image and reads it back first (as a
+    .png of it would load): walls become the outlines of dark blobs, 7.5 cm thick for a JSON
+    map's lines."""
+    from pico_studio.evaluation.runner import _world
+
+    (tmp_path / "m.json").write_text((MAPS / "emc_example.json").read_text())
+    p = write(tmp_path, "defaults: {poses: 4, seed: 1, localise: true}\nscenarios:\n"
+              "  - {name: lines, map: m.json}\n  - {name: image, map: m.json, heightmap: true}\n"
+              "  - {name: world, world: 'suite:4', heightmap: true, poses: 2}\n")
+    lines, image, world = load_scenarios(p)
+    assert image.heightmap and not lines.heightmap
+    m_lines, m_image = _world(lines, Config())[0], _world(image, Config())[0]
+    assert m_image.extra["heightmap"]["walls"] == "outlines" and "heightmap" not in m_lines.extra
+    assert len(m_image.walls) > len(m_lines.walls)  # each line is now a band's two faces
+    gmap, start, _, sim_config = _world(world, Config())
+    assert gmap.extra["heightmap"]["walls"] == "outlines" and start is not None and sim_config is not None
+    assert len(gmap.openings()) >= 4  # the world's doorways are openings of its image too
+    r = evaluate_scenario(image, Config())
+    assert r.metrics["walls.precision"] > 0.95
+
+
 @pytest.mark.parametrize("body, field, words", [
     ("scenarios:\n  - name: a\n    map: m.json\n    pose: 3\n", "scenarios[0] (a).pose", "did you mean 'poses'"),
     ("scenarios:\n  - name: a\n    map: nowhere.json\n", "scenarios[0] (a).map", "no such file"),
@@ -76,6 +98,9 @@ def test_a_furnished_world_brings_its_people_and_is_scored_among_its_furniture(t
     ("scenarios: []\n", "scenarios", "non-empty list"),
     ("scenarios:\n  - map: m.json\n", "scenarios[0].name", "needs a name"),
     ("scenarios:\n  - {name: a, map: m.json}\n  - {name: a, map: m.json}\n", "scenarios[1].name", "duplicate"),
+    ("scenarios:\n  - {name: a, map: m.json, heightmap: yes please}\n", "scenarios[0] (a).heightmap", "true or false"),
+    ("scenarios:\n  - {name: a, recording: 'carmen:m.json', heightmap: true}\n", "scenarios[0] (a).heightmap",
+     "only a map or a world"),
 ])
 def test_bad_scenario_sets_name_the_file_and_the_field(tmp_path: Path, body: str, field: str, words: str) -> None:
     (tmp_path / "m.json").write_text((MAPS / "emc_example.json").read_text())

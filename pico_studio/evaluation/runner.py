@@ -39,6 +39,7 @@ from pico_studio.evaluation.run_score import PoseErrorScorer, PoseScore, RunScor
 from pico_studio.evaluation.scenarios import Scenario, ScenarioSet
 from pico_studio.evaluation.worlds import make_world
 from pico_studio.json_map import GlobalMap, load_map
+from pico_studio.json_map.convert import as_heightmap
 from pico_studio.json_map.openings import vertex_graph
 from pico_studio.progress import Progress, ProgressObserver
 from pico_studio.session import Session
@@ -280,9 +281,11 @@ def _world(s: Scenario, cfg: Config) -> tuple[GlobalMap, Pose | None, list[int] 
         w = make_world(s.world)
         w.map.opening_params = cfg.map.openings
         expected = [int(r["objects"]) for r in w.rooms] if w.rooms else None  # type: ignore[call-overload]
-        return w.map, w.start, expected, sc if sc is not None else w.sim_config
+        gmap = as_heightmap(w.map, cfg.map) if s.heightmap else w.map
+        return gmap, w.start, expected, sc if sc is not None else w.sim_config
     assert s.map is not None
-    return load_map(s.map, cfg.map), None, None, sc
+    gmap = load_map(s.map, cfg.map)
+    return (as_heightmap(gmap, cfg.map) if s.heightmap else gmap), None, None, sc
 
 
 def _recording(s: Scenario, cfg: Config, progress: Progress | None) -> dict[str, Any]:

@@ -8,6 +8,8 @@ them.
       - name: hospital_2019            # every scenario needs a unique name
         map: ../maps/hospital_2019.json   # or world: escape|rooms|hall|cafe|ward|suite|slant:SEED (generated)
         sim_config: ../maps/hospital_2019_sim.json   # optional, the official sim's JSON
+        heightmap: true                # optional: drawn into a heightmap image and read back
+                                       #   first (as a .png of it would load; walls its outlines)
         poses: 20                      # the eval method: K random free poses, each turned
         frames: 20                     #   for `frames` scans (default 20) and scored
       - name: hospital_tour
@@ -55,6 +57,7 @@ class Scenario:
     frames: int = 20  # scans per pose (the eval method)
     turn: float = 0.4  # rad/s at each pose (the eval method)
     clearance: float = 0.4  # m of free space around each pose (the eval method)
+    heightmap: bool = False  # the map or world as a heightmap image shows it (json_map.convert.as_heightmap)
 
     @property
     def method(self) -> str:
@@ -172,10 +175,11 @@ def _scenario(d: dict[str, Any], base: Path, file: Path | None, where: str) -> S
     for key, number, lo in numbers:
         if d.get(key) is not None:
             kw[key] = _number(d[key], number, lo, fail, key)
-    if d.get("localise") is not None:
-        if not isinstance(d["localise"], bool):
-            raise fail("localise", f"must be true or false, got {d['localise']!r}")
-        kw["localise"] = d["localise"]
+    for key in ("localise", "heightmap"):
+        if d.get(key) is not None:
+            if not isinstance(d[key], bool):
+                raise fail(key, f"must be true or false, got {d[key]!r}")
+            kw[key] = d[key]
     s = Scenario(**kw)
     if s.map is None and s.world is None and s.recording is None:
         raise ConfigError(f"needs a map, a world ({', '.join(f'{k}:SEED' for k in GENERATORS)}) or a "
@@ -189,6 +193,8 @@ def _scenario(d: dict[str, Any], base: Path, file: Path | None, where: str) -> S
         raise fail("poses", "the poses method turns the robot on the spot: no behaviour with it")
     if s.localise and s.map is None and s.world is None:
         raise fail("localise", "localising needs a map (or a world) to localise on")
+    if s.heightmap and s.map is None and s.world is None:
+        raise fail("heightmap", "only a map or a world is drawn into a heightmap")
     return s
 
 

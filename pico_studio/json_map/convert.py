@@ -34,6 +34,7 @@ from pico_studio.json_map.grid import GridFrame
 from pico_studio.json_map.heightmap import (
     IMAGE_SUFFIXES,
     YAML_SUFFIXES,
+    HeightmapImage,
     classify,
     read_heightmap,
     vectorise,
@@ -131,6 +132,20 @@ def write_heightmap(raster: Raster, path: str | Path) -> tuple[Path, Path]:
     except OSError as e:
         raise MapError(f"cannot write: {e.strerror or e}", file=p) from None
     return p, yaml_path
+
+
+def as_heightmap(m: GlobalMap, params: MapParams | None = None) -> GlobalMap:
+    """The map as the emc simulator's heightmap shows it: drawn into an image (`rasterise`,
+    `params.raster`) and read back (`vectorise`, `params.heightmap`), as `convert` to a .png and
+    back would, without files: walls become the outlines of dark blobs, a table against a wall
+    part of the wall, cabinets and tables walls. Named after the map's source."""
+    params = params or MapParams()
+    raster = rasterise(m, resolution=params.raster.resolution, params=params.raster)
+    name = Path(m.source).with_suffix(".png") if m.source is not None else Path("map.png")
+    img = HeightmapImage(raster.image, raster.frame, name, None, OCCUPIED_THRESH, FREE_THRESH)
+    out = vectorise(img, params.heightmap)
+    out.opening_params = m.opening_params
+    return out
 
 
 def _is_image(p: Path) -> bool:
