@@ -44,6 +44,35 @@ def _nearest(index: np.ndarray, x0: float, y0: float, res: float, x: float, y: f
     return int(index[r, c])
 
 
+@njit
+def _nearest_exact(index: np.ndarray, segments: np.ndarray, x0: float, y0: float, res: float, x: float,
+                   y: float) -> int:
+    """Of the segments labelled at the four nodes around (x, y), the one really nearest (the
+    point-to-segment distance); -1 off the grid. One node's label is the segment nearest to
+    that node, up to res / sqrt(2) away from the point: within a wall a few cells thick, a point
+    just behind its near face (range noise) takes the far face's label at the node past it,
+    and its residual to that line (the wall's thickness) pulls the fit off the true pose."""
+    h, w = index.shape
+    c0 = int(math.floor((x - x0) / res))
+    r0 = int(math.floor((y - y0) / res))
+    best, best_d = -1, math.inf
+    for dr in range(2):
+        for dc in range(2):
+            r, c = r0 + dr, c0 + dc
+            if r < 0 or r >= h or c < 0 or c >= w:
+                continue
+            k = int(index[r, c])
+            if k < 0 or k == best:
+                continue
+            ax, ay = segments[k, 0], segments[k, 1]
+            bx, by = segments[k, 2] - ax, segments[k, 3] - ay
+            t = min(max(((x - ax) * bx + (y - ay) * by) / max(bx * bx + by * by, 1e-24), 0.0), 1.0)
+            d = math.hypot(x - ax - t * bx, y - ay - t * by)
+            if d < best_d:
+                best, best_d = k, d
+    return best
+
+
 @kernel(_field_example)
 def field_distance(field: np.ndarray, x0: float, y0: float, res: float, points: np.ndarray) -> np.ndarray:
     """(N,) bilinear distance at every point (N, 2)."""
@@ -113,7 +142,7 @@ def refine_kernel(field: np.ndarray, index: np.ndarray, x0: float, y0: float, re
         for i in range(n):
             qx = pts[i, 0] * c + pts[i, 1] * -s + x[0]
             qy = pts[i, 0] * s + pts[i, 1] * c + x[1]
-            k = _nearest(index, x0, y0, res, qx, qy)
+            k = _nearest_exact(index, segments, x0, y0, res, qx, qy)
             if k < 0:
                 continue
             nx, ny = normals[k, 0], normals[k, 1]
