@@ -67,12 +67,13 @@ def test_a_corridor_joining_a_hall_has_a_mouth_and_a_closed_corridor_has_none() 
     assert mids == [[2.0, 3.0]]
 
 
-@pytest.mark.parametrize("depth, mouth", [(0.7, False), (1.2, True)])
+@pytest.mark.parametrize("depth, mouth", [(0.7, False), (0.83, False), (1.2, True)])
 def test_a_niche_between_two_blocks_is_no_mouth_a_passage_as_wide_is(depth: float, mouth: bool) -> None:
     """restaurant_2024.png: two tables against the top wall, their outlines fused with the wall's,
     0.6 m apart and 0.7 m deep: a niche (straight in from its mouth closed within `mouth_depth`,
-    0.8 m, all across), no door; the same gap running 1.2 m deep (a side room's short passage)
-    is a mouth."""
+    0.9 m, all across), no door; so is a suite's (tables 0.8 m deep 3 cm off the wall: 0.83 m,
+    a door to the truth of every suite drawn as a heightmap while `mouth_depth` was 0.8); the
+    same gap running 1.2 m deep (a side room's short passage) is a mouth."""
     top = 4.0
     y = top - depth  # the blocks' fronts
     # one outline, as a heightmap traces it: the room 0..6 by 0..y, the blocks' fronts along y

@@ -42,6 +42,9 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
+from pico_studio.config.map_params import OpeningParams
+
+_DEFAULTS = OpeningParams()  # the config's defaults (map.openings), declared there once
 _FACING = math.cos(math.radians(45))  # a gap is "straight ahead" of an end within 45 degrees
 _SQUARE = math.cos(math.radians(15))  # a passage wall leaves its mouth within 15 degrees of square
 _PARALLEL = math.cos(math.radians(10))  # a thick wall's two faces run within 10 degrees of each other
@@ -190,15 +193,15 @@ def door_openings(
     door_polygons: list[np.ndarray] | None = None,
     *,
     obstacles: np.ndarray | None = None,
-    min_width: float = 0.5,
-    max_width: float = 1.5,
-    max_thickness: float = 0.3,
-    mouth_probe: float = 0.25,
-    mouth_margin: float = 0.1,
-    mouth_wall_length: float = 0.5,
-    straight_tolerance: float = 0.15,
-    abut: float = 0.03,
-    mouth_depth: float = 0.8,
+    min_width: float = _DEFAULTS.door_min_width,
+    max_width: float = _DEFAULTS.door_max_width,
+    max_thickness: float = _DEFAULTS.max_wall_thickness,
+    mouth_probe: float = _DEFAULTS.mouth_probe,
+    mouth_margin: float = _DEFAULTS.mouth_margin,
+    mouth_wall_length: float = _DEFAULTS.mouth_wall_length,
+    straight_tolerance: float = _DEFAULTS.straight_tolerance,
+    abut: float = _DEFAULTS.abut_tolerance,
+    mouth_depth: float = _DEFAULTS.mouth_depth,
 ) -> np.ndarray:
     """The map's door openings (D, 4), each from one jamb to the other (see the module doc).
 
