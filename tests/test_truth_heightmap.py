@@ -104,3 +104,30 @@ def test_a_yaml_reads_pixels_with_map_servers_thresholds(tmp_path: Path) -> None
     (tmp_path / "m.yaml").write_text("image: m.png\nresolution: 0.05\nnegate: 1\n", encoding="utf-8")
     occupied, _ = classify(read_heightmap(tmp_path / "m.yaml"), HeightmapParams())
     assert occupied[0, 0] and not occupied[5, 0]  # negated: white is occupied, 80 -> 175 is not
+
+
+def test_a_table_a_pixel_off_a_wall_meets_it_in_a_concave_corner(tmp_path: Path) -> None:
+    """A table drawn one pixel (2.5 cm) off a wall: its outline's corner lies 3.1 cm from the
+    wall's (the outlines are simplified), past `sim.truth.abut_tolerance` (3 cm), so the truth
+    called the corner convex where the laser sees the table's front run into the wall. On a
+    heightmap a vertex abuts within a pixel more (a table 3 cm off a wall is drawn 1 or 2
+    pixels off it): concave."""
+    from pico_studio.config import Config
+    from pico_studio.sim import Simulator
+    from pico_studio.sim.truth import abut_tolerance
+
+    img = np.full((140, 180), 255, np.uint8)  # 4.5 x 3.5 m
+    img[:, :4] = img[:, -4:] = img[:4, :] = img[-4:, :] = 0  # walls 4 px (0.1 m)
+    img[80:112, 100:175] = 0  # a table 0.8 m deep, its right side a pixel off the right wall (col 176)
+    cv2.imwrite(str(tmp_path / "m.png"), img)
+    (tmp_path / "m.yaml").write_text("image: m.png\nresolution: 0.025\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
+                                     "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
+    m = load_map(tmp_path / "m.yaml")
+    assert abut_tolerance(m, 0.03) == pytest.approx(0.055)
+    sim = Simulator(m, Config().sim, None, seed=1, initial_pose=(2.0, 2.9, -0.5))
+    sim.advance(0.1)
+    vc = sim.truth.visible_corners()
+    near = np.hypot(*(vc.points - [4.375, 1.5]).T) < 0.1  # the table's top right corner
+    assert near.sum() == 1 and not vc.convex[near][0]
+    json_map = load_map(Path(__file__).resolve().parents[1] / "examples" / "maps" / "emc_example.json")
+    assert abut_tolerance(json_map, 0.03) == 0.03  # a vector map's vertices are where they were drawn

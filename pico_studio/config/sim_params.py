@@ -103,7 +103,7 @@ class ObjectParams:
 @dataclass(frozen=True)
 class TruthParams:
     straight_tolerance: float = param(0.15, lo=0.0, hi=1.0, step=0.01, unit="rad", help="Walls meeting within this of a straight line form no corner")
-    abut_tolerance: float = param(0.03, lo=0.0, hi=0.1, step=0.001, unit="m", help="A map vertex this close to another segment abuts it (a T-junction, touching polygons, a table a few cm off a wall: a gap the laser cannot resolve): that segment's walls count in its corner")
+    abut_tolerance: float = param(0.03, lo=0.0, hi=0.1, step=0.001, unit="m", help="A map vertex this close to another segment abuts it (a T-junction, touching polygons, a table a few cm off a wall: a gap the laser cannot resolve): that segment's walls count in its corner; a pixel more on a heightmap")
     visible_tolerance: float = param(0.05, lo=0.0, hi=1.0, step=0.01, unit="m", help="A point is unoccluded when the ray to it is blocked no nearer than this before it")
     min_wall_beams: int = param(2, lo=1, hi=100, step=1, help="A visible wall piece is hit by at least this many consecutive beams")
     jamb_min_seen: float = param(0.15, lo=0.0, hi=2.0, step=0.01, unit="m", help="A door is visible when beams of the scan hit each jamb's wall over at least this length")
