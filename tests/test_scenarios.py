@@ -41,6 +41,10 @@ def test_the_shipped_sets_load_with_paths_resolved() -> None:
     assert by["restaurant_2024"].map in {s.map for s in every}  # the drawn maps, found from the file's folder
     slant = load_scenarios(ROOT / "examples" / "scenarios" / "slant_worlds.yaml")
     assert [s.world for s in slant] == [f"slant:{k}" for k in range(12)]
+    images = load_scenarios(ROOT / "examples" / "scenarios" / "heightmap_worlds.yaml")
+    assert all(s.heightmap for s in images) and len(images) == 17
+    assert {s.world.partition(":")[0] for s in images if s.world} == {
+        "ward", "suite", "slant", "cafe", "hall", "escape", "rooms"}
 
 
 def test_a_furnished_world_brings_its_people_and_is_scored_among_its_furniture(tmp_path: Path) -> None:
