@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -83,11 +84,27 @@ def test_eval_cli_json(maps_dir, capsys):
         assert isinstance(out[key], float)
 
 
+def test_eval_cli_scores_a_map_as_its_heightmap_image(maps_dir, capsys):
+    """`eval --map FILE --heightmap`: the map drawn into an image and read back first (the
+    official simulator's form), localised on its outlines; the summary says so."""
+    assert main(["eval", "--map", str(maps_dir / "emc_example.json"), "--heightmap", "--poses", "3", "--seed", "1",
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["heightmap"] is True and out["wall_precision"] > 0.95
+    assert out["localisation"]["lost_fraction"] <= 0.15 and out["localisation"]["pose_error_m"]["max"] < 0.01
+    assert main(["eval", "--map", str(maps_dir / "emc_example.json"), "--heightmap", "--poses", "1",
+                 "--frames", "2"]) == 0
+    assert "emc_example.json as a heightmap: 1 poses" in capsys.readouterr().out
+
+
 def test_eval_cli_bad_input(maps_dir, capsys, tmp_path):
     assert main(["eval", "--map", str(maps_dir / "hospital_2019.json"), "--poses", "0"]) == 2
     assert "--poses" in capsys.readouterr().err
     assert main(["eval", "--map", str(tmp_path / "missing.json")]) == 2
     assert "missing.json" in capsys.readouterr().err
+    smoke = Path(__file__).resolve().parents[1] / "pico_studio" / "data" / "scenarios" / "smoke.yaml"
+    assert main(["eval", "--scenarios", str(smoke), "--heightmap"]) == 2
+    assert "--heightmap" in capsys.readouterr().err
     assert Tolerances().wall_distance > 0
 
 

@@ -41,6 +41,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--frames", type=limits.COUNT, default=20, help="scans per pose (default 20, 1 s)")
     p.add_argument("--turn", type=limits.TURN, default=0.4, help="turn rate at each pose, rad/s (default 0.4)")
     p.add_argument("--clearance", type=limits.CLEARANCE, default=0.4, help="free space around each pose, m (default 0.4)")
+    p.add_argument("--heightmap", action="store_true",
+                   help="with --map: score it as a heightmap image shows it (drawn and read back first)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     add_plugin_argument(p)
     p.set_defaults(func=_eval)
@@ -54,12 +56,13 @@ def _eval(args: argparse.Namespace) -> int:
     with Progress(args.poses, "eval", "poses") as progress:
         result = evaluate_map(args.map, load_config(args.config), sim_config=args.sim_config, seed=args.seed,
                               poses=args.poses, frames=args.frames, turn=args.turn, clearance=args.clearance,
-                              progress=progress)
+                              progress=progress, heightmap=args.heightmap)
     if args.json:
         print(json.dumps(result))
         return 0
     r = result
-    print(f"{args.map}: {r['poses']} poses x {r['frames_per_pose']} scans, seed {r['seed']}")
+    seen = " as a heightmap" if args.heightmap else ""
+    print(f"{args.map}{seen}: {r['poses']} poses x {r['frames_per_pose']} scans, seed {r['seed']}")
     print(f"  walls    precision {r['wall_precision']:.3f}  recall {r['wall_recall']:.3f}  "
           f"end-point error {r['endpoint_error_m']:.3f} m")
     print(f"  corners  precision {r['corner_precision']:.3f}  recall {r['corner_recall']:.3f}  "
@@ -76,6 +79,8 @@ def _eval(args: argparse.Namespace) -> int:
 def _eval_set(args: argparse.Namespace) -> int:
     if args.map is not None:
         raise UserError("a scenario set names its own maps; drop --map", field="--map")
+    if args.heightmap:
+        raise UserError("a scenario set says per scenario (heightmap: true); drop --heightmap", field="--heightmap")
     cfg = load_config(args.config)
     ss = load_scenarios(args.scenarios)
     if args.only:

@@ -114,15 +114,19 @@ def evaluate_poses(gmap: GlobalMap, cfg: Config, sim_config: SimConfigFile | Non
 
 def evaluate_map(map_path: str, cfg: Config | None = None, *, sim_config: str | None = None, seed: int = 0,
                  poses: int = 50, frames: int = 20, turn: float = 0.4, clearance: float = 0.4,
-                 tol: Tolerances | None = None, progress: Progress | None = None) -> dict[str, Any]:
-    """`pico-studio eval --map`: the eval method on a map file (read with `cfg.map`), localised
-    when `cfg.localisation.enabled`; the summary (see `evaluate_poses`) with the map and seed."""
+                 tol: Tolerances | None = None, progress: Progress | None = None,
+                 heightmap: bool = False) -> dict[str, Any]:
+    """`pico-studio eval --map`: the eval method on a map file (read with `cfg.map`; with
+    `heightmap`, as a heightmap image of it shows it: `as_heightmap`), localised when
+    `cfg.localisation.enabled`; the summary (see `evaluate_poses`) with the map and seed."""
     cfg = cfg or Config()
     gmap = load_map(map_path, cfg.map)
+    if heightmap:
+        gmap = as_heightmap(gmap, cfg.map)
     sc = load_sim_config(sim_config) if sim_config is not None else None
     r = evaluate_poses(gmap, cfg, sc, seed=seed, poses=poses, frames=frames, turn=turn, clearance=clearance,
                        localise=True, tol=tol, progress=progress, file=map_path)
-    return {"map": map_path, "seed": seed, **r}
+    return {"map": map_path, "seed": seed, **({"heightmap": True} if heightmap else {}), **r}
 
 
 # ----- behaviour runs -------------------------------------------------------------------------
