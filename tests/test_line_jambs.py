@@ -11,6 +11,7 @@ import numpy as np
 from pico_studio.config import load_config
 from pico_studio.core.perception.identify import identify
 from pico_studio.core.perception.line_jambs import line_jamb_doors
+from pico_studio.core.world_model import CONVEX
 from tests.clutter_scenes import laser_view
 
 PARAMS = load_config(None).perception.identify
@@ -88,3 +89,27 @@ def test_a_tracked_object_in_line_is_no_far_jamb():
     assert any(np.allclose(d, DOOR, atol=0.05) for d in untracked.doors)
     out = identify(WALLS, CONNECTED, SEEN, robot, PARAMS, replace(view, tracked=tracked))
     assert "jambs" not in out.door_kind
+
+
+def test_the_wall_running_on_past_the_local_maps_end_is_no_gap():
+    """The local map's merged end lags the scan's (here by 0.4 m): the scan's points between
+    them are the wall running on, and the gap starts at the last of them, not at the end."""
+    walls = np.array([LOWER, [-1.0, 2.0, 4.6, 2.0]])
+    out = identify(walls, CONNECTED, SEEN, ROBOT, PARAMS, laser_view([LOWER, NEAR, FAR, *ROOM], ROBOT, 0.0))
+    jambs = [d for d, k in zip(out.doors, out.door_kind, strict=True) if k == "jambs"]
+    assert len(jambs) == 1
+    assert 4.7 < jambs[0][0] <= 5.0 and np.allclose(jambs[0][1:], DOOR[1:], atol=0.05)
+
+
+def test_a_long_wall_whose_far_end_turns_into_a_glimpse_is_still_a_lone_jamb():
+    """A corridor's wall 3 m long whose far end turns at a convex corner into a side seen in
+    part (the shape of a block's front: no T-opening's jamb) is still a lone jamb when nothing
+    faces its end, and the scan's points in its line past the gap make the doorway a door."""
+    side = [2.0, 2.0, 2.0, 2.3]
+    walls = np.array([LOWER, [2.0, 2.0, 5.0, 2.0], side])
+    connected = np.array([[-1, -1], [2, -1], [1, -1]], dtype=np.int64)
+    seen = np.array([[False, False], [True, True], [True, False]])
+    out = identify(walls, connected, seen, ROBOT, PARAMS, laser_view([LOWER, NEAR, FAR, side, *ROOM], ROBOT, 0.0))
+    assert out.endpoint_property[1].tolist() == [CONVEX, CONVEX]
+    jambs = [d for d, k in zip(out.doors, out.door_kind, strict=True) if k == "jambs"]
+    assert len(jambs) == 1 and np.allclose(jambs[0], DOOR, atol=0.05)

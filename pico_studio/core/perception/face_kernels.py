@@ -557,12 +557,17 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     (doors (N, 4) new ones, not the same place as one of `doors` nor one found before; possible
     (P, 4): weak ends still counting scans, then glimpses; evidence: the records after this
     scan, `evidence` itself when no weak end was tested; lone jambs (J, 4): a building wall's
-    end whose ray meets no wall within `max_width`, from the end `max_width` on along it — a
-    jamb whose other side is out of view, for the map to prove)."""
+    end whose ray meets no wall within `max_width` (a long one's too when its far end makes it a
+    block's front), from the end `max_width` on along it — a jamb whose other side is out of
+    view, for the map to prove)."""
     c = wi.shape[0]
     building = np.empty(c, dtype=np.bool_)
     cornered, weak, glimpse = np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_), np.empty(c, dtype=np.bool_)
     face = np.empty(c, dtype=np.int64)
+    # a building wall's end taken for a block's front's: no T-opening's jamb, but still a lone
+    # jamb when nothing faces it (a corridor's wall 2.8 m long whose far end turns into a doorway's
+    # side seen in part; the scan's points in its line past a gap make it a door, line_jambs)
+    blocked_end = np.zeros(c, dtype=np.bool_)
     f = 0
     for r in range(c):
         i, far_end = wi[r], prop[wi[r], 1 - we[r]]
@@ -576,6 +581,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         block = building[r] and (
             _turns_into_a_side(connected, prop, lengths, i, 1 - we[r], cap_max, object_max, convex, concave)
             or _turns_into_a_glimpse(connected, prop, lengths, i, 1 - we[r], object_max, convex, floating))
+        blocked_end[r] = block
         building[r] = building[r] and not block
         cornered[r] = long[r] and far_end == concave and not building[r] and not block
         weak[r] = (long[r] or capped[r]) and not building[r] and not block and far_end == floating and evidence_scans > 0
@@ -596,7 +602,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
     j = 0
     for q in range(f):
         r = face[q]
-        if building[r] and missed[q]:
+        if (building[r] or blocked_end[r]) and missed[q]:
             lone[j, 0], lone[j, 1] = pts[r, 0], pts[r, 1]
             lone[j, 2], lone[j, 3] = pts[r, 0] + max_width * out_dir[r, 0], pts[r, 1] + max_width * out_dir[r, 1]
             j += 1

@@ -12,8 +12,11 @@ the points in line are those with o <= `door_offset_short`, none a tracked objec
 walking in line with the wall is no jamb), and no nearer than that to a wall of the local map (a wall in line is door_pairs' to judge, a table's front among them). The end
 is a door's jamb when
 
-1. the first point in line past the end (s > 0) lies at s_1 in [door_min_width, door_max_width]:
-   the gap between is empty of points on the line;
+1. walking the points in line outwards from the end (s > 0), the first step between neighbours
+   (the end itself at s_0 = 0) of at least `door_min_width` runs from s_0 to s_1, at most
+   `door_max_width`: the gap, empty of points on the line. The points before it are the wall
+   itself running on past the local map's end (a merged end lags the scan's by a few cm at
+   9 m), and the door starts at the last of them;
 2. at least three points in line lie in [s_1, s_1 + door_max_width], spanning at least
    `line_jamb_run`: the wall running on (a chair's leg or a person's feet are shorter);
 3. of five rays from the robot to points across the gap (at 0.1, 0.3, ..., 0.9 of it), at least
@@ -21,7 +24,7 @@ is a door's jamb when
    invalid beam whose range is not a return nearer than the point): the gap is seen through
    (the beam nearest each ray's direction, within the field of view).
 
-The door runs from E to E + s_1 d.
+The door runs from E + s_0 d to E + s_1 d.
 """
 
 from __future__ import annotations
@@ -108,20 +111,29 @@ def line_jambs(lone: np.ndarray, walls: np.ndarray, ranges: np.ndarray, angles: 
             m += 1
         if m < 3:
             continue
-        first = found[:m].min()
-        if first < min_width or first > max_width:
+        # the wall runs on in points past the local map's end (the merged end lags the scan's):
+        # the gap opens at the first step along the line of at least a door's width
+        pts = np.sort(found[:m])
+        start, first = 0.0, -1.0
+        for q in range(m):
+            if pts[q] - start >= min_width:
+                first = pts[q]
+                break
+            start = pts[q]
+        if first < 0 or first - start > max_width:
             continue
         count, last = 0, first
         for q in range(m):
-            if found[q] <= first + max_width:
+            if first <= found[q] and found[q] <= first + max_width:
                 count += 1
                 last = max(last, found[q])
         if count < 3 or last - first < run:
             continue
+        sx, sy = ex + start * dx, ey + start * dy
         fx, fy = ex + first * dx, ey + first * dy
-        if inc == 0 or _free_rays(ex, ey, fx, fy, ranges, valid, x, y, heading, a0, inc, occlusion) < min_free:
+        if inc == 0 or _free_rays(sx, sy, fx, fy, ranges, valid, x, y, heading, a0, inc, occlusion) < min_free:
             continue
-        doors[k, 0], doors[k, 1], doors[k, 2], doors[k, 3] = ex, ey, fx, fy
+        doors[k, 0], doors[k, 1], doors[k, 2], doors[k, 3] = sx, sy, fx, fy
         used[k] = True
     return doors, used
 
