@@ -376,6 +376,18 @@ def test_a_t_opening_along_a_wall_piece_beside_an_exit_is_none():
     assert kind == ["end_face"] and np.allclose(doors[0], [3.67, 0.0, 4.91, 0.0], atol=1e-6)
 
 
+def test_a_t_opening_with_a_corner_fragment_at_its_face_end_is_a_door():
+    """slant:172's missed door: the corridor wall's end (1.38, 2.17) faces a slanted wall 0.83 m
+    on, where a 5 cm stub meets it and the local map holds a 0.15 m fragment lying along the
+    gap's line, reaching a centimetre into its middle 80%. That closes nothing (the exit's wall
+    piece above lies along tens of cm of it)."""
+    robot = (2.09, 1.01)
+    corridor, face, fragment = [3.87, 2.17, 1.38, 2.17], [0.71, 2.93, 0.02, 0.11], [0.61, 2.24, 0.52, 2.11]
+    doors, kind = _doors([corridor, face, fragment], [[-1, -1]] * 3,
+                         [[False, True], [False, False], [False, False]], robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [1.38, 2.17, 0.53, 2.17], atol=0.01)
+
+
 def test_a_building_walls_end_with_nothing_ahead_is_a_lone_jamb():
     """A 3 m wall's seen end with no wall within a door's greatest width ahead: no door from the
     local map, a possible door "jamb" from the end along the wall's line, for the map to prove

@@ -218,8 +218,9 @@ def _corridor_mouth(gap: np.ndarray, walls: np.ndarray, connected: np.ndarray, l
 @njit
 def _along_a_wall(gap: np.ndarray, walls: np.ndarray, own: int, face: int, tol: float) -> bool:
     """Does a wall other than the gap's own two lie on the gap's line (both its ends within
-    `tol` of it) over part of the gap's middle 80%? (blocked_many counts only walls crossing
-    the gap: one lying along it closes it as well.)"""
+    `tol` of it) over more than `tol` of the gap's middle 80%? (blocked_many counts only walls
+    crossing the gap: one lying along it closes it as well; a fragment of the face's corner
+    reaching a few cm into it does not.)"""
     dx, dy = gap[2] - gap[0], gap[3] - gap[1]
     length = math.hypot(dx, dy)
     if length <= 1e-12:
@@ -232,7 +233,7 @@ def _along_a_wall(gap: np.ndarray, walls: np.ndarray, own: int, face: int, tol: 
         s1 = (walls[k, 2] - gap[0]) * ux + (walls[k, 3] - gap[1]) * uy
         n0 = abs((walls[k, 0] - gap[0]) * uy - (walls[k, 1] - gap[1]) * ux)
         n1 = abs((walls[k, 2] - gap[0]) * uy - (walls[k, 3] - gap[1]) * ux)
-        if n0 <= tol and n1 <= tol and max(s0, s1) > 0.1 * length and min(s0, s1) < 0.9 * length:
+        if n0 <= tol and n1 <= tol and min(max(s0, s1), 0.9 * length) - max(min(s0, s1), 0.1 * length) > tol:
             return True
     return False
 
