@@ -388,6 +388,25 @@ def test_a_t_opening_with_a_corner_fragment_at_its_face_end_is_a_door():
     assert kind == ["end_face"] and np.allclose(doors[0], [1.38, 2.17, 0.53, 2.17], atol=0.01)
 
 
+def test_a_t_opening_onto_a_face_whose_end_the_corners_fragments_ate():
+    """ward:172's missed door: the corridor wall's end (12.79, 2.16) faces the side wall x = 13.7
+    0.91 m on, right where the side wall meets the room's wall above. The local map holds that
+    corner as fragments (a 0.23 m piece the ray meets first, and the side wall's own end turning
+    at 2.13 into an 0.11 m piece): the side wall's face, met 3 cm past its end, behind the piece,
+    is the face. With the face's end 0.15 m short of the ray, nothing."""
+    robot = (6.87, 0.81)
+    corridor, face, turn, up = [12.79, 2.16, 9.02, 2.17], [13.7, 0.08, 13.7, 2.13], [13.7, 2.13, 13.62, 2.21], \
+        [13.62, 2.21, 13.72, 2.33]
+    piece = [13.72, 2.0, 13.64, 2.22]
+    connected = [[-1, -1], [-1, 2], [1, 3], [2, -1], [-1, -1]]
+    seen = [[True, False], [False, False], [False, False], [False, False], [False, False]]
+    doors, kind = _doors([corridor, face, turn, up, piece], connected, seen, robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [12.79, 2.16, 13.7, 2.16], atol=0.01)
+    short = [13.7, 0.08, 13.7, 2.01]
+    doors, kind = _doors([corridor, short, [13.7, 2.01, 13.62, 2.21], up, piece], connected, seen, robot)
+    assert "end_face" not in kind
+
+
 def test_a_building_walls_end_with_nothing_ahead_is_a_lone_jamb():
     """A 3 m wall's seen end with no wall within a door's greatest width ahead: no door from the
     local map, a possible door "jamb" from the end along the wall's line, for the map to prove

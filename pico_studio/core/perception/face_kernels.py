@@ -25,7 +25,8 @@ candidate when
 
 Where k fails the last two at a free corner, or is a piece no longer than `cap_max` askew to
 the ray (a stub or a trim against a wall, a corner seen in fragments), the face may be a
-building's wall just behind it, within `cap_max` further along the ray (`_face_behind`),
+building's wall just behind it, within `cap_max` further along the ray, met on it or up to
+`occlusion` past one of its ends (the corner's fragments eat its last few cm; `_face_behind`),
 meeting the same tests.
 
 The current scan's beam towards a point Q (zero frame; robot at V, heading va): bearing
@@ -241,16 +242,18 @@ def _along_a_wall(gap: np.ndarray, walls: np.ndarray, own: int, face: int, tol: 
 @njit
 def _face_behind(px: float, py: float, ox: float, oy: float, walls: np.ndarray, lengths: np.ndarray,
                  objects: np.ndarray, block_face: np.ndarray, t0: float, depth: float, building_min: float,
-                 own: int, joined: int) -> tuple[int, float]:
+                 own: int, joined: int, past: float) -> tuple[int, float]:
     """The first building wall (at least `building_min`, no object, no block's face, neither the
-    ray's own wall nor the wall it joins) the ray P + t o meets at t0 < t <= t0 + depth: (its
-    index, t), or (-1, inf)."""
+    ray's own wall nor the wall it joins) the ray P + t o meets at t0 < t <= t0 + depth, on it or
+    up to `past` beyond one of its ends (the fragments of a corner of walls, the piece met first
+    among them, eat a few cm of the face's end): (its index, t), or (-1, inf)."""
     best_k, best_t = -1, math.inf
     for j in range(walls.shape[0]):
         if j == own or j == joined or objects[j] or block_face[j] or lengths[j] < building_min:
             continue
         t, u = line_hit(px, py, ox, oy, walls, j)
-        if t > t0 and t <= t0 + depth and u >= 0 and u <= 1 and t < best_t:
+        slack = past / lengths[j]
+        if t > t0 and t <= t0 + depth and u >= -slack and u <= 1 + slack and t < best_t:
             best_k, best_t = j, t
     return best_k, best_t
 
@@ -390,7 +393,7 @@ def face_gaps(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.ndar
             if not (corner or lengths[k] <= cap_max):
                 continue
             k, t = _face_behind(pts[r, 0], pts[r, 1], out_dir[r, 0], out_dir[r, 1], walls, lengths, objects,
-                                block_face, t, cap_max, building_min, wi[r], connected[wi[r], we[r]])
+                                block_face, t, cap_max, building_min, wi[r], connected[wi[r], we[r]], occlusion)
             if k < 0 or t > wide_width:
                 continue
             mx, my = pts[r, 0] + t * out_dir[r, 0], pts[r, 1] + t * out_dir[r, 1]
