@@ -222,7 +222,7 @@ def _lent(walls: np.ndarray, connected: np.ndarray, seen: np.ndarray, group: np.
     prop, _, _ = junctions(walls, connected, seen, robot[0], robot[1], FLOATING, CONVEX, CONCAVE)
     return in_line_spans(walls, group, span, np.zeros(len(walls), dtype=bool), connected, prop, PARAMS.bay_jamb_span,
                          PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width,
-                         PARAMS.end_face_min_length, FLOATING, CONCAVE)
+                         PARAMS.end_face_min_length, False, 0, 0.0, 0.0, 0.0, 0.0, 0.0, FLOATING, CONCAVE)
 
 
 def _pieces(right: bool):
@@ -641,3 +641,30 @@ def test_rooms6s_side_room_beside_a_piece_between_two_mouths_is_a_door(monkeypat
     assert found()
     monkeypatch.setattr(identify_module, "in_line_spans", lambda walls, group, span, *_: span)
     assert not found()
+
+
+def test_a_piece_between_two_cubicles_is_the_buildings_when_the_wall_past_it_is_out_of_view():
+    """rooms:171's missed cubicle mouth: a room's wall (x = 4.3) opens into 1 m cubicles 0.9 m
+    apart. Between the two mouths the 0.9 m piece of wall, both its ends seen, spans less than a
+    table; its line runs on past the lower mouth in the room's wall, and past the upper one out of
+    the field of view: it is the building's, and the lower mouth, seen through, a door. Turned so
+    that the place past the upper mouth is in view (free there, the wall beyond it not in the
+    local map) the piece is a table's face by the same rule as ever: a possible door only."""
+    robot = (3.07, 3.13)
+    room = [[0.0, 4.06, 0.0, 0.0], [0.0, 0.0, 4.3, 0.0], [4.3, 0.0, 4.3, 1.27], [4.3, 1.27, 5.02, 1.27]]
+    piece = [4.3, 2.28, 4.3, 3.19]
+    walls = np.array(room + [piece])
+    connected = np.array([[-1, 1], [0, 2], [1, 3], [2, -1], [-1, -1]], dtype=np.int64)
+    seen = np.array([[True, False], [False, False], [False, False], [False, False], [True, True]])
+    cubicles = [[4.3, 1.27, 5.3, 1.27], [5.3, 1.27, 5.3, 2.28], [4.3, 2.28, 5.3, 2.28],
+                [4.3, 3.19, 5.3, 3.19], [5.3, 3.19, 5.3, 4.2], [4.3, 4.2, 5.3, 4.2], [4.3, 4.2, 4.3, 8.0]]
+    solid = room[:3] + [piece] + cubicles
+    mouth = np.array([4.3, 1.27, 4.3, 2.28])
+
+    def bay_door(heading: float) -> bool:
+        out = identify(walls, connected, seen, robot, PARAMS, laser_view(solid, robot, heading))
+        return any(k == "bay" and (np.allclose(d, mouth, atol=0.02) or np.allclose(d[[2, 3, 0, 1]], mouth, atol=0.02))
+                   for d, k in zip(out.doors, out.door_kind, strict=True))
+
+    assert bay_door(-1.5)
+    assert not bay_door(-0.9)

@@ -44,6 +44,7 @@ import math
 import numpy as np
 
 from pico_studio.core.perception.identify_kernels import (
+    _beam_towards,
     away_normal,
     backed_beside_things,
     blocked_many,
@@ -56,18 +57,6 @@ from pico_studio.core.perception.identify_kernels import (
     standing_in_shadow,
 )
 from pico_studio.jit import kernel, njit
-
-
-@njit
-def _beam_towards(qx: float, qy: float, n_beams: int, vx: float, vy: float, va: float, a0: float,
-                  inc: float) -> int:
-    """The index of the scan's beam towards Q (the module's bearing maths), or -1 out of view."""
-    dx, dy = qx - vx, qy - vy
-    bearing = math.atan2(-math.sin(va) * dx + math.cos(va) * dy, math.cos(va) * dx + math.sin(va) * dy)
-    beam = np.rint((bearing - a0) / inc)
-    if not (beam >= 0 and beam < n_beams):
-        return -1
-    return int(beam)
 
 
 @njit

@@ -109,7 +109,7 @@ than an end cap and its other side running back to the wall, the robot outside t
 table's corner beside a partition's end in line with its side has every other shape of a wall's
 opening) (a piece of wall between
 two doors whose sides are unseen counts as the building's when its line runs on past both its ends in other walls a door's width
-on, one of them a building's; or past one end, the other out of view, into a wall that is a
+on, one of them a building's; or past one end, the other out of view (floating, or seen but its line a door's width on outside the field of view: the piece between two cubicles' mouths), into a wall that is a
 building's by its own shape: `end_face_min_length` long, or turning at a concave corner into a
 wall that long, a room's corner, not a table's side turning into its back; or into a piece in
 line past both its ends that is the building's), and the gap lies
@@ -401,9 +401,11 @@ def _doors(
             # walls (identify_kernels.inside_corners)
             inside = inside_corners(w, c, p64, group, ob, float(params.jamb_cap_max), CONCAVE)
             span = np.where(inside, np.maximum(span, params.bay_jamb_span), span)
+            has_view, ranges, _, vx, vy, va, a0, inc = scan
             span = in_line_spans(w, group, span, ob, c, p64, float(params.bay_jamb_span),
                                  float(params.door_angle), float(params.door_offset_short),
-                                 float(params.door_max_width), float(params.end_face_min_length), FLOATING, CONCAVE)
+                                 float(params.door_max_width), float(params.end_face_min_length), has_view,
+                                 len(ranges), vx, vy, va, a0, inc, FLOATING, CONCAVE)
             # a ray ending on a thing standing there says nothing of the back: a small object's
             # walls, or any small group seen whole, however thin (a box seen as an L, a person's
             # two feet; the objects' depth keeps a thick wall's end from being one, for jambs)

@@ -40,6 +40,20 @@ def line_hit(ox: float, oy: float, rx: float, ry: float, walls: np.ndarray, k: i
     return (aox * ey - aoy * ex) / den, (aox * ry - aoy * rx) / den
 
 
+@njit
+def _beam_towards(qx: float, qy: float, n_beams: int, vx: float, vy: float, va: float, a0: float,
+                  inc: float) -> int:
+    """The index of the scan's beam towards Q (zero frame; robot at V, heading va): bearing
+    b = atan2(-sin(va) dx + cos(va) dy, cos(va) dx + sin(va) dy), (dx, dy) = Q - V, beam
+    rint((b - a0) / inc), or -1 out of view."""
+    dx, dy = qx - vx, qy - vy
+    bearing = math.atan2(-math.sin(va) * dx + math.cos(va) * dy, math.cos(va) * dx + math.sin(va) * dy)
+    beam = np.rint((bearing - a0) / inc)
+    if not (beam >= 0 and beam < n_beams):
+        return -1
+    return int(beam)
+
+
 def _example_rays() -> tuple:
     walls = np.array([[1.0, -1.0, 1.0, 1.0], [2.0, -1.0, 2.0, 1.0]])
     origin = np.zeros((2, 2))
@@ -492,7 +506,8 @@ def _example_in_line() -> tuple:
     connected = np.array([[-1, 1], [0, -1], [-1, -1], [-1, -1]], dtype=np.int64)
     group, span = group_spans(walls, connected)
     prop = np.array([[0, 3], [3, 0], [2, 2], [2, 0]], dtype=np.int64)
-    return walls, group, span, np.zeros(4, dtype=np.bool_), connected, prop, 2.0, 0.3, 0.05, 1.3, 1.5, 0, 3
+    return (walls, group, span, np.zeros(4, dtype=np.bool_), connected, prop, 2.0, 0.3, 0.05, 1.3, 1.5, True, 720,
+            3.0, -2.0, 1.57, -1.0, 0.0028, 0, 3)
 
 
 @njit
@@ -556,6 +571,7 @@ def _firm(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, i: int, e:
 @kernel(_example_in_line)
 def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, objects: np.ndarray, connected: np.ndarray,
                   prop: np.ndarray, min_span: float, angle: float, offset: float, max_gap: float, building_min: float,
+                  has_view: bool, n_beams: int, vx: float, vy: float, va: float, a0: float, inc: float,
                   floating: int, concave: int) -> np.ndarray:
     """(W,) each wall's group span, raised to `min_span` where the group is a piece of a
     building's wall between door-wide gaps: the wall between two doors of a corridor or two
@@ -566,7 +582,9 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
     is a building's (its group spans `min_span`, or is such a piece already). A table's face in
     line with a wall's face across a gap has a seen corner at its other end with nothing in
     line beyond it: no piece. Its other end may run on out of view (floating: a side room's
-    mouth seen at a slant, its far wall in part) when the wall it lends from is a building's by
+    mouth seen at a slant, its far wall in part; or a seen end whose line a door's width on,
+    `max_gap` past it, lies outside the scan's field of view, `_beam_towards`: the piece between
+    two cubicles' mouths, the wall past the far one out of view) when the wall it lends from is a building's by
     its own shape (`_firm`: `building_min` long, or turning at a concave corner into a wall that
     long), or is a piece in line past both its own ends (a wall seen in part in line with the
     piece between two side rooms, once that piece is the building's); a table's side against a
@@ -598,7 +616,8 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
                     run_on = True
                     if group[j] != group[i]:
                         lenders += 1
-            if not run_on and prop[i, e] == floating:
+            if not run_on and (prop[i, e] == floating or (has_view and _line_out_of_view(
+                    walls, i, e, max_gap, n_beams, vx, vy, va, a0, inc))):
                 run_on = open_end = True
             if run_on:
                 ends_ok += 1
@@ -634,6 +653,19 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
         if not changed:
             break
     return out
+
+
+@njit
+def _line_out_of_view(walls: np.ndarray, i: int, e: int, reach: float, n_beams: int, vx: float, vy: float, va: float,
+                      a0: float, inc: float) -> bool:
+    """Is the point `reach` on past wall i's end e, along its line, outside the scan's field of
+    view?"""
+    ex, ey = walls[i, 2 * e], walls[i, 2 * e + 1]
+    dx, dy = ex - walls[i, 2 * (1 - e)], ey - walls[i, 2 * (1 - e) + 1]
+    length = math.hypot(dx, dy)
+    if length <= 0:
+        return False
+    return _beam_towards(ex + reach * dx / length, ey + reach * dy / length, n_beams, vx, vy, va, a0, inc) < 0
 
 
 def _example_inside() -> tuple:

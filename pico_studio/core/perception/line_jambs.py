@@ -34,8 +34,7 @@ import math
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
-from pico_studio.core.perception.face_kernels import _beam_towards
-from pico_studio.core.perception.identify_kernels import _on_any
+from pico_studio.core.perception.identify_kernels import _beam_towards, _on_any
 from pico_studio.jit import kernel, njit
 
 
@@ -149,7 +148,7 @@ def _free_rays(ax: float, ay: float, bx: float, by: float, ranges: np.ndarray, v
                heading: float, a0: float, inc: float, occlusion: float) -> int:
     """How many of five rays from the robot to points across the gap a -> b run on more than
     `occlusion` past the point, or return nothing (the beam towards each point,
-    face_kernels._beam_towards; none out of view). Along the ray, not off the gap's line: at a
+    identify_kernels._beam_towards; none out of view). Along the ray, not off the gap's line: at a
     grazing angle a ray through a doorway ends on the far jamb's side a few cm behind the line,
     a metre on."""
     free = 0
