@@ -109,7 +109,7 @@ than an end cap and its other side running back to the wall, the robot outside t
 table's corner beside a partition's end in line with its side has every other shape of a wall's
 opening) (a piece of wall between
 two doors whose sides are unseen counts as the building's when its line runs on past both its ends in other walls a door's width
-on, one of them a building's; or past one end, the other out of view (floating, or seen but its line a door's width on outside the field of view: the piece between two cubicles' mouths), into a wall that is a
+on, one of them a building's; or past one end, the other out of view (floating, or its line a door's width on outside the field of view: the piece of a room's wall between two cubicles' mouths), into a wall that is a
 building's by its own shape: `end_face_min_length` long, or turning at a concave corner into a
 wall that long, a room's corner, not a table's side turning into its back; or into a piece in
 line past both its ends that is the building's), and the gap lies

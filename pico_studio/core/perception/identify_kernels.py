@@ -582,9 +582,10 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
     is a building's (its group spans `min_span`, or is such a piece already). A table's face in
     line with a wall's face across a gap has a seen corner at its other end with nothing in
     line beyond it: no piece. Its other end may run on out of view (floating: a side room's
-    mouth seen at a slant, its far wall in part; or a seen end whose line a door's width on,
-    `max_gap` past it, lies outside the scan's field of view, `_beam_towards`: the piece between
-    two cubicles' mouths, the wall past the far one out of view) when the wall it lends from is a building's by
+    mouth seen at a slant, its far wall in part; or any end, free or a corner, whose line a door's
+    width on, `max_gap` past it, lies outside the scan's field of view, `_beam_towards`: the
+    piece of a room's wall between two cubicles' mouths, turning at both ends into the cubicles'
+    walls, the room's wall past the far mouth out of view) when the wall it lends from is a building's by
     its own shape (`_firm`: `building_min` long, or turning at a concave corner into a wall that
     long), or is a piece in line past both its own ends (a wall seen in part in line with the
     piece between two side rooms, once that piece is the building's); a table's side against a
