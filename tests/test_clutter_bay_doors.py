@@ -34,7 +34,7 @@ from pico_studio.evaluation.frame_score import Tolerances, as_pose, doors_match,
 from pico_studio.evaluation.worlds import make_world
 from pico_studio.session import Session
 from pico_studio.sim import Simulator
-from tests.clutter_scenes import laser_view
+from tests.clutter_scenes import box, laser_view
 
 PARAMS = load_config(None).perception.identify
 ROBOT = (4.54, 2.12)
@@ -222,7 +222,8 @@ def _lent(walls: np.ndarray, connected: np.ndarray, seen: np.ndarray, group: np.
     prop, _, _ = junctions(walls, connected, seen, robot[0], robot[1], FLOATING, CONVEX, CONCAVE)
     return in_line_spans(walls, group, span, np.zeros(len(walls), dtype=bool), connected, prop, PARAMS.bay_jamb_span,
                          PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width,
-                         PARAMS.end_face_min_length, False, 0, 0.0, 0.0, 0.0, 0.0, 0.0, FLOATING, CONCAVE)
+                         PARAMS.end_face_min_length, PARAMS.object_max_size, False, 0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                         FLOATING, CONCAVE)
 
 
 def _pieces(right: bool):
@@ -668,3 +669,31 @@ def test_a_piece_between_two_cubicles_is_the_buildings_when_the_wall_past_it_is_
 
     assert bay_door(-1.5)
     assert not bay_door(-0.9)
+
+
+def test_a_rooms_corner_whose_other_wall_is_a_piece_between_doors_lends_its_line():
+    """rooms:6's missed cubicle mouth: the piece of the room's wall above the mouth (its top end
+    out of view) runs on past its seen end, across the mouth, into the room's wall below, which
+    turns at a concave corner into the room's bottom wall seen 1.27 m long (a piece between two
+    doors itself, shorter than a building's wall but longer than any object): a room's corner,
+    so the piece is the building's and the mouth, seen through, a door. With the bottom wall
+    seen only 0.8 m, an object's size (a table's side against a wall turning into the wall's
+    short piece beside it), it is a possible door only."""
+    robot, heading = (4.95, 2.70), -1.54
+    corner, cubicle_bottom, piece = [5.61, 0.0, 5.61, 1.17], [5.61, 1.17, 6.18, 1.17], [5.61, 2.16, 5.61, 3.03]
+    connected = np.array([[-1, 1], [0, 2], [1, -1], [-1, -1]], dtype=np.int64)
+    seen = np.array([[True, False], [False, False], [False, False], [True, False]])
+    solid = [[0.0, 0.0, 3.34, 0.0], [4.34, 0.0, 5.61, 0.0], corner, [5.61, 1.17, 6.6, 1.17], [6.6, 1.17, 6.6, 2.16],
+             [5.61, 2.16, 6.6, 2.16], [5.61, 2.16, 5.61, 3.34], [5.61, 3.34, 6.6, 3.34],
+             *[list(s) for s in box(6.115, 1.665, 0.37, 0.35)]]
+    view = laser_view(solid, robot, heading)
+    mouth = [5.61, 1.17, 5.61, 2.16]
+
+    def kinds(bottom_from: float) -> tuple[list[str], list[str]]:
+        walls = np.array([[bottom_from, 0.0, 5.61, 0.0], corner, cubicle_bottom, piece])
+        out = identify(walls, connected, seen, robot, PARAMS, view)
+        doors = [k for d, k in zip(out.doors, out.door_kind, strict=True) if np.allclose(d, mouth, atol=0.02)]
+        return doors, out.possible_door_kind
+
+    assert kinds(4.34) == (["bay"], [])
+    assert kinds(4.81) == ([], ["bay"])

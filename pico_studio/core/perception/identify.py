@@ -111,7 +111,8 @@ opening) (a piece of wall between
 two doors whose sides are unseen counts as the building's when its line runs on past both its ends in other walls a door's width
 on, one of them a building's; or past one end, the other out of view (floating, or its line a door's width on outside the field of view: the piece of a room's wall between two cubicles' mouths), into a wall that is a
 building's by its own shape: `end_face_min_length` long, or turning at a concave corner into a
-wall that long, a room's corner, not a table's side turning into its back; or into a piece in
+wall longer than an object (`object_max_size`), a room's corner, not a table's side turning into
+its back; or into a piece in
 line past both its ends that is the building's), and the gap lies
 in a wall's line (a wall a door frame's length in line at both jambs, each passing within
 `bay_line_offset` of the other jamb: a side room's mouth) or across a passage (walls across it at both jambs, on the same side, none along it: a
@@ -404,7 +405,8 @@ def _doors(
             has_view, ranges, _, vx, vy, va, a0, inc = scan
             span = in_line_spans(w, group, span, ob, c, p64, float(params.bay_jamb_span),
                                  float(params.door_angle), float(params.door_offset_short),
-                                 float(params.door_max_width), float(params.end_face_min_length), has_view,
+                                 float(params.door_max_width), float(params.end_face_min_length),
+                                 float(params.object_max_size), has_view,
                                  len(ranges), vx, vy, va, a0, inc, FLOATING, CONCAVE)
             # a ray ending on a thing standing there says nothing of the back: a small object's
             # walls, or any small group seen whole, however thin (a box seen as an L, a person's

@@ -506,7 +506,7 @@ def _example_in_line() -> tuple:
     connected = np.array([[-1, 1], [0, -1], [-1, -1], [-1, -1]], dtype=np.int64)
     group, span = group_spans(walls, connected)
     prop = np.array([[0, 3], [3, 0], [2, 2], [2, 0]], dtype=np.int64)
-    return (walls, group, span, np.zeros(4, dtype=np.bool_), connected, prop, 2.0, 0.3, 0.05, 1.3, 1.5, True, 720,
+    return (walls, group, span, np.zeros(4, dtype=np.bool_), connected, prop, 2.0, 0.3, 0.05, 1.3, 1.5, 1.0, True, 720,
             3.0, -2.0, 1.57, -1.0, 0.0028, 0, 3)
 
 
@@ -553,10 +553,11 @@ def _in_line_beyond(walls: np.ndarray, objects: np.ndarray, i: int, e: int, j: i
 
 @njit
 def _firm(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, i: int, e: int, j: int, building_min: float,
-          concave: int) -> bool:
+          corner_min: float, concave: int) -> bool:
     """Wall j, in line past wall i's end e, is a building's by its own shape: at least
-    `building_min` long, or its far end (from i's end e) a concave corner with a wall that long
-    (a room's corner; a table's side against a wall turns into the table's back, short)."""
+    `building_min` long, or its far end (from i's end e) a concave corner with a wall longer than
+    `corner_min` (an object's size: a room's corner, its other wall maybe itself a piece between
+    two doors; a table's side against a wall turns into the table's back, short)."""
     lj = math.hypot(walls[j, 2] - walls[j, 0], walls[j, 3] - walls[j, 1])
     if lj >= building_min:
         return True
@@ -565,13 +566,13 @@ def _firm(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, i: int, e:
     k = connected[j, far]
     if k < 0 or prop[j, far] != concave:
         return False
-    return math.hypot(walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]) >= building_min
+    return math.hypot(walls[k, 2] - walls[k, 0], walls[k, 3] - walls[k, 1]) > corner_min
 
 
 @kernel(_example_in_line)
 def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, objects: np.ndarray, connected: np.ndarray,
                   prop: np.ndarray, min_span: float, angle: float, offset: float, max_gap: float, building_min: float,
-                  has_view: bool, n_beams: int, vx: float, vy: float, va: float, a0: float, inc: float,
+                  object_max: float, has_view: bool, n_beams: int, vx: float, vy: float, va: float, a0: float, inc: float,
                   floating: int, concave: int) -> np.ndarray:
     """(W,) each wall's group span, raised to `min_span` where the group is a piece of a
     building's wall between door-wide gaps: the wall between two doors of a corridor or two
@@ -586,8 +587,8 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
     width on, `max_gap` past it, lies outside the scan's field of view, `_beam_towards`: the
     piece of a room's wall between two cubicles' mouths, turning at both ends into the cubicles'
     walls, the room's wall past the far mouth out of view) when the wall it lends from is a building's by
-    its own shape (`_firm`: `building_min` long, or turning at a concave corner into a wall that
-    long), or is a piece in line past both its own ends (a wall seen in part in line with the
+    its own shape (`_firm`: `building_min` long, or turning at a concave corner into a wall
+    longer than an object, `object_max`), or is a piece in line past both its own ends (a wall seen in part in line with the
     piece between two side rooms, once that piece is the building's); a table's side against a
     wall, in line with a partition's face by chance, turns into the table's short back. Then its
     whole group is the building's; repeated over the pairs found until nothing changes (at most
@@ -635,7 +636,7 @@ def in_line_spans(walls: np.ndarray, group: np.ndarray, span: np.ndarray, object
         for e in range(2):
             for j in range(n):
                 if group[j] != group[i] and _in_line_beyond(walls, objects, i, e, j, cos_a, offset, max_gap) \
-                        and (not loose[i] or _firm(walls, connected, prop, i, e, j, building_min, concave)
+                        and (not loose[i] or _firm(walls, connected, prop, i, e, j, building_min, object_max, concave)
                              or (candidate[j] and not loose[j])):
                     pair_i[p], pair_j[p] = i, j
                     p += 1
