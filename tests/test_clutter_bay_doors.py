@@ -96,6 +96,31 @@ def test_without_a_scan_the_local_maps_walls_decide():
     assert len(out.doors) == 0
 
 
+def test_a_bay_out_of_view_is_not_seen_through_by_the_walls_remembered_behind_it():
+    """The hallway's mouth behind the robot (facing away, out of the laser's +-2 rad) with the
+    hallway's far wall 3 m on in the local map: the scan's beams never looked through it, and
+    the local map keeps walls, not the free space before them: a possible bay (restaurant_2024:
+    a table's corner 1.3 m from a partition's end, the room behind remembered, was a door for 76
+    frames of a 120 s run while the robot drove away from it). Seen, it is a door again."""
+    far = [-3.0, 1.9, -3.0, 3.3]
+    walls = np.vstack([WALLS, [far]])
+    connected = np.vstack([CONNECTED, [[-1, -1]]])
+    seen = np.vstack([SEEN, [[False, False]]])
+    away = identify(walls, connected, seen, ROBOT, PARAMS, _view(HALLWAY + [far], heading=0.0))
+    assert len(away.doors) == 0
+    assert _is(away.possible_doors[[k == "bay" for k in away.possible_door_kind]], MOUTH)
+    facing = identify(walls, connected, seen, ROBOT, PARAMS, _view(HALLWAY + [far]))
+    assert facing.door_kind == ["bay"] and _is(facing.doors, MOUTH)
+    # ...while a jamb's or a T-opening's rays out of view still read the local map (the default)
+    segs, own_a, own_b = MOUTH[None, :], np.array([1]), np.array([3])
+    args = _view_arrays(_view(HALLWAY + [far], heading=0.0))
+    remembered = backed(segs, walls, own_a, own_b, *ROBOT, *args, np.zeros(1, dtype=bool), np.zeros(5, dtype=bool),
+                        PARAMS.door_occlusion, PARAMS.door_depth, PARAMS.jamb_cap_max, PARAMS.door_backed_share)
+    scanned = backed(segs, walls, own_a, own_b, *ROBOT, *args, np.zeros(1, dtype=bool), np.zeros(5, dtype=bool),
+                     PARAMS.door_occlusion, PARAMS.door_depth, PARAMS.jamb_cap_max, PARAMS.door_backed_share, False)
+    assert remembered[2][0] > 0 and scanned[2][0] == 0 and not scanned[0][0]
+
+
 # a table (0.7 x 1.6 m) in place of the room wall below the mouth: its front in the wall's line,
 # its side turning away along the hallway; seen through just the same
 TABLE = [[0.0, 2.11, 0.0, 0.5], [0.0, 2.11, -0.7, 2.11], [0.0, 0.5, -0.7, 0.5]]

@@ -90,7 +90,8 @@ length at a few degrees and its end floating short, from the other side's seen f
 to its line: `map_proven_kernels.hidden_mouths`), are possible doors of kind "bay". In thin
 walls a side room's mouth between two 1 m wall pieces has exactly a table bay's shape: only the global map can tell them apart, and once localised the combined map makes a
 bay a door where its walls have an opening there. A bay seen through to free space
-(`bay_deep_rays` rays reaching `door_depth` past its line; or, its back unseen, most rays
+(`bay_deep_rays` rays reaching `door_depth` past its line, the scan's: out of the laser's view
+a wall the local map remembers deep behind it proves nothing; or, its back unseen, most rays
 ending behind it on a side, a side of it running on `door_depth` past its line, its far end
 no seen corner: a hallway seen at a slant — or `bay_run_on`, longer than a wall's end cap, its
 far end floating into the view's edge: a side room seen steeply, a pocket's side ending at its
@@ -471,14 +472,17 @@ def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np
     (identify_kernels.backed: a backed gap has none), (K,) bool: most of the rays ending behind
     it ended between its jambs within `door_depth`: its back seen). A ray ending on `objects`, or
     on a wall whose seen end stands in the gap's shadow apart from the jambs' walls (`group`:
-    a box in a side room), says nothing (identify_kernels.backed_beside_things)."""
+    a box in a side room), says nothing (identify_kernels.backed_beside_things); so does a ray
+    out of the laser's view reaching a remembered wall `door_depth` past the line (a bay is seen
+    through by the scan, not by memory: the restaurant's table corner 1.3 m from a partition's
+    end, the room behind remembered from the other side, a door while the robot drove away)."""
     if len(gaps) == 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
     _, _, deep, back = backed_beside_things(
         np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float), own_a, own_b,
         float(robot[0]), float(robot[1]), *scan, np.zeros(len(gaps), dtype=bool),
         np.ascontiguousarray(objects, dtype=bool), float(params.door_occlusion), float(params.door_depth),
-        float(params.jamb_cap_max), float(params.door_backed_share), prop, group, CONVEX)
+        float(params.jamb_cap_max), float(params.door_backed_share), prop, group, CONVEX, False)
     return deep, back
 
 

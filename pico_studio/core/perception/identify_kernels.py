@@ -262,7 +262,7 @@ def _on_any(px: float, py: float, walls: np.ndarray, these: np.ndarray, tol: flo
 def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, rx: float, ry: float,
            has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
            inc: float, face_end: np.ndarray, things: np.ndarray, occlusion: float, depth: float, jamb_cap_max: float,
-           backed_share: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+           backed_share: float, remembered_deep: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """((G,) bool: is there no seeing through gap g?, (G,) int64: how many of its rays were
     seen to pass it: known, and ending more than `occlusion` beyond the gap's line or never,
     (G,) int64: how many of those ended more than `depth` beyond it or never: free space,
@@ -277,7 +277,10 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
     circle; an invalid beam reaches far when it returned nothing or beyond q, else says
     nothing: nan) when that beam exists, else the first wall along the ray (ray_hits' maths,
     the gap's two walls left out; with a scan but out of its view and no wall along it, the ray
-    says nothing: the local map not knowing a wall there is no free space). A ray stopping
+    says nothing: the local map not knowing a wall there is no free space; nor, unless
+    `remembered_deep`, does one out of view whose remembered wall lies more than `depth` past
+    the gap's line: the local map keeps walls, not the free space before them — a bay, a gap
+    of a table's shape, is open only where the scan's own beams see through it). A ray stopping
     short of |q - R| - occlusion says nothing.
     Where the others end, in the gap's frame (s along from p, n across): a ray ending within
     `occlusion` of a jamb's normal (|s| or |s - L|; for a T-opening, `face_end`, the far jamb's
@@ -331,6 +334,7 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
                 if t > 1e-6 and u >= 0 and u <= 1 and t < reach:
                     reach = t
             known = True
+            remembered = False
             if has_view:  # the scan, where it looks through the gap
                 sx, sy = qx - vx, qy - vy
                 bx = c * sx + sn * sy
@@ -351,6 +355,8 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
                     known = not np.isnan(reach)
                 elif not np.isfinite(reach):
                     known = False  # out of the laser's view and no wall behind in the local map: unknown
+                else:
+                    remembered = not remembered_deep  # out of view, a wall the local map keeps
             finite = np.isfinite(reach)
             r_ = reach if finite else 0.0
             if known and finite and _on_any(rx + r_ * dx, ry + r_ * dy, walls, things, occlusion):
@@ -359,6 +365,9 @@ def backed(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray, own_b: np.nda
             ex_, ey_ = rx + r_ * dx - segs[m, 0], ry + r_ * dy - segs[m, 1]
             s_ = ex_ * alx + ey_ * aly
             n_ = abs(ex_ * aly - ey_ * alx)
+            if remembered and n_ > depth:  # deep behind the gap, but nothing says free up to it
+                known = False
+                informative = False
             ended = informative and finite
             near_first = abs(s_) < occlusion
             if face_end[m]:
@@ -434,12 +443,12 @@ def backed_beside_things(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray,
                          ry: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float,
                          va: float, a0: float, inc: float, face_end: np.ndarray, things: np.ndarray,
                          occlusion: float, depth: float, jamb_cap_max: float, backed_share: float, prop: np.ndarray,
-                         group: np.ndarray, convex: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                         group: np.ndarray, convex: int, remembered_deep: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """`backed`, where a ray ending on a thing standing in a gap's shadow says nothing of its
     back (standing_in_shadow: a wall's seen end there): a gap found backed, or its back seen, is
     looked at again with those walls among the `things`."""
     out, free, deep, back = backed(segs, walls, own_a, own_b, rx, ry, has_view, ranges, valid, vx, vy, va, a0, inc,
-                                   face_end, things, occlusion, depth, jamb_cap_max, backed_share)
+                                   face_end, things, occlusion, depth, jamb_cap_max, backed_share, remembered_deep)
     for m in range(segs.shape[0]):
         if not (out[m] or back[m]):
             continue
@@ -448,7 +457,7 @@ def backed_beside_things(segs: np.ndarray, walls: np.ndarray, own_a: np.ndarray,
             continue
         o1, f1, d1, b1 = backed(segs[m:m + 1], walls, own_a[m:m + 1], own_b[m:m + 1], rx, ry, has_view, ranges,
                                 valid, vx, vy, va, a0, inc, face_end[m:m + 1], standing, occlusion, depth,
-                                jamb_cap_max, backed_share)
+                                jamb_cap_max, backed_share, remembered_deep)
         out[m], free[m], deep[m], back[m] = o1[0], f1[0], d1[0], b1[0]
     return out, free, deep, back
 
