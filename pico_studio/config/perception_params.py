@@ -380,7 +380,8 @@ class IdentifyParams:
         0.5, lo=0.0, hi=5.0, step=0.05, unit="m",
         help="A T-opening seen steeply, its rays landing on the face behind it: a passage when that face is "
         "seen running on at least this far past the gap's line into the view's edge, its end floating (a "
-        "pocket's side ends at its back in a corner); it supports a short wall's T-opening (0: off)",
+        "pocket's side ends at its back in a corner), the scan's beam there ending on it; it supports a short "
+        "wall's T-opening (0: off)",
     )
     end_face_evidence_max: int = param(
         32, lo=1, hi=1000, step=1, help="...remembering at most this many such gaps",

@@ -493,6 +493,41 @@ def _runs_on(gap: np.ndarray, face: np.ndarray, far_props: np.ndarray, rx: float
 
 
 @njit
+def _face_seen_past(gap: np.ndarray, face: np.ndarray, rx: float, ry: float, run_on: float, has_view: bool,
+                    ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float, inc: float,
+                    occlusion: float) -> bool:
+    """Does the scan see the face (x0, y0, x1, y1) of a T-opening's gap (P -> M) `run_on` past the
+    gap's line, away from the robot R: the beam towards the point F of the face's line that deep
+    ends within `occlusion` of that line, at least `run_on` - `occlusion` past the gap's line?"""
+    if not has_view:
+        return True
+    nx, ny = away_normal(gap, rx, ry)
+    den = math.hypot(nx, ny)
+    fx, fy = face[2] - face[0], face[3] - face[1]
+    fl = math.hypot(fx, fy)
+    if den <= 1e-12 or fl <= 1e-12:
+        return False
+    nx, ny = nx / den, ny / den
+    ux, uy = fx / fl, fy / fl
+    along = ux * nx + uy * ny  # the face's direction against the normal: how deep a step along it goes
+    if abs(along) <= 1e-6:
+        return False
+    t = run_on / along  # from M along the face to F
+    qx, qy = gap[2] + t * ux, gap[3] + t * uy
+    b = _beam_towards(qx, qy, ranges.shape[0], vx, vy, va, a0, inc)
+    if b < 0 or not valid[b]:
+        return False
+    dx, dy = qx - vx, qy - vy
+    dist = math.hypot(dx, dy)
+    if dist <= 1e-12:
+        return False
+    ex, ey = vx + ranges[b] * dx / dist, vy + ranges[b] * dy / dist
+    off = abs((ex - face[0]) * uy - (ey - face[1]) * ux)
+    deep = (ex - gap[0]) * nx + (ey - gap[1]) * ny
+    return off <= occlusion and deep >= run_on - occlusion
+
+
+@njit
 def _shallow_back(gap: np.ndarray, face: np.ndarray, far_props: np.ndarray, rx: float, ry: float, depth: float,
                   occlusion: float, concave: int) -> bool:
     """Does the face (x0, y0, x1, y1) a T-opening's gap (P -> M) meets turn, in a concave corner
@@ -667,11 +702,15 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         # a scan supports the opening when a ray through the gap reached free space, or when
         # rays passed it and its face is seen running on `run_on` past its line into the view's
         # edge: seen steeply, the rays through a T-opening land on its own face a few dm on,
-        # and a pocket's side ends at the pocket's back in a corner
+        # and a pocket's side ends at the pocket's back in a corner. Seen by this scan: the
+        # local map remembering the face run on is no evidence (from farther along the gap's
+        # line the jamb's own wall hides it, and a pocket's back may be what it hides)
         sure = ~bad & deep
         for m in range(n):
             if not sure[m] and not bad[m] and run_on > 0 and free_g[m] >= max(min_free_rays, 1):
-                sure[m] = _runs_on(g[m], walls[ob[m]], prop[ob[m]], rx, ry, run_on, floating)
+                sure[m] = _runs_on(g[m], walls[ob[m]], prop[ob[m]], rx, ry, run_on, floating) and \
+                    _face_seen_past(g[m], walls[ob[m]], rx, ry, run_on, has_view, ranges, valid, vx, vy, va, a0, inc,
+                                    occlusion)
         against = bad[weak_rows] | (beyond[weak_rows] > 0)
         support = sure[weak_rows] & (beyond[weak_rows] <= 0) & ~against
         evidence, count = tally(evidence, g[weak_rows], support, against, min_width, angle, evidence_max)

@@ -131,7 +131,10 @@ past its line or never ending (rays grazing past onto the face a few cm on show 
 wall as well as an opening) — or, seen steeply, when rays pass the gap and its face is seen
 running on `door_run_on` past the line into the view's edge, no corner there (a pocket's
 side ends at its back; from a viewpoint that hides the back a pocket beside a table passes
-too: the trade `door_run_on` sets) —, and the beam in line with the wall, `end_face_continuation` past
+too: the trade `door_run_on` sets), seen so by this scan: its beam towards the face
+`door_run_on` past the line ends on the face (the local map remembering the face run on is no
+evidence: seen along the gap's line from afar the jamb's own wall hides that part, and with it
+any back) —, and the beam in line with the wall, `end_face_continuation` past
 its far end, does not look past that point (something in front hides the wall, the field of
 view cuts it, or it is the wall itself: it may run on); it becomes a door after
 `end_face_evidence_scans` such scans, and until then is a possible door of kind "end_face"
