@@ -164,6 +164,30 @@ def test_a_wall_end_facing_a_table_against_a_wall_is_no_door():
     assert kind == ["end_face"] and np.allclose(doors[0], [4.8, 2.8, 4.8, 4.1], atol=1e-6)
 
 
+def _room_wall_end_and_a_tables_corner(depth: float) -> tuple[list[list[float]], list[list[int]], list[list[bool]]]:
+    """A room wall's face (x = 4.35) ending in the room, its end seen; 0.9 m on, 12 cm below
+    its end's line, the left end of a front 1.9 m long (as long as a building's wall, its right
+    end out of view) turning in a convex corner into a side `depth` m long that meets the floor
+    wall in a concave corner."""
+    room, front = [4.35, 3.0, 4.35, 1.04], [5.25, 0.92, 7.15, 0.92]
+    side, floor = [5.25, 0.92, 5.25, 0.92 - depth], [3.0, 0.92 - depth, 8.0, 0.92 - depth]
+    return [room, front, side, floor], [[-1, -1], [2, -1], [1, 3], [-1, -1]], [[False, True]] + [[False, False]] * 3
+
+
+def test_a_tables_corner_against_a_wall_is_no_jamb_however_long_its_front():
+    """suite:5's false door over 98 frames of a 120 s run: a table 1.9 m long by the floor wall,
+    0.82 m deep, its corner 0.9 m from a room wall's end. Its front's line runs on through the
+    gap to the wall's end standing across it, a doorway's shape, but the front turns at the
+    corner into a side no longer than an object (`object_max_size`) meeting a wall: a block's
+    front against a wall (`turns_into_a_side`), no jamb. The wall's end keeps its T-opening
+    to the floor; a side deeper than an object is a room's wall, and the gap a door."""
+    robot = (5.2, 1.6)
+    doors, kind = _doors(*_room_wall_end_and_a_tables_corner(0.82), robot)
+    assert kind == ["end_face"] and np.allclose(doors[0], [4.35, 1.04, 4.35, 0.1], atol=1e-6)
+    doors, kind = _doors(*_room_wall_end_and_a_tables_corner(1.3), robot)
+    assert kind == ["jambs"] and np.allclose(doors[0], [4.35, 1.04, 5.25, 0.92], atol=1e-6)
+
+
 def _mouth(left: float, left_side: float) -> tuple[list[list[float]], list[list[int]], list[list[bool]]]:
     """A thin wall (y = 0) with a 1 m gap: on the left a piece `left` m long turning at the gap
     into a wall `left_side` m long running down, on the right a 2 m piece turning into a 1.5 m

@@ -34,6 +34,7 @@ from pico_studio.core.perception.identify_kernels import (
     door_pairs,
     jamb_candidates,
     ray_hits,
+    turns_into_a_side,
 )
 from pico_studio.jit import kernel
 
@@ -73,6 +74,10 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
         is_convex[r] = prop[i, e] == convex
         # a block's face: seen whole, both ends convex, longer than a cap, shorter than a building's
         block[r] = prop[i, 0] == convex and prop[i, 1] == convex and lengths[i] > cap_max and lengths[i] < building_min
+        # ...or, however long, a block's front against a wall seen at this end: it turns here, a
+        # convex corner, into a side longer than a cap and no longer than an object that meets a
+        # wall (a table 1.9 m long by a wall, its corner 0.95 m from a room wall's end: no jamb)
+        block[r] = block[r] or turns_into_a_side(connected, prop, lengths, i, e, cap_max, object_max, convex, concave)
         # a building's wall (as for a T-opening): long, or a door frame's length ending in a whole
         # cap (a thick wall's end) or whose far end turns into another wall in a concave corner
         # ...or a stub between a whole cap and a building wall it T-joins in a concave corner (a

@@ -55,6 +55,7 @@ from pico_studio.core.perception.identify_kernels import (
     ray_hits,
     square_to,
     standing_in_shadow,
+    turns_into_a_side,
 )
 from pico_studio.jit import kernel, njit
 
@@ -75,20 +76,6 @@ def beam_at(qx: float, qy: float, has_view: bool, ranges: np.ndarray, valid: np.
     if r < dist - occlusion:
         return -1
     return 0
-
-
-@njit
-def _turns_into_a_side(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, k: int, e: int,
-                       side_min: float, depth: float, convex: int, concave: int) -> bool:
-    """Does wall k turn at its end e, a convex corner, into a side at least `side_min` and at
-    most `depth` long whose other end is a concave corner (it meets a wall): a block's front
-    against a wall, seen at that end?"""
-    j = connected[k, e]
-    if j < 0 or prop[k, e] != convex or lengths[j] > depth or lengths[j] < side_min:
-        return False
-    if connected[j, 0] == k:
-        return prop[j, 1] == concave
-    return connected[j, 1] == k and prop[j, 0] == concave
 
 
 @njit
@@ -113,8 +100,8 @@ def against_a_wall(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
     out = np.zeros(n, dtype=np.bool_)
     for k in range(n):
         if lengths[k] > cap and lengths[k] < short:
-            out[k] = _turns_into_a_side(connected, prop, lengths, k, 0, 0.0, depth, convex, concave) \
-                or _turns_into_a_side(connected, prop, lengths, k, 1, 0.0, depth, convex, concave)
+            out[k] = turns_into_a_side(connected, prop, lengths, k, 0, 0.0, depth, convex, concave) \
+                or turns_into_a_side(connected, prop, lengths, k, 1, 0.0, depth, convex, concave)
     return out
 
 
@@ -607,7 +594,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
         # whose far end turns at a convex corner into a side seen in part (its first few cm, the
         # rest hidden or out of view: the table's back, the pocket's, unseen)
         block = building[r] and (
-            _turns_into_a_side(connected, prop, lengths, i, 1 - we[r], cap_max, object_max, convex, concave)
+            turns_into_a_side(connected, prop, lengths, i, 1 - we[r], cap_max, object_max, convex, concave)
             or _turns_into_a_glimpse(connected, prop, lengths, i, 1 - we[r], object_max, convex, floating))
         blocked_end[r] = block
         building[r] = building[r] and not block

@@ -132,6 +132,21 @@ def _example_pairs() -> tuple:
             1.5, 0.3, 0.1, 0.05)
 
 
+@njit
+def turns_into_a_side(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray, k: int, e: int,
+                       side_min: float, depth: float, convex: int, concave: int) -> bool:
+    """Does wall k turn at its end e, a convex corner, into a side at least `side_min` and at
+    most `depth` long whose other end is a concave corner (it meets a wall): a block's front
+    against a wall, seen at that end?"""
+    j = connected[k, e]
+    if j < 0 or prop[k, e] != convex or lengths[j] > depth or lengths[j] < side_min:
+        return False
+    if connected[j, 0] == k:
+        return prop[j, 1] == concave
+    return connected[j, 1] == k and prop[j, 0] == concave
+
+
+
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
                long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
@@ -162,7 +177,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     standing across it (|u_j| < sin(angle), resp. |u_i|) as a door frame's wall (`long` or
     `stub`) or an end cap (`cap_sized`: no longer than a wall's thickness) — seen whole
     (`cap_seen`) unless the line it stands across is a long wall's that is no block's face
-    (`block`: a table's front seen whole; a cap seen in part from the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
+    (`block`: a table's front seen whole, or one of any length turning at this end into its side
+    against a wall, `turns_into_a_side`; a cap seen in part from the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
     person's side seen in part looks the same): a lone short wall across the line, a box's or
     a person's side, is no jamb; nor is anything standing across a block face's line (a table's
     front pointing at a partition's end), nor a block's face across a stub's line (a thick wall's
