@@ -15,8 +15,8 @@ is a door's jamb when
 1. walking the points in line outwards from the end (s > 0), the first step between neighbours
    (the end itself at s_0 = 0) of at least `door_min_width` runs from s_0 to s_1, at most
    `door_max_width`: the gap, empty of points on the line. The points before it are the wall
-   itself running on past the local map's end (a merged end lags the scan's by a few cm at
-   9 m), and the door starts at the last of them;
+   itself running on past the local map's end (a merged end lags the scan's by a few cm to
+   0.2 m at 7-9 m), and the door starts at the last of them;
 2. at least three points in line lie in [s_1, s_1 + door_max_width], spanning at least
    `line_jamb_run`: the wall running on (a chair's leg or a person's feet are shorter);
 3. of five rays from the robot to points across the gap (at 0.1, 0.3, ..., 0.9 of it), at least
