@@ -485,7 +485,8 @@ def _deep_rays(gaps: np.ndarray, own_a: np.ndarray, own_b: np.ndarray, walls: np
         np.ascontiguousarray(gaps, dtype=float), np.ascontiguousarray(walls, dtype=float), own_a, own_b,
         float(robot[0]), float(robot[1]), *scan, np.zeros(len(gaps), dtype=bool),
         np.ascontiguousarray(objects, dtype=bool), float(params.door_occlusion), float(params.door_depth),
-        float(params.jamb_cap_max), float(params.door_backed_share), prop, group, CONVEX, False)
+        float(params.jamb_cap_max), float(params.door_backed_share), prop, group, CONVEX,
+        remembered_deep=False)
     return deep, back
 
 

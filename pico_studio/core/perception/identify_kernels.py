@@ -146,7 +146,6 @@ def turns_into_a_side(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarr
     return connected[j, 1] == k and prop[j, 0] == concave
 
 
-
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
                long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
