@@ -241,10 +241,15 @@ PIECE_ROBOT = (1.55, -1.6)
 MOUTHS = (np.array([0.0, 0.0, 1.0, 0.0]), np.array([2.1, 0.0, 3.1, 0.0]))
 
 
+def _seen_from(walls: np.ndarray, robot: tuple[float, float]) -> np.ndarray:
+    """junctions' eyes: every wall seen now from `robot`."""
+    return np.tile(np.asarray(robot, dtype=float), (len(walls), 1))
+
+
 def _lent(walls: np.ndarray, connected: np.ndarray, seen: np.ndarray, group: np.ndarray, span: np.ndarray,
           robot: tuple[float, float] = PIECE_ROBOT) -> np.ndarray:
     """in_line_spans as identify calls it: the ends' properties from the junctions."""
-    prop, _, _ = junctions(walls, connected, seen, robot[0], robot[1], FLOATING, CONVEX, CONCAVE)
+    prop, _, _ = junctions(walls, connected, seen, _seen_from(walls, robot), FLOATING, CONVEX, CONCAVE)
     return in_line_spans(walls, group, span, np.zeros(len(walls), dtype=bool), connected, prop, PARAMS.bay_jamb_span,
                          PARAMS.door_angle, PARAMS.door_offset_short, PARAMS.door_max_width,
                          PARAMS.end_face_min_length, PARAMS.object_max_size, False, 0, 0.0, 0.0, 0.0, 0.0, 0.0,
@@ -482,7 +487,7 @@ def test_a_hallway_seen_at_a_slant_is_a_door_by_its_side_running_on():
     rays, back = identify_module._deep_rays(gap, np.array([3]), np.array([2]), walls, np.zeros(len(walls), dtype=bool), SLANT, _view_arrays(view), PARAMS,
                                             *_no_ends_seen(walls))
     assert rays[0] == 0 and not back[0]  # no ray reached door_depth: they all end on the side
-    prop = junctions(walls, CONNECTED, UNSEEN, *SLANT, FLOATING, CONVEX, CONCAVE)[0]
+    prop = junctions(walls, CONNECTED, UNSEEN, _seen_from(walls, SLANT), FLOATING, CONVEX, CONCAVE)[0]
     args = (gap, walls, CONNECTED, prop, np.array([3]), np.array([2]), *SLANT, PARAMS.door_angle)
     assert deep_sides(*args, PARAMS.door_depth, PARAMS.bay_run_on, CONVEX, FLOATING)[0]
     assert not deep_sides(*args, 1.4, 0.0, CONVEX, FLOATING)[0]  # deeper than the side runs: no passage
@@ -542,7 +547,7 @@ def test_a_pockets_side_as_long_ends_at_its_back_in_a_corner_and_stays_a_possibl
     connected = np.array([[-1, 1], [0, 2], [1, 4], [-1, -1], [2, -1]], dtype=np.int64)
     seen = np.vstack([UNSEEN, [[False, False]]])
     view = _view([TOP, ABOVE, SEEN_SIDE, back, [0.0, 2.11, -0.62, 2.11], BELOW], SLANT, 2.0)
-    prop = junctions(walls, connected, seen, *SLANT, FLOATING, CONVEX, CONCAVE)[0]
+    prop = junctions(walls, connected, seen, _seen_from(walls, SLANT), FLOATING, CONVEX, CONCAVE)[0]
     assert prop[2, 1] == CONCAVE
     out = identify(walls, connected, seen, SLANT, PARAMS, view)
     assert len(out.doors) == 0 and _is(out.possible_doors[[k == "bay" for k in out.possible_door_kind]], MOUTH)

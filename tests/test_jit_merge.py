@@ -97,14 +97,14 @@ def test_passes_do_real_work(calls: dict[str, list[tuple]]):
 def _split(args: tuple) -> tuple:
     """merge_similar's arguments with every wall also seen as a second piece: its far half,
     1 cm off its line, seen once — what a wall seen in two pieces leaves in the local map."""
-    walls, hits, last_seen, missed, seen_end, end_weight, *rest = copy.deepcopy(args)
+    walls, hits, last_seen, missed, seen_end, end_weight, viewpoint, *rest = copy.deepcopy(args)
     d = walls[:, 2:4] - walls[:, 0:2]
     normal = np.column_stack([-d[:, 1], d[:, 0]]) / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)[:, None]
     half = np.hstack([walls[:, 0:2] + 0.5 * d, walls[:, 2:4] + 0.1 * d]) + 0.01 * np.hstack([normal, normal])
     k = len(walls)
     return (np.vstack([walls, half]), np.concatenate([hits, np.ones(k)]), np.concatenate([last_seen, last_seen]),
             np.concatenate([missed, np.zeros(k, dtype=np.int64)]), np.vstack([seen_end, seen_end]),
-            np.vstack([end_weight, np.zeros((k, 2))]), *rest)
+            np.vstack([end_weight, np.zeros((k, 2))]), np.vstack([viewpoint, viewpoint + 1.0]), *rest)
 
 
 def test_walls_seen_in_two_pieces_merge_alike(calls: dict[str, list[tuple]]):

@@ -3,9 +3,10 @@
 Corners: two connected wall ends form a corner. Seen from the robot R it is *concave* when R
 lies inside the wedge the two walls span at the corner C (u = A - C, v = B - C towards the
 walls' far ends; R inside when r = R - C is a positive combination of u and v) — the robot
-looks into it — and *convex* when the corner points at the robot. A wall end on the inside
-of another wall (a T) is concave. A free end the laser looked past (a jamb, a wall's end)
-is convex.
+looks into it — and *convex* when the corner points at the robot. Each wall is judged from
+where the robot last saw it (its free side): a corner of a room the robot has left stays
+concave behind the wall it passed. A wall end on the inside of another wall (a T) is concave.
+A free end the laser looked past (a jamb, a wall's end) is convex.
 
 Doors: two convex points P, Q of different walls, the gap within [door_min_width,
 door_max_width] (up to `wide_door_max_width` between two building walls in one line, each
@@ -224,16 +225,21 @@ class View:
 def identify(
     walls: np.ndarray, connected: np.ndarray, seen_end: np.ndarray, robot_xy: tuple[float, float],
     params: IdentifyParams, view: View | None = None, evidence: np.ndarray | None = None,
+    eyes: np.ndarray | None = None,
 ) -> Identified:
     """walls (W, 4) zero frame, connected (W, 2) wall index or -1, seen_end (W, 2) bool;
     `view`: the current scan and the robot's pose (zero frame), for looking through gaps;
     `evidence`: the previous scan's `Identified.evidence` (T-openings on a short wall, counted
-    over scans)."""
-    # each end floating or convex (seen), each junction a convex or concave corner (the loop
-    # and its maths: junction_kernels.junctions)
+    over scans); `eyes` (W, 2): where each wall was last seen from (`LocalMapState.eyes`; None:
+    all from `robot_xy`, now), for judging its corners."""
+    # each end floating or convex (seen), each junction a convex or concave corner as seen from
+    # where its walls were last seen (the loop and its maths: junction_kernels.junctions)
     rx, ry = float(robot_xy[0]), float(robot_xy[1])
+    n = len(walls)
+    eyes = np.tile([rx, ry], (n, 1)) if eyes is None else eyes
     prop, corners, convex = junctions(np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
-                                      np.ascontiguousarray(seen_end, dtype=bool), rx, ry, FLOATING, CONVEX, CONCAVE)
+                                      np.ascontiguousarray(seen_end, dtype=bool), np.ascontiguousarray(eyes, dtype=float),
+                                      FLOATING, CONVEX, CONCAVE)
     objects = object_walls(walls, connected, prop, params.object_max_size, params.object_min_depth)
     ev = np.zeros((0, 6)) if evidence is None else evidence
     doors, door_kinds, possible, kinds, ev = _doors(walls, prop, connected, objects, (rx, ry), view, params, ev)

@@ -4,9 +4,13 @@ Each wall end is floating (nothing seen there), or convex when the laser saw the
 Where wall i's end P joins wall k:
 
 * end to end (k's end joins i back): one corner for the pair. With u = F_i - P, v = F_k - P
-  (the walls' far ends) and r = R - P (R: the robot), the robot lies inside the wedge between
-  the walls when (u x v)(u x r) > 0 and (u x v)(r x v) > 0; then the corner points away from
-  it, concave; else convex (both ends get it);
+  (the walls' far ends) and r_i = E_i - P, r_k = E_k - P (E: where the robot stood when it last
+  saw the wall, on its free side — where it stands now for a wall it sees now), the corner is
+  concave when each wall's far end lies on the other's free side, (u x v)(u x r_i) > 0 and
+  (u x v)(r_k x v) > 0, else convex (both ends get it). Seen now from one place R this is the
+  robot lying inside the wedge between the walls (the corner points away from it); a room's
+  corner behind the wall the robot has since passed stays concave (from there it would point
+  at the robot: a convex corner seen from behind, a door's jamb);
 * a T (i's end on k's inside): concave.
 
 Corners are listed in wall order (i, then its end), then every seen free end, convex.
@@ -23,13 +27,15 @@ def _example_junctions() -> tuple:
     walls = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 1.0, 1.0], [0.0, 0.5, 0.5, 0.5]])
     connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
     seen_end = np.array([[True, True], [True, False], [False, True]])
-    return walls, connected, seen_end, 0.5, -1.0, 0, 2, 3
+    eyes = np.array([[0.5, -1.0], [0.5, -1.0], [0.2, 2.0]])
+    return walls, connected, seen_end, eyes, 0, 2, 3
 
 
 @kernel(_example_junctions)
-def junctions(walls: np.ndarray, connected: np.ndarray, seen_end: np.ndarray, rx: float, ry: float, floating: int,
+def junctions(walls: np.ndarray, connected: np.ndarray, seen_end: np.ndarray, eyes: np.ndarray, floating: int,
               convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(prop (W, 2) int64: each end's property, corners (C, 2), convex (C,) bool)."""
+    """(prop (W, 2) int64: each end's property, corners (C, 2), convex (C,) bool); eyes (W, 2):
+    where each wall was last seen from."""
     n = walls.shape[0]
     prop = np.full((n, 2), floating, dtype=np.int64)
     for i in range(n):
@@ -51,10 +57,9 @@ def junctions(walls: np.ndarray, connected: np.ndarray, seen_end: np.ndarray, rx
                     continue
                 ux, uy = walls[i, 2 * (1 - a)] - cx, walls[i, 2 * (1 - a) + 1] - cy
                 vx, vy = walls[k, 2 * (1 - b)] - cx, walls[k, 2 * (1 - b) + 1] - cy
-                qx, qy = rx - cx, ry - cy
                 uv = ux * vy - uy * vx
-                ur = ux * qy - uy * qx
-                rv = qx * vy - qy * vx
+                ur = ux * (eyes[i, 1] - cy) - uy * (eyes[i, 0] - cx)  # k's far end on i's free side?
+                rv = (eyes[k, 0] - cx) * vy - (eyes[k, 1] - cy) * vx  # i's far end on k's?
                 out = not (uv * ur > 0 and uv * rv > 0)
                 prop[i, a] = convex if out else concave
                 prop[k, b] = prop[i, a]

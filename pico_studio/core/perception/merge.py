@@ -67,12 +67,16 @@ class LocalMapState:
     # (step, stamp) of the steps within the last `forget_seconds` (when set): a wall last seen
     # before the window's first step was not seen for that long
     window: tuple[tuple[int, float], ...] = ()
+    # (W, 2) zero frame: where the robot stood when it last saw each wall (None: unknown, as if
+    # from where it stands now) — a corner in a room the robot has left is judged as seen from there
+    viewpoint: np.ndarray | None = None
 
     @staticmethod
     def empty() -> LocalMapState:
         return LocalMapState(
             np.zeros((0, 4)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64),
             np.zeros((0, 2), dtype=bool), np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64), 0,
+            viewpoint=np.zeros((0, 2)),
         )
 
     def shown(self, params: MergeParams) -> np.ndarray:
@@ -84,6 +88,15 @@ class LocalMapState:
     def shown_walls(self, params: MergeParams) -> tuple[np.ndarray, np.ndarray]:
         """The shown walls' indices (S,) and their connections among them (S, 2), -1 none."""
         return shown_walls(self.hits, self.connected, float(params.confirm_hits), float(params.unconnected_hits))
+
+    def eyes(self, pose: Pose) -> np.ndarray:
+        """(W, 2) where each wall was last seen from: `pose`'s position for the walls seen in
+        this step (and all of them when no viewpoints are kept)."""
+        eyes = np.tile(np.asarray(pose[:2], dtype=float), (len(self.walls), 1))
+        if self.viewpoint is not None and len(self.viewpoint) == len(self.walls):
+            old = self.last_seen != self.step
+            eyes[old] = self.viewpoint[old]
+        return eyes
 
 
 def merge(
@@ -100,8 +113,12 @@ def merge(
         new, segs.end_kind != END_FLOATING, segs.end_kind == END_SEEN,  # real: a corner of the scan or a seen free end
         step, cos_angle, distance, gap, max_weight)
     # 4. merge local walls that became similar to each other
-    walls, hits, last_seen, missed, seen_end, end_weight = merge_similar(
-        walls, hits, last_seen, missed, seen_end, end_weight, cos_angle, distance, gap, max_weight)
+    viewpoint = np.zeros((len(walls), 2))  # the old walls' first, then the new ones (seen now)
+    w_old = len(state.walls)
+    viewpoint[:w_old] = state.eyes(pose) if state.viewpoint is None else state.viewpoint
+    viewpoint[last_seen == step] = pose[:2]
+    walls, hits, last_seen, missed, seen_end, end_weight, viewpoint = merge_similar(
+        walls, hits, last_seen, missed, seen_end, end_weight, viewpoint, cos_angle, distance, gap, max_weight)
     # 6a. walls the laser passed through; ends it passed through cut back
     _see_through(walls, last_seen, step, missed, pose, scan, params)
     if params.trim_step > 0:
@@ -122,7 +139,8 @@ def merge(
     if not keep.all():
         walls, hits, last_seen, missed, seen_end, end_weight, connected = compact(
             keep, walls, hits, last_seen, missed, seen_end, end_weight, connected)
-    return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, step, window)
+        viewpoint = viewpoint[keep]
+    return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, step, window, viewpoint)
 
 
 def _forget_window(window: tuple[tuple[int, float], ...], step: int, stamp: float,
@@ -206,7 +224,8 @@ def drop_near(state: LocalMapState, places: np.ndarray, radius: float, ages: np.
     s = state
     walls, hits, last_seen, missed, seen_end, end_weight, connected = compact(
         ~gone, s.walls, s.hits, s.last_seen, s.missed, s.seen_end, s.end_weight, s.connected)
-    return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, s.step, s.window)
+    viewpoint = None if s.viewpoint is None else s.viewpoint[~gone]
+    return LocalMapState(walls, hits, last_seen, missed, seen_end, end_weight, connected, s.step, s.window, viewpoint)
 
 
 __all__ = ["END_SEEN", "LocalMapState", "drop_near", "merge", "scan_passes"]

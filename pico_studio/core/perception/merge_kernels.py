@@ -216,16 +216,17 @@ def _example_merge_similar() -> tuple:
     walls, hits, last, missed, seen, weight = _example_map()
     walls = np.vstack([walls, [[0.9, 0.01, 1.8, 0.02]]])
     return (walls, np.append(hits, 1.0), np.append(last, 0), np.append(missed, 0), np.vstack([seen, [[True, False]]]),
-            np.vstack([weight, [[0.0, 0.0]]]), 0.98, 0.08, 0.15, 10.0)
+            np.vstack([weight, [[0.0, 0.0]]]), np.zeros((walls.shape[0], 2)), 0.98, 0.08, 0.15, 10.0)
 
 
 @kernel(_example_merge_similar)
 def merge_similar(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray,
-                  seen_end: np.ndarray, end_weight: np.ndarray, cos_angle: float, distance: float, gap: float,
-                  max_weight: float) -> tuple:
+                  seen_end: np.ndarray, end_weight: np.ndarray, viewpoint: np.ndarray, cos_angle: float,
+                  distance: float, gap: float, max_weight: float) -> tuple:
     """Step 4: local walls similar to each other both ways (a wall seen in two pieces) merge:
     pairs i < k with bounding boxes within max(gap, distance), in row order, each wall once
-    a round; the one seen more (i on ties) absorbs the other. Up to 8 rounds, until none."""
+    a round; the one seen more (i on ties) absorbs the other, the viewpoint (W, 2) of the one
+    seen last with it. Up to 8 rounds, until none."""
     r = max(gap, distance)
     for _ in range(8):
         n = walls.shape[0]
@@ -245,11 +246,14 @@ def merge_similar(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, mi
             if gone[i] or gone[k]:
                 continue
             keep, drop = (i, k) if hits[i] >= hits[k] else (k, i)
+            if last_seen[drop] > last_seen[keep]:
+                viewpoint[keep] = viewpoint[drop]
             absorb(walls, hits, last_seen, missed, seen_end, keep, drop, max_weight)
             gone[drop] = True
         walls, hits, last_seen, missed, seen_end, end_weight, _ = compact(
             ~gone, walls, hits, last_seen, missed, seen_end, end_weight, np.full((n, 2), -1, dtype=np.int64))
-    return walls, hits, last_seen, missed, seen_end, end_weight
+        viewpoint = viewpoint[~gone]
+    return walls, hits, last_seen, missed, seen_end, end_weight, viewpoint
 
 
 @njit
