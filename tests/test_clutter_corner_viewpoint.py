@@ -1,7 +1,9 @@
 """A corner is judged from where its walls were seen: a room's corner the robot has left
 behind a wall stays concave. Judged from where the robot stands now, the corner of the room it
 came from points at it from behind the partition — convex — and a convex corner is a door's
-jamb (suite:5's run: a table's corner in the next room read as a T-opening's jamb for 66 frames)."""
+jamb (suite:5's run: a table's corner in the next room read as a T-opening's jamb for 66 frames).
+And a wall seen through another's line ends at an outer corner, not a T: two cabinets' fronts
+fused across the slot between them (hall:900's run, convexity 0.897)."""
 
 from __future__ import annotations
 
@@ -88,3 +90,32 @@ def test_junctions_judge_each_wall_from_where_it_was_seen():
     box_walls = np.array([[4.0, 0.0, 0.0, 0.0], [4.0, 0.0, 4.0, -2.8]])
     eyes = np.array([[2.0, 1.0], [5.0, -1.0]])
     assert junctions(box_walls, connected, seen, eyes, FLOATING, CONVEX, CONCAVE)[0][0, 0] == CONVEX
+
+
+# two cabinets against the wall x = 0.2, their fronts on x = 0.9: y 2.6-3.8 and 1.2-2.45, a slot
+# 0.15 m between them; the lower one's top face y = 2.45 (and the upper one's bottom face) seen
+# through the slot from the room (x > 0.9), the fronts later seen at a graze as one wall
+FRONT = [0.9, 3.8, 0.9, 1.2]
+TOP_FACE = [0.9, 2.45, 0.2, 2.45]
+T_JOINED = np.array([[-1, -1], [0, -1]], dtype=np.int64)  # the face's end on the front's inside
+
+
+def test_a_face_seen_through_a_wall_ends_at_an_outer_corner():
+    walls = np.array([FRONT, TOP_FACE])
+    seen = np.zeros((2, 2), dtype=bool)
+    eyes = np.array([[1.3, 4.3], [3.2, 2.3]])  # the front from above, at a graze; the face through the slot
+    prop = junctions(walls, T_JOINED, seen, eyes, FLOATING, CONVEX, CONCAVE)[0]
+    assert prop[1, 0] == CONVEX  # the lower cabinet's corner, as the truth has it
+
+
+def test_a_t_behind_a_thin_wall_seen_from_its_other_side_stays_concave():
+    # a thin wall x = 0.9 seen last from the room x > 0.9, a partition joined to its back seen
+    # from the room behind (x < 0.9): a T on the far side, concave
+    walls = np.array([FRONT, TOP_FACE])
+    seen = np.zeros((2, 2), dtype=bool)
+    eyes = np.array([[1.3, 3.0], [0.5, 3.0]])
+    assert junctions(walls, T_JOINED, seen, eyes, FLOATING, CONVEX, CONCAVE)[0][1, 0] == CONCAVE
+    # ...and a T on the robot's side seen from there is concave
+    stem = np.array([FRONT, [0.9, 2.45, 1.6, 2.45]])
+    eyes = np.array([[1.3, 3.0], [1.3, 3.0]])
+    assert junctions(stem, T_JOINED, seen, eyes, FLOATING, CONVEX, CONCAVE)[0][1, 0] == CONCAVE

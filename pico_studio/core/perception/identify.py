@@ -5,7 +5,9 @@ lies inside the wedge the two walls span at the corner C (u = A - C, v = B - C t
 walls' far ends; R inside when r = R - C is a positive combination of u and v) — the robot
 looks into it — and *convex* when the corner points at the robot. Each wall is judged from
 where the robot last saw it (its free side): a corner of a room the robot has left stays
-concave behind the wall it passed. A wall end on the inside of another wall (a T) is concave.
+concave behind the wall it passed. A wall end on the inside of another wall (a T) is concave,
+unless that end's wall was seen through the other's line (a slot between two cabinets' fused
+fronts): then convex.
 A free end the laser looked past (a jamb, a wall's end) is convex.
 
 Doors: two convex points P, Q of different walls, the gap within [door_min_width,
