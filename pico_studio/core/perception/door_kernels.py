@@ -45,20 +45,22 @@ def _example_jambs() -> tuple:
     prop = np.array([[0, 2], [2, 0], [0, 0]], dtype=np.int64)
     ranges, valid = np.array([4.0, 4.0, 4.0]), np.array([True, True, True])
     return (walls, connected, prop, np.zeros(3, dtype=np.bool_), 2.45, -1.0, True, ranges, valid, 2.45, -1.0, 1.57,
-            -0.3, 0.3, 0.12, 1.0, 1.5, 1.5, 0.6, 1.2, 1.5, 0.3, 0.1, 0.05, 1, 0.1, 0.3, 0.5, 0, 2, 3)
+            -0.3, 0.3, 0.12, 1.0, 1.5, 1.5, 0.25, 0.6, 1.2, 1.5, 0.3, 0.1, 0.05, 1, 0.1, 0.3, 0.5, 0, 2, 3)
 
 
 @kernel(_example_jambs)
 def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, rx: float, ry: float,
                has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float, a0: float,
-               inc: float, cap_max: float, frame_min: float, building_min: float, object_max: float, min_width: float,
+               inc: float, cap_max: float, frame_min: float, building_min: float, object_max: float, thickness: float,
+               min_width: float,
                max_width: float, wide_width: float, angle: float, offset: float, offset_short: float, min_free_rays: int,
                occlusion: float, depth: float, backed_share: float, floating: int, convex: int, concave: int,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                           np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(wi, we, capped, long, partial (C,): the candidates, pts, out_dir, far (C, 2): their ends, outward
     directions and far ends, is_convex (C,), lengths (W,), doors (D, 4), possible (P, 4),
-    possible_convex (P,): one of its ends convex)."""
+    possible_convex (P,): one of its ends convex). `thickness`: a whole cap thinner than this
+    (`object_min_depth`: no object is so thin) is a wall's end, framing a door seen in part."""
     wi, we, capped, long, stub, cap_sized, cap_seen, partial, lengths = jamb_candidates(
         walls, connected, prop, objects, cap_max, frame_min, floating, convex, building_min, rx, ry, object_max)
     c = wi.shape[0]
@@ -109,9 +111,14 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
                 if _in_line_beyond(walls, objects, i, 1 - e, k, cos_a, offset_short, max_width, True):
                     lone[r] = False
                     break
+    # a wall seen in part whose end carries a whole cap thinner than any object: a thick wall's end
+    thin_capped = np.zeros(c, dtype=np.bool_)
+    for r in range(c):
+        k = connected[wi[r], we[r]]
+        thin_capped[r] = capped[r] and k >= 0 and lengths[k] < thickness
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
         pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, part,
-        min_width, max_width, wide_width, angle, offset, offset_short)
+        thin_capped, min_width, max_width, wide_width, angle, offset, offset_short)
     # an end joined to a cap seen in part is a jamb only between two building walls in one line
     cos_a = math.cos(angle)
     for r in range(ia.shape[0]):

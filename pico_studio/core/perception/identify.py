@@ -38,7 +38,9 @@ side as long as a building's wall); a
 wall standing across a door's line is a jamb only as a cap (seen whole, or in part across a
 long wall's line that is no block's face: a table's front seen whole, both ends free, shorter
 than a building's wall) or a door frame's wall (at least `door_wall_min_length`, or a stub on
-one): a box's or a person's lone face is not, nor any wall across a block face's line, nor a block's
+one, or seen in part with a whole cap at its end lying along the line, thinner than any object
+(`object_min_depth`): a thick partition's end between two doorways, its face seen through one
+only a few dm up): a box's or a person's lone face is not, nor any wall across a block face's line, nor a block's
 face across a stub's line (a bed's foot a metre behind a thick wall's doorway, across its cap's line). A T-opening (a convex end facing a wall's face, "end_face") starts from a building's
 wall — one at least `end_face_min_length` long (but not a block's front against a wall: its far
 end turning at a convex corner into a side longer than `jamb_cap_max`, at most
@@ -332,8 +334,8 @@ def _doors(
         np.ascontiguousarray(walls, dtype=float), np.ascontiguousarray(connected, dtype=np.int64),
         np.ascontiguousarray(prop, dtype=np.int64), np.ascontiguousarray(objects, dtype=bool), float(robot[0]),
         float(robot[1]), *scan, float(params.jamb_cap_max), float(params.door_wall_min_length),
-        float(params.end_face_min_length), float(params.object_max_size), float(params.door_min_width),
-        float(params.door_max_width), float(params.wide_door_max_width), float(params.door_angle),
+        float(params.end_face_min_length), float(params.object_max_size), float(params.object_min_depth),
+        float(params.door_min_width), float(params.door_max_width), float(params.wide_door_max_width), float(params.door_angle),
         float(params.door_offset), float(params.door_offset_short), int(params.door_min_free_rays), float(params.door_occlusion),
         float(params.door_depth), float(params.door_backed_share), FLOATING, CONVEX, CONCAVE)
     if len(wi) < 1:

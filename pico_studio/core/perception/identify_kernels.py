@@ -127,8 +127,9 @@ def _example_pairs() -> tuple:
     lone = np.zeros(3, dtype=np.bool_)
     wall_end = np.ones(3, dtype=np.bool_)
     part = np.zeros(3, dtype=np.bool_)
+    capped = np.zeros(3, dtype=np.bool_)
     return (pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, part,
-            0.6, 1.2,
+            capped, 0.6, 1.2,
             1.5, 0.3, 0.1, 0.05)
 
 
@@ -150,7 +151,7 @@ def turns_into_a_side(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarr
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
                long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
                block: np.ndarray, building: np.ndarray, wall_end: np.ndarray, lone: np.ndarray, part: np.ndarray,
-               min_width: float,
+               capped: np.ndarray, min_width: float,
                max_width: float, wide_width: float,
                angle: float, offset: float, offset_short: float,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -174,7 +175,9 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     (a stub); wall j's when -u_j > cos(angle) likewise. A door: both convex, and one wall's
     line continues with the other wall coming back along it (-u_j > cos, resp. u_i > cos) or
     standing across it (|u_j| < sin(angle), resp. |u_i|) as a door frame's wall (`long` or
-    `stub`) or an end cap (`cap_sized`: no longer than a wall's thickness) — seen whole
+    `stub`, or `capped`: seen in part, its end joined to a whole cap lying along the gap's line,
+    thinner than any object — a thick partition's end meeting a corridor's wall at a doorway, its
+    face seen through the doorway only a few dm up past the far jamb's thickness) or an end cap (`cap_sized`: no longer than a wall's thickness) — seen whole
     (`cap_seen`) unless the line it stands across is a long wall's that is no block's face
     (`block`: a table's front seen whole, or one of any length turning at this end into its side
     against a wall, `turns_into_a_side`; a cap seen in part from the side; from a stub, itself a cap, the gap runs through a thick wall's end, and a
@@ -217,8 +220,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             uj = ux * out_dir[j, 0] + uy * out_dir[j, 1]
             line_i = ui > cos_a and ((off_ij < offset and long[i]) or (off_ij < offset_short and stub[i]))
             line_j = -uj > cos_a and ((off_ji < offset and long[j]) or (off_ji < offset_short and stub[j]))
-            frame_i = long[i] or stub[i] or (cap_sized[i] and (cap_seen[i] or (long[j] and not block[j])))
-            frame_j = long[j] or stub[j] or (cap_sized[j] and (cap_seen[j] or (long[i] and not block[i])))
+            frame_i = long[i] or stub[i] or capped[i] or (cap_sized[i] and (cap_seen[i] or (long[j] and not block[j])))
+            frame_j = long[j] or stub[j] or capped[j] or (cap_sized[j] and (cap_seen[j] or (long[i] and not block[i])))
             in_line = not lone[i] and not lone[j]
             # a stub's line (a thick wall's cap) ends at no block's face across it: a bed's foot
             # facing a doorway a metre in, seen past the cap's inner corner

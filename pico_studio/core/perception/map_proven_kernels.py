@@ -88,7 +88,7 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
     ia, ja, off_ij, off_ji, is_door, _ = door_pairs(
         pts, out_dir, wi, we, np.ones(n, dtype=np.bool_), long, stub, cap_sized, cap_seen, connected,
         np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_),
-        np.zeros(n, dtype=np.bool_), min_width, max_width,
+        np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_), min_width, max_width,
         max_width, angle, offset, offset_short)
     # the door-shaped pairs, then the mouths (pairs of door frame's walls, in row order)
     m_max = ia.shape[0] + n * (n - 1) // 2
