@@ -234,7 +234,7 @@ def identify(
     """walls (W, 4) zero frame, connected (W, 2) wall index or -1, seen_end (W, 2) bool;
     `view`: the current scan and the robot's pose (zero frame), for looking through gaps;
     `evidence`: the previous scan's `Identified.evidence` (T-openings on a short wall, counted
-    over scans); `eyes` (W, 2): where each wall was last seen from (`LocalMapState.eyes`; None:
+    over scans); `eyes` (W, 2): where each wall was last seen from (`LocalMapState.viewpoint`; None:
     all from `robot_xy`, now), for judging its corners."""
     # each end floating or convex (seen), each junction a convex or concave corner as seen from
     # where its walls were last seen (the loop and its maths: junction_kernels.junctions)

@@ -67,8 +67,9 @@ class LocalMapState:
     # (step, stamp) of the steps within the last `forget_seconds` (when set): a wall last seen
     # before the window's first step was not seen for that long
     window: tuple[tuple[int, float], ...] = ()
-    # (W, 2) zero frame: where the robot stood when it last saw each wall (None: unknown, as if
-    # from where it stands now) — a corner in a room the robot has left is judged as seen from there
+    # (W, 2) zero frame: where the robot stood when it last saw each wall, the pose's position for
+    # the walls seen in this step (None: unknown, as if from where it stands now) — a corner in a
+    # room the robot has left is judged as seen from there
     viewpoint: np.ndarray | None = None
 
     @staticmethod
@@ -89,15 +90,6 @@ class LocalMapState:
         """The shown walls' indices (S,) and their connections among them (S, 2), -1 none."""
         return shown_walls(self.hits, self.connected, float(params.confirm_hits), float(params.unconnected_hits))
 
-    def eyes(self, pose: Pose) -> np.ndarray:
-        """(W, 2) where each wall was last seen from: `pose`'s position for the walls seen in
-        this step (and all of them when no viewpoints are kept)."""
-        eyes = np.tile(np.asarray(pose[:2], dtype=float), (len(self.walls), 1))
-        if self.viewpoint is not None and len(self.viewpoint) == len(self.walls):
-            old = self.last_seen != self.step
-            eyes[old] = self.viewpoint[old]
-        return eyes
-
 
 def merge(
     state: LocalMapState, segs: Segments, pose: Pose, scan: ScanPoints, params: MergeParams,
@@ -115,7 +107,7 @@ def merge(
     # 4. merge local walls that became similar to each other
     viewpoint = np.zeros((len(walls), 2))  # the old walls' first, then the new ones (seen now)
     w_old = len(state.walls)
-    viewpoint[:w_old] = state.eyes(pose) if state.viewpoint is None else state.viewpoint
+    viewpoint[:w_old] = pose[:2] if state.viewpoint is None else state.viewpoint
     viewpoint[last_seen == step] = pose[:2]
     walls, hits, last_seen, missed, seen_end, end_weight, viewpoint = merge_similar(
         walls, hits, last_seen, missed, seen_end, end_weight, viewpoint, cos_angle, distance, gap, max_weight)

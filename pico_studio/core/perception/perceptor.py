@@ -140,7 +140,7 @@ def _perceive(
     idx, conn = local.shown_walls(params.merge)
     view = View(scan.ranges, scan.angles, scan.valid, loc.pose, _tracked_beams(scan, objs.held))
     ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view,
-                     state.door_evidence, local.eyes(loc.pose)[idx])
+                     state.door_evidence, None if local.viewpoint is None else local.viewpoint[idx])
     lap("identify")
     est = entrance_in_scan(segs.segments, params.entrance)
     history = state.entrance_history
