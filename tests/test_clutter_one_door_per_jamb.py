@@ -3,8 +3,9 @@
 its front (y 0.95) pointing at that end from 0.7 m away, made a second "door" from the table's
 corner to the same end (suite:171: 9 of 50 poses). The end is the doorway's: a gap leaving it
 in another direction than the doorway it frames is refused — from its own corner or from its
-cap's far corner. With no doorway in the partition's line the end frames nothing yet, and the
-rule is silent."""
+cap's far corner, between jambs or as a bay. With no doorway in the partition's line the end
+frames nothing yet, and the rule is silent; two doorways meeting at one corner, the walls on
+one grid, are both doors."""
 
 from __future__ import annotations
 
@@ -101,3 +102,24 @@ def test_two_doorways_meeting_at_one_corner_on_one_grid_are_both_doors():
     out = identify(walls, connected, seen, robot, PARAMS, laser_view(CORNER_SOLID, robot, -1.0))
     assert _has(out.doors, [-6.0, -5.05, -4.9, -5.05])
     assert _has(out.doors, [-4.9, -4.1, -4.9, -5.05])
+
+
+def test_a_bay_leaving_a_doorways_jamb_is_no_door_either():
+    # suite:901's run (96 frames): from the partition's right (its faces x 7.99 / 8.18, its doorway y
+    # 0.68-1.4) the jamb rules refuse the table's corner (its side seen, 0.82 m: a block's corner),
+    # but as a bay it was seen through to the room beyond: a door from the doorway's jamb, passing
+    # over the jamb's own cap to the table
+    solid = [[5.0, 0.97, 6.98, 0.97], [6.98, 0.97, 6.98, 0.1], [0.0, 0.1, 12.0, 0.1],
+             [7.99, 0.1, 7.99, 0.68], [7.99, 0.68, 8.18, 0.68], [8.18, 0.68, 8.18, 0.1],
+             [7.99, 4.0, 7.99, 1.4], [7.99, 1.4, 8.18, 1.4], [8.18, 1.4, 8.18, 4.0], [0.0, 4.0, 12.0, 4.0]]
+    walls = np.array([[6.98, 0.1, 7.97, 0.11], [8.18, 0.1, 10.11, 0.1], [8.18, 0.68, 8.18, 0.1],
+                      [7.99, 0.68, 8.18, 0.68], [8.17, 3.86, 8.18, 1.4], [6.98, 0.92, 6.98, 0.1],
+                      [8.18, 1.4, 7.99, 1.4]])
+    connected = np.array([[5, -1], [2, -1], [3, 1], [-1, 2], [-1, 6], [-1, 0], [4, -1]], dtype=np.int64)
+    seen = np.array([[False, False], [False, False], [False, False], [True, False], [False, False], [True, False],
+                     [False, True]])
+    robot = (9.32, 0.92)
+    out = identify(walls, connected, seen, robot, PARAMS, laser_view(solid, robot, -2.93))
+    assert _has(out.doors, [8.18, 0.68, 8.18, 1.4])
+    for corner in ([8.18, 0.68], [7.99, 0.68]):
+        assert not _has(out.doors, corner + [6.98, 0.92])

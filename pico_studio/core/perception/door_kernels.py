@@ -6,8 +6,10 @@ a door's width apart (identify_kernels.door_pairs) are tested as gaps P_i -> P_j
 another wall (blocked_many), else looked through (identify_kernels.backed: backed, and how
 many rays were seen to pass). A door is a door-shaped pair, neither blocked nor backed, with
 at least `min_free_rays` rays seen through, best aligned first (the smaller of the two
-offsets |pq x o|), one per opening (distinct_openings). A possible door is a possible pair
-not blocked nor backed.
+offsets |pq x o|), one per opening (distinct_openings) and one per jamb (a jamb one of them
+continues in its wall's line frames no other leaving it in another direction:
+identify_kernels.leaves_a_claimed_jamb). A possible door is a possible pair not blocked nor
+backed.
 
 Loose walls. From a floating end the ray P + t o meets a wall k first (ray_hits) at t in
 [min_width, facing]; k is not P's own wall, the wall P joins, nor an object: a possible door
@@ -30,9 +32,11 @@ from pico_studio.core.perception.identify_kernels import (
     _in_line_beyond,
     backed,
     blocked_many,
+    claimed_jambs,
     distinct_openings,
     door_pairs,
     jamb_candidates,
+    leaves_a_claimed_jamb,
     ray_hits,
     turns_into_a_side,
 )
@@ -146,7 +150,7 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
     # best aligned first; a later door from the same point in about the same direction is the
     # same opening seen from another corner of the jamb (e.g. both corners of an end cap)
     cand = np.flatnonzero(is_door & ~blocked & ~unseen)
-    cand = cand[one_door_per_jamb(pts, out_dir, wi, we, connected, lengths, ia, ja, off_ij, off_ji, cand, cap_max,
+    cand = cand[one_door_per_jamb(pts, out_dir, wi, we, connected, lengths, segs, ia, ja, cand, cap_max,
                                   math.cos(angle), offset_short)]
     score = np.empty(cand.shape[0])
     for q in range(cand.shape[0]):
@@ -161,66 +165,17 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
 
 
 @njit
-def _jamb_ids(wi: np.ndarray, we: np.ndarray, connected: np.ndarray, lengths: np.ndarray, cap_max: float) -> np.ndarray:
-    """(C,) one label per jamb: a wall's end and the far corner of the end cap joined to it (no
-    longer than `cap_max`: a thick wall's end) share one."""
-    c = wi.shape[0]
-    jid = np.arange(c)
-    for r in range(c):
-        i, e = wi[r], we[r]
-        k = connected[i, e]
-        if k < 0 or lengths[k] > cap_max or connected[k, 0] == connected[k, 1]:
-            continue
-        far_end = 1 if connected[k, 0] == i else 0 if connected[k, 1] == i else -1
-        if far_end < 0:
-            continue
-        for r2 in range(c):
-            if wi[r2] == k and we[r2] == far_end:
-                low = min(jid[r], jid[r2])
-                jid[r], jid[r2] = low, low
-    return jid
-
-
-@njit
 def one_door_per_jamb(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, connected: np.ndarray,
-                      lengths: np.ndarray, ia: np.ndarray, ja: np.ndarray, off_ij: np.ndarray, off_ji: np.ndarray,
-                      cand: np.ndarray, cap_max: float, cos_a: float, offset_short: float) -> np.ndarray:
-    """(K,) rows of `cand` kept. A jamb (a wall's end, its cap's far corner too) that a door
-    continues in its wall's direction (u . o > cos(angle) there, the wall no cap of another) is
-    that door's: another door leaving it in another direction (its outward gap direction more
-    than `angle` off the first's) is refused — a partition's end between two pieces of the
-    partition framing a doorway is no side of a gap to a table's corner across the room
-    (suite:171, 9 of 50 poses) — unless it lies in the other wall's line within `offset_short`
-    (min(off_ij, off_ji)): walls on one grid, two doorways meeting at one corner (hospital_2021's
-    rooms). Gap P_i -> P_j, u = (P_j - P_i) / |.|: outward u at P_i, -u at P_j."""
-    c = pts.shape[0]
-    jid = _jamb_ids(wi, we, connected, lengths, cap_max)
-    claimed = np.zeros(c, dtype=np.bool_)
-    claim = np.zeros((c, 2))
-    u = np.empty((cand.shape[0], 2))
-    cap = np.empty(c, dtype=np.bool_)  # an end cap's far corner: its direction runs across the wall it caps
-    for r in range(c):
-        cap[r] = lengths[wi[r]] <= cap_max and connected[wi[r], 1 - we[r]] >= 0
-    for q in range(cand.shape[0]):
-        i, j = ia[cand[q]], ja[cand[q]]
-        px, py = pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1]
-        dist = max(math.hypot(px, py), 1e-12)
-        u[q, 0], u[q, 1] = px / dist, py / dist
-        for r, sign in ((i, 1.0), (j, -1.0)):
-            ox, oy = sign * u[q, 0], sign * u[q, 1]
-            if not cap[r] and ox * out_dir[r, 0] + oy * out_dir[r, 1] > cos_a and not claimed[jid[r]]:
-                claimed[jid[r]] = True
-                claim[jid[r], 0], claim[jid[r], 1] = ox, oy
+                      lengths: np.ndarray, segs: np.ndarray, ia: np.ndarray, ja: np.ndarray, cand: np.ndarray,
+                      cap_max: float, cos_a: float, offset_short: float) -> np.ndarray:
+    """(K,) rows of `cand` kept: none leaving a jamb another of them continues in its wall's
+    line (identify_kernels.leaves_a_claimed_jamb)."""
+    jid, claimed, claim = claimed_jambs(pts, out_dir, wi, we, connected, lengths, segs[cand], cap_max, cos_a,
+                                        SAME_POINT)
     keep = np.empty(cand.shape[0], dtype=np.int64)
     n = 0
     for q in range(cand.shape[0]):
-        i, j = ia[cand[q]], ja[cand[q]]
-        other = False
-        for r, sign in ((i, 1.0), (j, -1.0)):
-            g = jid[r]
-            if claimed[g] and sign * (u[q, 0] * claim[g, 0] + u[q, 1] * claim[g, 1]) <= cos_a:
-                other = True
-        if not other or min(off_ij[cand[q]], off_ji[cand[q]]) < offset_short:
+        if not leaves_a_claimed_jamb(pts, out_dir, ia[cand[q]], ja[cand[q]], jid, claimed, claim, cos_a, offset_short):
             keep[n] = q
             n += 1
     return keep[:n].copy()

@@ -1022,6 +1022,74 @@ def distinct_openings(segs: np.ndarray, order: np.ndarray, usable: np.ndarray, m
     return kept[:n].copy()
 
 
+@njit
+def jamb_ids(wi: np.ndarray, we: np.ndarray, connected: np.ndarray, lengths: np.ndarray, cap_max: float) -> np.ndarray:
+    """(C,) one label per jamb among the candidates (wall wi, end we): a wall's end and the far
+    corner of the end cap joined to it (no longer than `cap_max`: a thick wall's end) share one."""
+    c = wi.shape[0]
+    jid = np.arange(c)
+    for r in range(c):
+        i, e = wi[r], we[r]
+        k = connected[i, e]
+        if k < 0 or lengths[k] > cap_max or connected[k, 0] == connected[k, 1]:
+            continue
+        far_end = 1 if connected[k, 0] == i else 0 if connected[k, 1] == i else -1
+        if far_end < 0:
+            continue
+        for r2 in range(c):
+            if wi[r2] == k and we[r2] == far_end:
+                low = min(jid[r], jid[r2])
+                jid[r], jid[r2] = low, low
+    return jid
+
+
+@njit
+def claimed_jambs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, connected: np.ndarray,
+                  lengths: np.ndarray, doors: np.ndarray, cap_max: float, cos_a: float,
+                  tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(jid (C,) jamb_ids, claimed (C,) per label, claim (C, 2) the claiming door's outward
+    direction): a jamb is a door's when one of `doors` (D, 4) has an end at a candidate's point
+    P (within `tol`) and leaves it along the candidate's wall (u . o > cos(angle); the wall no end
+    cap of another, whose direction runs across the wall it caps). The first such door's."""
+    c = pts.shape[0]
+    jid = jamb_ids(wi, we, connected, lengths, cap_max)
+    claimed = np.zeros(c, dtype=np.bool_)
+    claim = np.zeros((c, 2))
+    for d in range(doors.shape[0]):
+        dist = max(math.hypot(doors[d, 2] - doors[d, 0], doors[d, 3] - doors[d, 1]), 1e-12)
+        for e in range(2):
+            px, py = doors[d, 2 * e], doors[d, 2 * e + 1]
+            ux, uy = (doors[d, 2 * (1 - e)] - px) / dist, (doors[d, 2 * (1 - e) + 1] - py) / dist
+            for r in range(c):
+                cap = lengths[wi[r]] <= cap_max and connected[wi[r], 1 - we[r]] >= 0
+                if cap or claimed[jid[r]] or max(abs(pts[r, 0] - px), abs(pts[r, 1] - py)) >= tol:
+                    continue
+                if ux * out_dir[r, 0] + uy * out_dir[r, 1] > cos_a:
+                    claimed[jid[r]] = True
+                    claim[jid[r], 0], claim[jid[r], 1] = ux, uy
+    return jid, claimed, claim
+
+
+@njit
+def leaves_a_claimed_jamb(pts: np.ndarray, out_dir: np.ndarray, i: int, j: int, jid: np.ndarray,
+                          claimed: np.ndarray, claim: np.ndarray, cos_a: float, offset_short: float) -> bool:
+    """A jamb frames one door. Does the gap P_i -> P_j leave a jamb another door continues in its
+    wall's line (claimed_jambs) in another direction (its outward direction, u at P_i, -u at P_j,
+    more than `angle` off that door's) — a partition's end between two pieces of the partition
+    framing a doorway is no side of a gap to a table's corner across the room (suite:171, 9 of
+    50 poses) — and not on one grid with it: each point off the other's wall line by
+    `offset_short` or more (|pq x o|; two doorways meeting at one corner, hospital_2021's rooms)?"""
+    px, py = pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1]
+    dist = max(math.hypot(px, py), 1e-12)
+    ux, uy = px / dist, py / dist
+    off_i, off_j = abs(px * out_dir[i, 1] - py * out_dir[i, 0]), abs(px * out_dir[j, 1] - py * out_dir[j, 0])
+    if min(off_i, off_j) < offset_short:
+        return False
+    gi, gj = jid[i], jid[j]
+    return ((claimed[gi] and ux * claim[gi, 0] + uy * claim[gi, 1] <= cos_a)
+            or (claimed[gj] and -(ux * claim[gj, 0] + uy * claim[gj, 1]) <= cos_a))
+
+
 def _example_extended() -> tuple:
     walls = np.array([[0.0, -1.0, 2.0, -1.0], [3.0, 2.0, 3.0, 4.0]])
     origin = np.array([[2.3, 0.0]])

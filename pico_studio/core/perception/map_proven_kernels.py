@@ -35,10 +35,12 @@ from pico_studio.core.perception.identify_kernels import (
     SAME_OPENING_ANGLE,
     SAME_POINT,
     blocked_many,
+    claimed_jambs,
     distinct_openings,
     door_pairs,
     jamb_candidates,
     joins_frame,
+    leaves_a_claimed_jamb,
     nearer_end,
     ray_hits,
     same_opening,
@@ -61,10 +63,11 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
              cap_max: float, frame_min: float, floating: int, convex: int, min_width: float, max_width: float,
              angle: float, offset: float, offset_short: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The bays and passage mouths (K, 4) between convex ends, best aligned first, but those
-    that are the same opening as one of `doors` (D, 4) (identify_kernels.same_opening), and
-    each one's two jambs' walls (K,), (K,)."""
+    that are the same opening as one of `doors` (D, 4) (identify_kernels.same_opening) or leave
+    one of their jambs in another direction (identify_kernels.leaves_a_claimed_jamb), and each
+    one's two jambs' walls (K,), (K,)."""
     none = np.zeros(0, dtype=np.int64)
-    wi_all, we_all, _, long_all, stub_all, sized_all, seen_all, partial, _ = jamb_candidates(
+    wi_all, we_all, _, long_all, stub_all, sized_all, seen_all, partial, lengths = jamb_candidates(
         walls, connected, prop, objects, cap_max, frame_min, floating, convex, 0.0, rx, ry, 0.0)
     keep = np.empty(wi_all.shape[0], dtype=np.int64)
     n = 0
@@ -133,6 +136,12 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
             if same_opening(segs, kept[q], doors, d, cos_max, SAME_POINT):
                 new[q] = False
                 break
+    # a jamb frames one door: none leaving one of `doors`' jambs in another direction
+    jid, claimed, claim = claimed_jambs(pts, out_dir, wi, we, connected, lengths, doors, cap_max, cos_a, SAME_POINT)
+    for q in range(kept.shape[0]):
+        if new[q] and leaves_a_claimed_jamb(pts, out_dir, gi[kept[q]], gj[kept[q]], jid, claimed, claim, cos_a,
+                                            offset_short):
+            new[q] = False
     out = kept[new]
     return segs[out], own_a[out], own_b[out]
 
