@@ -316,6 +316,11 @@ class IdentifyParams:
         help="A door jamb is a wall's end: the wall joined there (its end cap) is at most this long (a wall's "
         "thickness); a corner with a longer wall is a block's corner (a table against a wall), no jamb",
     )
+    door_cap_noise: float = param(
+        0.02, lo=0.0, hi=0.2, step=0.005, unit="m",
+        help="An end cap's direction is measured over its few cm: a cap standing across a door's line may lean "
+        "by door_angle plus atan(this / its length) (about twice the laser's range noise)",
+    )
     door_depth: float = param(
         0.8, lo=0.0, hi=10.0, step=0.05, unit="m",
         help="A door is an opening you can see through: a beam (or the local map) through the gap "

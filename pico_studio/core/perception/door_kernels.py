@@ -49,7 +49,7 @@ def _example_jambs() -> tuple:
     prop = np.array([[0, 2], [2, 0], [0, 0]], dtype=np.int64)
     ranges, valid = np.array([4.0, 4.0, 4.0]), np.array([True, True, True])
     return (walls, connected, prop, np.zeros(3, dtype=np.bool_), 2.45, -1.0, True, ranges, valid, 2.45, -1.0, 1.57,
-            -0.3, 0.3, 0.12, 1.0, 1.5, 1.5, 0.25, 0.6, 1.2, 1.5, 0.3, 0.1, 0.05, 1, 0.1, 0.3, 0.5, 0, 2, 3)
+            -0.3, 0.3, 0.12, 1.0, 1.5, 1.5, 0.25, 0.6, 1.2, 1.5, 0.3, 0.1, 0.05, 1, 0.1, 0.3, 0.5, 0.02, 0, 2, 3)
 
 
 @kernel(_example_jambs)
@@ -58,7 +58,8 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
                inc: float, cap_max: float, frame_min: float, building_min: float, object_max: float, thickness: float,
                min_width: float,
                max_width: float, wide_width: float, angle: float, offset: float, offset_short: float, min_free_rays: int,
-               occlusion: float, depth: float, backed_share: float, floating: int, convex: int, concave: int,
+               occlusion: float, depth: float, backed_share: float, cap_noise: float, floating: int, convex: int,
+               concave: int,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                           np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(wi, we, capped, long, partial (C,): the candidates, pts, out_dir, far (C, 2): their ends, outward
@@ -122,7 +123,7 @@ def jamb_doors(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objec
         thin_capped[r] = capped[r] and k >= 0 and lengths[k] < thickness
     ia, ja, off_ij, off_ji, is_door, is_possible = door_pairs(
         pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, part,
-        thin_capped, min_width, max_width, wide_width, angle, offset, offset_short)
+        thin_capped, lengths[wi], min_width, max_width, wide_width, angle, offset, offset_short, cap_noise)
     # an end joined to a cap seen in part is a jamb only between two building walls in one line
     cos_a = math.cos(angle)
     for r in range(ia.shape[0]):

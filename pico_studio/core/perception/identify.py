@@ -337,7 +337,8 @@ def _doors(
         float(params.end_face_min_length), float(params.object_max_size), float(params.object_min_depth),
         float(params.door_min_width), float(params.door_max_width), float(params.wide_door_max_width), float(params.door_angle),
         float(params.door_offset), float(params.door_offset_short), int(params.door_min_free_rays), float(params.door_occlusion),
-        float(params.door_depth), float(params.door_backed_share), FLOATING, CONVEX, CONCAVE)
+        float(params.door_depth), float(params.door_backed_share), float(params.door_cap_noise), FLOATING, CONVEX,
+        CONCAVE)
     if len(wi) < 1:
         return empty, [], empty, [], _records(t_ev, bay_ev)
     doors: list[list[float]] = jamb_gaps.tolist()

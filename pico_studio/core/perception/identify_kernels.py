@@ -129,8 +129,8 @@ def _example_pairs() -> tuple:
     part = np.zeros(3, dtype=np.bool_)
     capped = np.zeros(3, dtype=np.bool_)
     return (pts, out_dir, wi, we, is_convex, long, stub, cap_sized, cap_seen, connected, block, building, wall_end, lone, part,
-            capped, 0.6, 1.2,
-            1.5, 0.3, 0.1, 0.05)
+            capped, np.array([2.0, 2.0, 0.1]), 0.6, 1.2,
+            1.5, 0.3, 0.1, 0.05, 0.02)
 
 
 @njit
@@ -147,13 +147,22 @@ def turns_into_a_side(connected: np.ndarray, prop: np.ndarray, lengths: np.ndarr
     return connected[j, 1] == k and prop[j, 0] == concave
 
 
+@njit
+def _across(sin_a: float, angle: float, cap_sized: bool, span: float, noise: float) -> float:
+    """The sine a wall standing across a gap's line may lean by: sin(angle), for an end cap
+    sin(angle + atan(noise / its length)) — its direction measured over a few cm."""
+    if not cap_sized:
+        return sin_a
+    return math.sin(min(angle + math.atan2(noise, max(span, 1e-12)), math.pi / 2))
+
+
 @kernel(_example_pairs)
 def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndarray, is_convex: np.ndarray,
                long: np.ndarray, stub: np.ndarray, cap_sized: np.ndarray, cap_seen: np.ndarray, connected: np.ndarray,
                block: np.ndarray, building: np.ndarray, wall_end: np.ndarray, lone: np.ndarray, part: np.ndarray,
-               capped: np.ndarray, min_width: float,
+               capped: np.ndarray, span: np.ndarray, min_width: float,
                max_width: float, wide_width: float,
-               angle: float, offset: float, offset_short: float,
+               angle: float, offset: float, offset_short: float, cap_noise: float,
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The pairs (i < j, in row order) of door-point candidates P_i, P_j (wall wi, end we,
     outward direction o) that may be a door or a possible door: (i, j, off_ij, off_ji,
@@ -174,7 +183,8 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
     through the gap when u_i > cos(angle) and off_ij < offset (a long wall) or < offset_short
     (a stub); wall j's when -u_j > cos(angle) likewise. A door: both convex, and one wall's
     line continues with the other wall coming back along it (-u_j > cos, resp. u_i > cos) or
-    standing across it (|u_j| < sin(angle), resp. |u_i|) as a door frame's wall (`long` or
+    standing across it (|u_j| < sin(angle), resp. |u_i|; an end cap, its direction measured over
+    a few cm, sin(angle + atan(cap_noise / its length `span`))) as a door frame's wall (`long` or
     `stub`, or `capped`: seen in part, its end joined to a whole cap lying along the gap's line,
     thinner than any object — a thick partition's end meeting a corridor's wall at a doorway, its
     face seen through the doorway only a few dm up past the far jamb's thickness) or an end cap (`cap_sized`: no longer than a wall's thickness) — seen whole
@@ -225,10 +235,13 @@ def door_pairs(pts: np.ndarray, out_dir: np.ndarray, wi: np.ndarray, we: np.ndar
             in_line = not lone[i] and not lone[j]
             # a stub's line (a thick wall's cap) ends at no block's face across it: a bed's foot
             # facing a doorway a metre in, seen past the cap's inner corner
+            # a cap's direction is measured over its few cm: `cap_noise` across its length more
             door_ij = line_i and ((-uj > cos_a and in_line)
-                                  or (abs(uj) < sin_a and frame_j and not block[i] and not (stub[i] and block[j])))
+                                  or (abs(uj) < _across(sin_a, angle, cap_sized[j], span[j], cap_noise) and frame_j
+                                      and not block[i] and not (stub[i] and block[j])))
             door_ji = line_j and ((ui > cos_a and in_line)
-                                  or (abs(ui) < sin_a and frame_i and not block[j] and not (stub[j] and block[i])))
+                                  or (abs(ui) < _across(sin_a, angle, cap_sized[i], span[i], cap_noise) and frame_i
+                                      and not block[j] and not (stub[j] and block[i])))
             both_convex = is_convex[i] and is_convex[j]
             # two walls in one line, each continuing through the gap, one or both seen in part
             # (`part`), the other a door frame's: a doorway seen through another doorway

@@ -47,7 +47,7 @@ def bays(walls: np.ndarray, prop: np.ndarray, connected: np.ndarray, objects: np
     gaps, own_a, own_b = bay_gaps(
         w, c, p, o, d, float(robot[0]), float(robot[1]), float(params.jamb_cap_max), float(params.door_wall_min_length),
         FLOATING, CONVEX, float(params.door_min_width), float(params.door_max_width), float(params.door_angle),
-        float(params.door_offset), float(params.door_offset_short))
+        float(params.door_offset), float(params.door_offset_short), float(params.door_cap_noise))
     # a passage's far end, one side's end unresolved: not crossed, not a door or a bay already
     hidden, ha, hb = hidden_mouths(w, c, p, o, float(robot[0]), float(robot[1]), float(params.door_wall_min_length),
                                    FLOATING, CONVEX,

@@ -54,14 +54,15 @@ def _example_bays() -> tuple:
     connected = np.array([[2, -1], [-1, -1], [0, -1]], dtype=np.int64)
     prop = np.array([[1, 2], [2, 0], [1, 0]], dtype=np.int64)
     return (walls, connected, prop, np.zeros(3, dtype=np.bool_), np.zeros((1, 4)), 1.0, 1.0, 0.35, 0.5, 0, 2, 0.6,
-            1.2, 0.3, 0.1, 0.05)
+            1.2, 0.3, 0.1, 0.05, 0.02)
 
 
 @kernel(_example_bays)
 def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects: np.ndarray, doors: np.ndarray,
              rx: float, ry: float,
              cap_max: float, frame_min: float, floating: int, convex: int, min_width: float, max_width: float,
-             angle: float, offset: float, offset_short: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+             angle: float, offset: float, offset_short: float, cap_noise: float,
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The bays and passage mouths (K, 4) between convex ends, best aligned first, but those
     that are the same opening as one of `doors` (D, 4) (identify_kernels.same_opening) or leave
     one of their jambs in another direction (identify_kernels.leaves_a_claimed_jamb), and each
@@ -91,8 +92,8 @@ def bay_gaps(walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, objects
     ia, ja, off_ij, off_ji, is_door, _ = door_pairs(
         pts, out_dir, wi, we, np.ones(n, dtype=np.bool_), long, stub, cap_sized, cap_seen, connected,
         np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_),
-        np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_), min_width, max_width,
-        max_width, angle, offset, offset_short)
+        np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_), lengths[wi], min_width, max_width,
+        max_width, angle, offset, offset_short, cap_noise)
     # the door-shaped pairs, then the mouths (pairs of door frame's walls, in row order)
     m_max = ia.shape[0] + n * (n - 1) // 2
     gi, gj = np.empty(m_max, dtype=np.int64), np.empty(m_max, dtype=np.int64)
