@@ -153,7 +153,7 @@ def _shaped(walls: list[list[float]], connected: list[list[int]], own_a: int, ow
     c = np.array(connected, dtype=np.int64)
     prop = np.where(c >= 0, corner, free).astype(np.int64)
     return bool(wall_shaped(np.array([[0.0, 0.0, 0.9, 0.0]]), w, c, prop, lengths,
-                            np.array([own_a]), np.array([own_b]), 0.3, 0.5, 0.1, CONCAVE, FLOATING)[0])
+                            np.array([own_a]), np.array([own_b]), 0.3, 0.5, 0.1, CONCAVE, FLOATING, np.zeros((0, 4)))[0])
 
 
 def test_a_gap_in_a_walls_line_or_across_a_passage_is_wall_shaped():
@@ -163,6 +163,30 @@ def test_a_gap_in_a_walls_line_or_across_a_passage_is_wall_shaped():
                    [[-1, 1], [0, -1], [3, -1], [2, -1]], 1, 2)
     # a hallway's far end: both sides across the gap, on the same side
     assert _shaped([[0.0, 0.0, 0.0, -2.0], [0.9, 0.0, 0.9, -2.0]], [[-1, -1], [-1, -1]], 0, 1)
+
+
+def test_a_piece_of_wall_between_two_doorways_frames_the_gap():
+    """ward:901's run (146 frames missed): the corridor's wall has a doorway each side of a
+    partition's 0.2 m end (x -0.2 to 0). At A the only wall in line is that piece, shorter than a
+    door frame's, its far end a seen corner: a wall's end cap or a bed's foot looks the same, no
+    frame. But its far end is the other doorway's jamb, a door found already: a piece of wall
+    between two doorways, in line (the partition's face runs down from A, across the gap)."""
+    walls = np.array([[-0.2, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -3.0], [0.9, 0.0, 3.0, 0.0]])
+    lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
+    connected = np.array([[-1, 1], [0, -1], [-1, -1]], dtype=np.int64)
+    prop = np.array([[CONVEX, CONVEX], [CONVEX, FLOATING], [CONVEX, FLOATING]], dtype=np.int64)
+
+    def shaped(doors: list[list[float]]) -> bool:
+        return bool(wall_shaped(np.array([[0.0, 0.0, 0.9, 0.0]]), walls, connected, prop, lengths, np.array([0]),
+                                np.array([2]), 0.3, 0.5, 0.1, CONCAVE, FLOATING,
+                                np.array(doors, dtype=float).reshape(-1, 4))[0])
+
+    assert shaped([[-1.05, 0.0, -0.2, 0.0]])  # the doorway on the piece's other side
+    assert not shaped([])  # none: a cap or a bed's foot
+    assert not shaped([[-1.05, 0.5, -0.25, 0.5]])  # a door elsewhere says nothing
+    # a doorway leaving the piece's far end across its line: the piece is that doorway's jamb's
+    # cap (ward:3's run: a thick wall's doorway found at both its faces, a bed's side in line)
+    assert not shaped([[-0.2, 0.0, -0.2, 0.9]])
 
 
 def test_a_short_piece_of_wall_joined_to_a_frame_frames_the_gap():
@@ -222,7 +246,7 @@ def test_a_bed_side_pointing_past_a_walls_cap_is_not_in_its_line():
     def shaped(offset: float) -> bool:
         prop = np.where(connected >= 0, CONCAVE, CONVEX).astype(np.int64)
         return bool(wall_shaped(gap, walls, connected, prop, lengths, np.array([0]), np.array([2]), 0.3, 0.5, offset,
-                                CONCAVE, FLOATING)[0])
+                                CONCAVE, FLOATING, np.zeros((0, 4)))[0])
 
     assert PARAMS.bay_line_offset < 0.15 and not shaped(PARAMS.bay_line_offset)
     assert shaped(0.25)  # taken as one line when the offset allowed is wider than the bed's

@@ -439,7 +439,8 @@ def _doors(
             through = ((rays >= params.bay_deep_rays) | (~back & side_on)) & ~blocky[own_a] & ~blocky[own_b] \
                 & (span[own_a] >= params.bay_jamb_span) & (span[own_b] >= params.bay_jamb_span) \
                 & wall_shaped(gaps, w, c, p64, lengths, own_a, own_b, float(params.door_angle),
-                              float(params.door_wall_min_length), float(params.bay_line_offset), CONCAVE, FLOATING)
+                              float(params.door_wall_min_length), float(params.bay_line_offset), CONCAVE, FLOATING,
+                              np.ascontiguousarray(np.reshape(doors, (-1, 4)), dtype=float))
             # a bay seen at a block's corner stays refused when the block's far side is forgotten
             # (the local map drops a wall unseen for `merge.forget_seconds`; its front and near side,
             # still seen, make a side room's mouth): banned for good in the bays' own records (a

@@ -165,6 +165,21 @@ def _jamb_wall(gaps: np.ndarray, q: int, j: int, own: int, walls: np.ndarray, co
     return w, f, dx, dy, math.hypot(dx, dy)
 
 
+@njit
+def _door_goes_on(x: float, y: float, dx: float, dy: float, doors: np.ndarray, cos_a: float) -> bool:
+    """Does one of `doors` (D, 4) have an end at F = (x, y) (within SAME_POINT) and leave it in
+    about the direction (dx, dy) (cos above `cos_a`): another doorway on along the same line past
+    a piece of wall, not the same doorway's other face past its jamb's cap?"""
+    dn = max(math.hypot(dx, dy), 1e-12)
+    for d in range(doors.shape[0]):
+        for e in range(2):
+            if max(abs(doors[d, 2 * e] - x), abs(doors[d, 2 * e + 1] - y)) < SAME_POINT:
+                ux, uy = doors[d, 2 - 2 * e] - x, doors[d, 3 - 2 * e] - y
+                if (ux * dx + uy * dy) / (max(math.hypot(ux, uy), 1e-12) * dn) > cos_a:
+                    return True
+    return False
+
+
 def _example_shapes() -> tuple:
     walls = np.array([[-2.0, 0.0, 0.0, 0.0], [0.9, 0.0, 3.0, 0.0], [0.9, 0.0, 0.9, 1.0]])
     connected = np.array([[-1, -1], [2, -1], [1, -1]], dtype=np.int64)
@@ -172,20 +187,21 @@ def _example_shapes() -> tuple:
     lengths = np.hypot(walls[:, 2] - walls[:, 0], walls[:, 3] - walls[:, 1])
     prop = np.array([[0, 0], [3, 0], [3, 0]], dtype=np.int64)
     return (gaps, walls, connected, prop, lengths, np.array([0], dtype=np.int64), np.array([1], dtype=np.int64), 0.3,
-            0.5, 0.1, 3, 0)
+            0.5, 0.1, 3, 0, np.zeros((0, 4)))
 
 
 @kernel(_example_shapes)
 def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop: np.ndarray, lengths: np.ndarray,
                 own_a: np.ndarray, own_b: np.ndarray, angle: float, frame_min: float, line_offset: float,
-                concave: int, floating: int) -> np.ndarray:
+                concave: int, floating: int, doors: np.ndarray) -> np.ndarray:
     """(K,) bool: the bay lies in a wall's line or across a passage, as an opening in a building's
     walls does. At each jamb J (the gap's end point, an end of its wall) the walls there (its own,
     and the one joined at that end) run from J towards their far ends F, d = (F - J) / |F - J|;
     with u = (B - A) / |B - A| the gap's direction a wall at least `frame_min` long (or joined at
     F to one that long in a concave corner, `identify_kernels.joins_frame`: a room's wall running
     on to the room's corner; a thick wall's end cap turns into its side at a convex one; or its
-    end F floating: it runs on out of view, its length unknown) at A is in line when
+    end F floating: it runs on out of view, its length unknown; or one of `doors` (D, 4) going on
+    from F the same way: a piece of wall between two doorways) at A is in line when
     d . u < -cos(angle) (at B: d . u > cos(angle)) and the other
     jamb lies within `line_offset` of its line, |d x (B - A)| (one line, not a bed's side
     pointing past a wall's cap), across it when
@@ -210,7 +226,8 @@ def wall_shaped(gaps: np.ndarray, walls: np.ndarray, connected: np.ndarray, prop
                 if w < 0:
                     continue
                 if dn < frame_min and prop[w, f] != floating and \
-                        not (joins_frame(connected, lengths, w, f, frame_min) and prop[w, f] == concave):
+                        not (joins_frame(connected, lengths, w, f, frame_min) and prop[w, f] == concave) \
+                        and not _door_goes_on(walls[w, 2 * f], walls[w, 2 * f + 1], dx, dy, doors, cos_a):
                     continue  # a door frame's length (or joining one in a room's corner): a wall's end cap or a bed's foot is none
                 c = (dx * ux + dy * uy) / dn
                 ox, oy = (bx - ax, by - ay) if j == 0 else (ax - bx, ay - by)  # to the other jamb
