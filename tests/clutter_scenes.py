@@ -57,6 +57,14 @@ def laser_view(solid: list[list[float]] | np.ndarray, robot: tuple[float, float]
     return View(np.where(hit, ranges, 0.0), angles, hit, (robot[0], robot[1], heading))
 
 
+def has_gap(gaps: np.ndarray, gap: list[float], tol: float) -> bool:
+    """Is `gap` (x0, y0, x1, y1) one of `gaps` (N, 4), either way round, each end within `tol`
+    (in x and in y)?"""
+    a = np.asarray(gap, dtype=float).reshape(2, 2)
+    return any(min(np.abs(a - d).max(), np.abs(a - d[::-1]).max()) < tol
+               for d in np.asarray(gaps, dtype=float).reshape(-1, 2, 2))
+
+
 def box(cx: float, cy: float, w: float, h: float | None = None) -> np.ndarray:
     """(4, 4) the sides of an axis-aligned box centred at (cx, cy)."""
     h = w if h is None else h

@@ -11,7 +11,7 @@ import numpy as np
 
 from pico_studio.config import load_config
 from pico_studio.core.perception.identify import identify
-from tests.clutter_scenes import laser_view
+from tests.clutter_scenes import has_gap, laser_view
 
 PARAMS = load_config(None).perception.identify
 # the corridor's upper wall (faces y 2.15 / 2.25) ending at x 13.42; the slanted room wall's face
@@ -32,10 +32,8 @@ def _local_map(cap: list[float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return walls, connected, seen
 
 
-def _has(doors: np.ndarray, gap: list[float], tol: float = 0.05) -> bool:
-    a = np.array(gap).reshape(2, 2)
-    return any(min(np.abs(a - d.reshape(2, 2)).max(), np.abs(a - d.reshape(2, 2)[::-1]).max()) < tol
-               for d in np.asarray(doors, float).reshape(-1, 4))
+def _has(doors: np.ndarray, gap: list[float]) -> bool:
+    return has_gap(doors, gap, 0.05)
 
 
 def test_a_short_cap_leaning_with_a_slanted_wall_frames_the_doorway():

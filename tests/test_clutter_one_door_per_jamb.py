@@ -13,7 +13,7 @@ import numpy as np
 
 from pico_studio.config import load_config
 from pico_studio.core.perception.identify import identify
-from tests.clutter_scenes import laser_view
+from tests.clutter_scenes import has_gap, laser_view
 
 PARAMS = load_config(None).perception.identify
 # the room's wall (y 0), the table (x 1.75-3.35, y 0.2-0.95), the partition (x 4.05-4.3) from
@@ -46,13 +46,8 @@ def _local_map(upper: bool, robot_left: bool) -> tuple[np.ndarray, np.ndarray, n
     return np.array(walls, dtype=float), np.array(connected, dtype=np.int64), np.array(seen, dtype=bool)
 
 
-def _has(doors: np.ndarray, gap: list[float], tol: float = 0.08) -> bool:
-    a = np.array(gap).reshape(2, 2)
-    for d in np.asarray(doors, float).reshape(-1, 4):
-        b = d.reshape(2, 2)
-        if min(np.abs(a - b).max(), np.abs(a - b[::-1]).max()) < tol:
-            return True
-    return False
+def _has(doors: np.ndarray, gap: list[float]) -> bool:
+    return has_gap(doors, gap, 0.08)
 
 
 def _view(robot: tuple[float, float], heading: float) -> object:

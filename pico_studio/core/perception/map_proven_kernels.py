@@ -167,16 +167,13 @@ def _jamb_wall(gaps: np.ndarray, q: int, j: int, own: int, walls: np.ndarray, co
 
 @njit
 def _door_goes_on(x: float, y: float, dx: float, dy: float, doors: np.ndarray, cos_a: float) -> bool:
-    """Does one of `doors` (D, 4) have an end at F = (x, y) (within SAME_POINT) and leave it in
-    about the direction (dx, dy) (cos above `cos_a`): another doorway on along the same line past
-    a piece of wall, not the same doorway's other face past its jamb's cap?"""
-    dn = max(math.hypot(dx, dy), 1e-12)
+    """Does one of `doors` (D, 4) leave F = (x, y) in about the direction (dx, dy)
+    (identify_kernels.same_opening): another doorway on along the same line past a piece of wall,
+    not the same doorway's other face past its jamb's cap?"""
+    ahead = np.array([[x, y, x + dx, y + dy]])
     for d in range(doors.shape[0]):
-        for e in range(2):
-            if max(abs(doors[d, 2 * e] - x), abs(doors[d, 2 * e + 1] - y)) < SAME_POINT:
-                ux, uy = doors[d, 2 - 2 * e] - x, doors[d, 3 - 2 * e] - y
-                if (ux * dx + uy * dy) / (max(math.hypot(ux, uy), 1e-12) * dn) > cos_a:
-                    return True
+        if same_opening(ahead, 0, doors, d, cos_a, SAME_POINT):
+            return True
     return False
 
 
