@@ -332,6 +332,12 @@ class IdentifyParams:
         help="...for a T-opening (a wall's end facing a wall's face) this far: the pocket beside a table "
         "standing against a wall (0.8 m deep) is no opening; a room behind a T-opening is deeper",
     )
+    end_face_room_wall: float = param(
+        2.2, lo=0.0, hi=20.0, step=0.05, unit="m",
+        help="...but a T-opening from the end of a wall at least this long whose far end is a concave corner (a "
+        "room's wall, longer than a bed's side) stands whatever stands behind it (a cabinet 0.8 m inside the "
+        "room): the pocket's side is a piece of furniture's",
+    )
     door_backed_share: float = param(
         0.5, lo=0.0, hi=1.0, step=0.05,
         help="A gap is backed (no door) when at least this share of the informative rays through it end "

@@ -20,7 +20,9 @@ candidate when
   the wall itself now (a beam ending on the side, or the gap closed, bans the place), else a
   possible door; from a wall whose far end is no concave corner, a face turning into another
   wall in a concave corner within `depth` past the line, no ray reaching that deep, is a
-  pocket's side: a possible door only (`_shallow_back`);
+  pocket's side: a possible door only (`_shallow_back`); rays through the gap ending within
+  `depth` behind it back it (no door), unless P's wall is a room's (at least `room_wall` long,
+  its far end a concave corner: no piece of furniture's side);
 * k is about square to the ray: |e_k . o| / |e_k| <= sin(angle).
 
 Where k fails the last two at a free corner, or is a piece no longer than `cap_max` askew to
@@ -556,7 +558,7 @@ def _example_openings() -> tuple:
     one = np.array([True])
     return (pts, out_dir, far, wi, we, one, one, one, walls, connected, prop, objects, lengths, np.zeros((0, 4)),
             np.zeros((0, 5)), 0.0, 0.0, has_view, ranges, valid, vx, vy, va, a0, inc, 0.6, 1.2, 1.5, 0.12, 1.5, 1.0, 0.3, 0.5,
-            0.1, 0.2, 0.3, 0.5, 1, 3, 16, 0.5, 0, 2, 3)
+            0.1, 0.2, 0.3, 0.5, 1, 3, 16, 0.5, 2.2, 0, 2, 3)
 
 
 @kernel(_example_openings)
@@ -567,7 +569,7 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
                inc: float, min_width: float, max_width: float, wide_width: float, cap_max: float, building_min: float,
                object_max: float, angle: float, reach: float, occlusion: float, continuation: float, depth: float,
                backed_share: float, min_free_rays: int, evidence_scans: int, evidence_max: int, run_on: float,
-               floating: int, convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+               room_wall: float, floating: int, convex: int, concave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The T-openings from the jamb candidates (identify._doors says which ends count and why):
     (doors (N, 4) new ones, not the same place as one of `doors` nor one found before; possible
     (P, 4): weak ends still counting scans, then glimpses; evidence: the records after this
@@ -638,6 +640,13 @@ def t_openings(pts: np.ndarray, out_dir: np.ndarray, far: np.ndarray, wi: np.nda
                                                             va, a0, inc, np.ones(n, dtype=np.bool_), objects,
                                                             occlusion, depth, cap_max, backed_share, prop, group,
                                                             convex)
+    for m in range(n):
+        # ...but a room's wall (at least `room_wall` long, its far end a concave corner: longer
+        # than a bed's side or a table's) opens whatever stands behind its end: a cabinet 0.8 m
+        # inside the room backs the doorway as a table's side backs a pocket
+        if backed_g[m] and lengths[oa[m]] >= room_wall and \
+                prop[oa[m], 1 - nearer_end(walls, oa[m], g[m, 0], g[m, 1])] == concave:
+            backed_g[m] = False
     bad |= backed_g
     for m in range(n):
         # a corridor's mouth beside a room's wall running straight on: only ever a possible

@@ -154,7 +154,10 @@ closed (backed, its rays ending on a back between the jambs within `end_face_dep
 beside a table standing against a wall, seen from in front; a ray ending on a thing standing in
 the room beyond says nothing of a back — an object's wall, or a wall with a seen end in the
 gap's shadow, joined to neither jamb's walls, a cabinet half a metre in:
-`identify_kernels.backed_beside_things`) the place is closed, and seen again
+`identify_kernels.backed_beside_things`; but the end of a room's wall — at least
+`end_face_room_wall` long, longer than a bed's side, its far end a concave corner — is never a
+pocket's side: a cabinet 0.8 m inside the room behind its doorway backs no door) the place is
+closed, and seen again
 with nothing said by its rays (edge-on, the back forgotten) it is only a possible door, until
 rays pass it deep; the same place is a middle within `door_occlusion` / 2. The bays keep
 records of their own beside them (kind 1; the T-openings' are kind 0): a bay refused at a block
@@ -374,7 +377,7 @@ def _doors(
             float(params.door_angle), float(params.end_face_reach), float(params.door_occlusion),
             float(params.end_face_continuation), float(params.end_face_depth), float(params.door_backed_share),
             int(params.door_min_free_rays), int(params.end_face_evidence_scans), int(params.end_face_evidence_max),
-            float(params.door_run_on), FLOATING, CONVEX, CONCAVE)
+            float(params.door_run_on), float(params.end_face_room_wall), FLOATING, CONVEX, CONCAVE)
         possible.extend(maybe_t)
         kinds.extend(["end_face"] * len(maybe_t))
         doors.extend(found.tolist())
