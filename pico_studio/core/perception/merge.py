@@ -13,7 +13,9 @@ with the pose instead, and every comparison is made there. One step:
    laser looked past it, or it is a corner of the scan) pulls the old end with the same
    weights; a floating new end only extends the wall.
 3. New walls nobody matched are added, tentative.
-4. **Merge** local walls that became similar to each other (a wall seen in two pieces).
+4. **Merge** local walls that became similar to each other (a wall seen in two pieces), and a
+   short wall lying along a longer one, within `angle` and `distance` of its line and between
+   its ends (a corner's fragment left beside the wall it belongs to).
 5. **Connect** end points of two walls at least `connect_min_angle` apart whose ends lie
    within `connect_radius` of the lines' crossing: the corner is the crossing, pulled
    towards the previous corner by the end's weight (its number of consecutive connected

@@ -6,8 +6,10 @@ their hits, last sighting, misses, seen ends, end weights):
 1. `fold_in` — associate each new wall with its most similar local wall (`associate`), fuse
    the matched ones in (`fuse`, in scan order: a wall seen in two pieces takes them one
    after the other), append the rest as tentative walls.
-2. `merge_similar` — local walls similar both ways are absorbed into the one seen more
-   (`absorb`), up to 8 rounds.
+2. `merge_similar` — local walls similar both ways, or a shorter one lying along a longer one
+   (`lies_along`: within `angle` of its direction, both ends within `distance` of its line and
+   at most `distance` past its ends), are absorbed into the one seen more (`absorb`), up to 8
+   rounds.
 3. `see_through` — unseen walls the laser passed through count a miss; `trim_through` cuts
    back wall ends the laser passed through up to where it met the wall.
 4. `connect` — ends into corners and T's (`near_pairs`, `connect_candidates`, `connect_walk`).
@@ -82,6 +84,24 @@ def similar(a: np.ndarray, i: int, b: np.ndarray, j: int, cos_angle: float, dist
     near = max(n0, n1) < distance
     ext = max(min(t0, t1) - la, -max(t0, t1))
     return ang_ok and near and ext < gap, (n0 + n1) / 2
+
+
+@njit
+def lies_along(walls: np.ndarray, i: int, k: int, cos_angle: float, distance: float) -> bool:
+    """Is the shorter wall k a piece of wall i: within `cos_angle` of its direction, both ends
+    within `distance` of its line and between its ends (a corner's fragment left beside the
+    wall it belongs to: seen from both ways, the long wall's far end strays off the short one's
+    line by more than `distance`)."""
+    dax, day, la = direction(walls, i)
+    dbx, dby, lb = direction(walls, k)
+    if lb > la or abs(dax * dbx + day * dby) <= cos_angle:
+        return False
+    for e in range(2):
+        rx, ry = walls[k, 2 * e] - walls[i, 0], walls[k, 2 * e + 1] - walls[i, 1]
+        t = rx * dax + ry * day
+        if abs(rx * day - ry * dax) >= distance or t < -distance or t > la + distance:
+            return False
+    return True
 
 
 def _example_associate() -> tuple:
@@ -223,7 +243,8 @@ def _example_merge_similar() -> tuple:
 def merge_similar(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, missed: np.ndarray,
                   seen_end: np.ndarray, end_weight: np.ndarray, viewpoint: np.ndarray, cos_angle: float,
                   distance: float, gap: float, max_weight: float) -> tuple:
-    """Step 4: local walls similar to each other both ways (a wall seen in two pieces) merge:
+    """Step 4: local walls similar to each other both ways (a wall seen in two pieces), or one
+    lying along the other (`lies_along`), merge:
     pairs i < k with bounding boxes within max(gap, distance), in row order, each wall once
     a round; the one seen more (i on ties) absorbs the other, the viewpoint (W, 2) of the one
     seen last with it. Up to 8 rounds, until none."""
@@ -236,8 +257,9 @@ def merge_similar(walls: np.ndarray, hits: np.ndarray, last_seen: np.ndarray, mi
         pairs = []
         for m in range(ia.shape[0]):
             i, k = ia[m], ka[m]
-            if i < k and similar(walls, i, walls, k, cos_angle, distance, gap)[0] \
-                    and similar(walls, k, walls, i, cos_angle, distance, gap)[0]:
+            if i < k and ((similar(walls, i, walls, k, cos_angle, distance, gap)[0]
+                           and similar(walls, k, walls, i, cos_angle, distance, gap)[0])
+                          or lies_along(walls, i, k, cos_angle, distance) or lies_along(walls, k, i, cos_angle, distance)):
                 pairs.append((i, k))
         if len(pairs) == 0:
             break
