@@ -59,6 +59,7 @@ KERNEL_MODULES = (
     "pico_studio.core.perception.map_proven_kernels",
     "pico_studio.core.perception.face_kernels",
     "pico_studio.core.perception.door_kernels",
+    "pico_studio.core.perception.door_memory_kernels",
     "pico_studio.core.perception.line_jambs",
     "pico_studio.core.perception.junction_kernels",
     "pico_studio.core.perception.merge_kernels",

@@ -397,6 +397,22 @@ class IdentifyParams:
     end_face_evidence_max: int = param(
         32, lo=1, hi=1000, step=1, help="...remembering at most this many such gaps",
     )
+    door_memory_scans: int = param(
+        3, lo=0, hi=100, step=1,
+        help="A door found in at least this many scans in a row, from places door_memory_spread apart, is "
+        "remembered: found no more (seen edge-on, its back or far jamb hidden) it stays a door while its ends "
+        "stay on the local map's walls and nothing closes it (0: no memory)",
+    )
+    door_memory_spread: float = param(
+        1.0, lo=0.0, hi=20.0, step=0.1, unit="m",
+        help="...found from places at least this far apart (from one place, a robot turning on the spot, a "
+        "door is one judgement made again and again)",
+    )
+    door_memory_reach: float = param(
+        0.1, lo=0.01, hi=1.0, step=0.01, unit="m",
+        help="A remembered door's ends lie this close to the local map's walls; a wall this close to its middle "
+        "or a beam ending this close to it closes it",
+    )
     bay_doors: bool = param(
         True, help="A gap of a door's shape that the jamb rules refuse (a block's corner or face: a bay between "
         "two tables, or a side room's mouth in thin walls) is a possible door, for the map to prove once localised",

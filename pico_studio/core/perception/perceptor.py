@@ -7,7 +7,8 @@
 Stages, in order (each its own module): locate -> scan (filter, resample, cluster) ->
 proximity -> segment (+ least-squares refit) -> corners (spike, vector) -> laser motion ->
 objects (small free-standing clusters tracked; moving ones held out) -> scan match (the
-pose corrected against the local map) -> merge (local map) -> identify (corners, doors) -> entrance -> rooms. Per-stage wall-clock
+pose corrected against the local map) -> merge (local map) -> identify (corners, doors; doors found from
+several places remembered: door_memory) -> entrance -> rooms. Per-stage wall-clock
 times land in `WorldModel.timings_ms`.
 
 Bad input (empty, all-NaN or all-inf scans, mismatched angle fields, odometry jumps) yields a
@@ -26,6 +27,7 @@ from pico_studio.config.perception_params import PerceptionParams
 from pico_studio.core.geometry import compose
 from pico_studio.core.io import LaserData, OdometryData
 from pico_studio.core.perception.corners import spike_corners, vector_corners
+from pico_studio.core.perception.door_memory import DoorMemory, remember
 from pico_studio.core.perception.entrance import Estimate, entrance_in_scan, median_entrance
 from pico_studio.core.perception.identify import View, identify
 from pico_studio.core.perception.laser_motion import laser_motion
@@ -54,6 +56,7 @@ class PerceptorState:
     time: float = 0.0
     objects: ObjectsState = ObjectsState()
     door_evidence: np.ndarray | None = None  # identify's T-openings on short walls, counted over scans
+    door_memory: DoorMemory = DoorMemory()  # doors found from several places (door_memory)
 
     @staticmethod
     def initial() -> PerceptorState:
@@ -141,6 +144,8 @@ def _perceive(
     view = View(scan.ranges, scan.angles, scan.valid, loc.pose, _tracked_beams(scan, objs.held))
     ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view,
                      state.door_evidence, None if local.viewpoint is None else local.viewpoint[idx])
+    doors, door_kind, door_memory = remember(state.door_memory, ident.doors, ident.door_kind, local.walls[idx], view,
+                                             loc.pose[:2], params.identify)
     lap("identify")
     est = entrance_in_scan(segs.segments, params.entrance)
     history = state.entrance_history
@@ -151,7 +156,8 @@ def _perceive(
     room, side = rooms(scan.ranges, scan.angles, scan.valid, state.side_range, params.rooms)
     lap("rooms")
 
-    new_state = PerceptorState(loc, local, history, side, corners_now, stamp, objects_state, ident.evidence)
+    new_state = PerceptorState(loc, local, history, side, corners_now, stamp, objects_state, ident.evidence,
+                               door_memory)
     dynamic_points = scan.points[np.repeat(objs.dynamic, scan.clusters[:, 1] - scan.clusters[:, 0])] \
         if objs.dynamic.any() else np.zeros((0, 2))
     wm = WorldModel(  # every field given: no default made only to be replaced
@@ -159,7 +165,7 @@ def _perceive(
         proximity=prox, too_close=bool(prox.any()), current_map=segs.segments,
         current_map_covariance=segs.covariance, current_map_rms=segs.rms, spike_corners=spikes, vector_corners=vec,
         vector_corner_inner=inner, local_map=LocalMap(local.walls[idx], ident.endpoint_property),
-        corners=ident.corners, corner_convex=ident.corner_convex, doors=ident.doors, door_kind=ident.door_kind,
+        corners=ident.corners, corner_convex=ident.corner_convex, doors=doors, door_kind=door_kind,
         object_walls=ident.object_wall, objects=objs.static_boxes, dynamic_obstacles=objs.dynamic_boxes,
         dynamic_points=dynamic_points, possible_doors=ident.possible_doors,
         possible_door_kind=ident.possible_door_kind, entrance=entrance, hallway=hallway, room=room,

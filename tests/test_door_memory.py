@@ -1,0 +1,59 @@
+"""Door memory: a door found from places a metre apart stays a door, found no more, while it
+stays open (door_memory); from one place only, or closed, or its jamb gone, it does not."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from pico_studio.config import load_config
+from pico_studio.core.perception.door_memory import DoorMemory, remember
+from tests.clutter_scenes import has_gap, laser_view
+
+PARAMS = load_config(None).perception.identify
+WALLS = np.array([[-3.0, 0.0, 0.0, 0.0], [0.9, 0.0, 4.0, 0.0]])  # a corridor wall, a doorway 0.9 m wide
+DOOR = [0.0, 0.0, 0.9, 0.0]
+SOLID = [[-3.0, 0.0, 0.0, 0.0], [0.9, 0.0, 4.0, 0.0], [-3.0, 3.0, 4.0, 3.0]]  # the room behind it open to y 3
+
+
+def _found(places: list[tuple[float, float]], params=PARAMS) -> DoorMemory:
+    memory = DoorMemory()
+    for xy in places:
+        doors, kinds, memory = remember(memory, np.array([DOOR]), ["jambs"], WALLS, None, xy, params)
+        assert has_gap(doors, DOOR, 0.01) and kinds == ["jambs"]
+    return memory
+
+
+def _kept(memory: DoorMemory, walls: np.ndarray = WALLS, view=None, params=PARAMS) -> bool:
+    doors, kinds, memory = remember(memory, np.zeros((0, 4)), [], walls, view, (0.5, -1.0), params)
+    assert len(kinds) == len(doors)
+    return has_gap(doors, DOOR, 0.01)
+
+
+def test_a_door_found_from_places_apart_stays_a_door():
+    memory = _found([(-0.5, -1.0), (0.2, -1.2), (0.8, -1.4)])
+    doors, kinds, after = remember(memory, np.zeros((0, 4)), [], WALLS, laser_view(SOLID, (1.0, -1.2), 1.57),
+                                   (1.0, -1.2), PARAMS)
+    assert has_gap(doors, DOOR, 0.01) and kinds == ["jambs"]
+    assert _kept(after)  # and the scan after
+
+
+def test_from_one_place_or_too_few_scans_it_is_not():
+    assert not _kept(_found([(0.5, -1.0)] * 6))  # a robot turning on the spot
+    assert not _kept(_found([(-0.5, -1.0), (0.8, -1.4)]))  # two scans
+
+
+def test_a_closed_door_or_a_lost_jamb_is_forgotten():
+    memory = _found([(-0.5, -1.0), (0.2, -1.2), (0.8, -1.4)])
+    assert not _kept(memory, np.vstack([WALLS, [[0.45, -0.3, 0.45, 0.3]]]))  # a wall across it
+    assert not _kept(memory, np.vstack([WALLS, [[0.3, 0.02, 0.6, 0.02]]]))  # a wall in it: the leaf closed
+    assert not _kept(memory, WALLS[:1])  # its far jamb's wall gone from the local map
+    standing = laser_view(SOLID + [[0.2, 0.05, 0.7, 0.05]], (0.5, -1.0), 1.57)  # someone in the doorway
+    assert not _kept(memory, view=standing)
+    assert _kept(memory, view=laser_view(SOLID, (0.5, -1.0), 1.57))  # nothing there: kept
+
+
+def test_no_memory_when_off():
+    off = dataclasses.replace(PARAMS, door_memory_scans=0)
+    assert not _kept(_found([(-0.5, -1.0), (0.2, -1.2), (0.8, -1.4)], off), params=off)
