@@ -57,3 +57,15 @@ def test_a_closed_door_or_a_lost_jamb_is_forgotten():
 def test_no_memory_when_off():
     off = dataclasses.replace(PARAMS, door_memory_scans=0)
     assert not _kept(_found([(-0.5, -1.0), (0.2, -1.2), (0.8, -1.4)], off), params=off)
+
+
+def test_still_open_answers_as_its_python():
+    from pico_studio import jit
+    from pico_studio.core.perception.door_memory_kernels import still_open
+    from pico_studio.core.perception.identify import _view_arrays
+
+    doors = np.array([DOOR, [0.0, 0.0, 0.0, 1.0], [2.0, 0.0, 2.9, 0.3]])
+    for walls, solid in ((WALLS, SOLID), (np.vstack([WALLS, [[0.3, 0.02, 0.6, 0.02]]]), SOLID),
+                         (WALLS, SOLID + [[0.2, 0.05, 0.7, 0.05]]), (WALLS[:1], SOLID)):
+        args = (doors, walls, 0.1, *_view_arrays(laser_view(solid, (0.5, -1.0), 1.57)))
+        np.testing.assert_array_equal(still_open(*args), jit.py_func(still_open)(*args))
