@@ -69,3 +69,18 @@ def test_still_open_answers_as_its_python():
                          (WALLS, SOLID + [[0.2, 0.05, 0.7, 0.05]]), (WALLS[:1], SOLID)):
         args = (doors, walls, 0.1, *_view_arrays(laser_view(solid, (0.5, -1.0), 1.57)))
         np.testing.assert_array_equal(still_open(*args), jit.py_func(still_open)(*args))
+
+
+def test_carry_answers_as_its_python():
+    from pico_studio import jit
+    from pico_studio.core.perception.door_memory_kernels import carry
+    from pico_studio.core.perception.identify import _view_arrays
+
+    mem = np.array([DOOR, [0.0, 0.0, 0.0, 1.0], [2.0, 0.0, 2.9, 0.3]])
+    scans, first, spread = np.array([5, 1, 4], dtype=np.int64), np.zeros((3, 2)), np.array([1.2, 0.0, 0.4])
+    for found in (np.zeros((0, 4)), np.array([[0.02, 0.0, 0.9, 0.01]]), np.array([[5.0, 5.0, 6.0, 5.0]])):
+        args = (found, mem, scans, first, spread, 0.5, -1.0, 0.25, 0.95, 3, 1.0, WALLS, 0.1,
+                *_view_arrays(laser_view(SOLID, (0.5, -1.0), 1.57)))
+        got, want = carry(*args), jit.py_func(carry)(*args)
+        for a, b in zip(got, want, strict=True):
+            np.testing.assert_array_equal(a, b)

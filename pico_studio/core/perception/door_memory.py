@@ -24,8 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pico_studio.config.perception_params import IdentifyParams
-from pico_studio.core.geometry import door_matches
-from pico_studio.core.perception.door_memory_kernels import still_open
+from pico_studio.core.perception.door_memory_kernels import carry
 from pico_studio.core.perception.identify import View, _view_arrays
 
 
@@ -42,35 +41,18 @@ def remember(memory: DoorMemory, doors: np.ndarray, kinds: list[str], walls: np.
              robot_xy: tuple[float, float], params: IdentifyParams) -> tuple[np.ndarray, list[str], DoorMemory]:
     """(doors, their kinds, the memory after this scan): `doors` (D, 4) found now and the
     remembered ones not found now that are still open, in the zero frame; `walls` (W, 4) the
-    local map's."""
+    local map's (the loop: door_memory_kernels.carry)."""
     doors = np.ascontiguousarray(doors, dtype=float).reshape(-1, 4)
     if params.door_memory_scans <= 0:
         return doors, list(kinds), DoorMemory()
-    robot = np.array(robot_xy, dtype=float)
-    same = door_matches(doors, np.ascontiguousarray(memory.doors, dtype=float).reshape(-1, 4),
-                        float(params.door_min_width) / 2, math.cos(params.door_angle))
-    # found now: each takes the record of the same door (the longest run), or starts one
-    scans = np.ones(len(doors), dtype=np.int64)
-    first = np.tile(robot, (len(doors), 1))
-    spread = np.zeros(len(doors))
-    for i in range(len(doors)):
-        js = np.flatnonzero(same[i])
-        if len(js):
-            j = js[np.argmax(memory.scans[js])]
-            scans[i], first[i] = memory.scans[j] + 1, memory.first[j]
-            spread[i] = max(float(memory.spread[j]), float(np.hypot(*(robot - memory.first[j]))))
-    # not found now: kept while remembered and open; a record not yet remembered ends here
-    lost = ~same.any(axis=0)
-    lost &= (memory.scans >= params.door_memory_scans) & (memory.spread >= params.door_memory_spread)
-    rows = np.flatnonzero(lost)
-    if len(rows):
-        has_view, ranges, valid, vx, vy, va, a0, inc = _view_arrays(view)
-        open_ = still_open(np.ascontiguousarray(memory.doors[rows], dtype=float),
-                           np.ascontiguousarray(walls, dtype=float).reshape(-1, 4), float(params.door_memory_reach),
-                           has_view, ranges, valid, vx, vy, va, a0, inc)
-        rows = rows[open_]
-    kept_kinds = [memory.kinds[j] for j in rows.tolist()]
-    out = DoorMemory(np.vstack([doors, memory.doors[rows]]), tuple(kinds) + tuple(kept_kinds),
-                     np.concatenate([scans, memory.scans[rows]]), np.vstack([first, memory.first[rows]]),
-                     np.concatenate([spread, memory.spread[rows]]))
-    return out.doors, list(kinds) + kept_kinds, out
+    if len(doors) == 0 and len(memory.doors) == 0:
+        return doors, [], memory
+    rows, scans, first, spread = carry(
+        doors, np.ascontiguousarray(memory.doors, dtype=float), np.ascontiguousarray(memory.scans, dtype=np.int64),
+        np.ascontiguousarray(memory.first, dtype=float), np.ascontiguousarray(memory.spread, dtype=float),
+        float(robot_xy[0]), float(robot_xy[1]), float(params.door_min_width) / 2, math.cos(params.door_angle),
+        int(params.door_memory_scans), float(params.door_memory_spread),
+        np.ascontiguousarray(walls, dtype=float).reshape(-1, 4), float(params.door_memory_reach), *_view_arrays(view))
+    out_kinds = list(kinds) + [memory.kinds[j] for j in rows.tolist()]
+    out = np.vstack([doors, memory.doors[rows]]) if len(rows) else doors
+    return out, out_kinds, DoorMemory(out, tuple(out_kinds), scans, first, spread)

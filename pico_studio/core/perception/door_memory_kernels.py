@@ -1,5 +1,12 @@
-"""Door memory's compiled loop: is a remembered door still open (door_memory says when a door
-is remembered and why).
+"""Door memory's compiled loops (door_memory says when a door is remembered and why):
+`carry` takes the records on by one scan, `still_open` says whether a remembered door is.
+
+Carrying. A door found now takes the record of the same door (middles within `same`, directions
+within the angle: |u_f . u_m| >= cos_angle, as `geometry.door_matches`; of several, the one
+found in most scans in a row): scans + 1, the place it was first found kept, the spread the
+farthest the robot has been from there since. A door found now with no record starts one (1
+scan, here, spread 0). A record no door matched now goes on only when remembered (at least
+`min_scans` scans, at least `min_spread` apart) and still open.
 
 A remembered door A -> B (zero frame) stays while
 
@@ -21,6 +28,7 @@ import math
 
 import numpy as np
 
+from pico_studio.core.geometry import door_matches
 from pico_studio.core.perception.identify_kernels import _beam_towards
 from pico_studio.jit import kernel, njit
 
@@ -93,3 +101,52 @@ def still_open(doors: np.ndarray, walls: np.ndarray, reach: float, has_view: boo
             and not _closed(doors[m], walls, reach) \
             and not _stood_in(doors[m], reach, has_view, ranges, valid, vx, vy, va, a0, inc)
     return out
+
+
+def _example_carry() -> tuple:
+    doors, walls, reach, has_view, ranges, valid, vx, vy, va, a0, inc = _example()
+    return (doors[:1], doors, np.array([3, 4], dtype=np.int64), np.zeros((2, 2)), np.array([1.5, 1.5]), 1.0, 0.0,
+            0.25, 0.95, 3, 1.0, walls, reach, has_view, ranges, valid, vx, vy, va, a0, inc)
+
+
+@kernel(_example_carry)
+def carry(doors: np.ndarray, mem: np.ndarray, mem_scans: np.ndarray, mem_first: np.ndarray, mem_spread: np.ndarray,
+          rx: float, ry: float, same: float, cos_angle: float, min_scans: int, min_spread: float, walls: np.ndarray,
+          reach: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray, vx: float, vy: float, va: float,
+          a0: float, inc: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The records after this scan: (the rows of `mem` carried on, not found now (K,) int64;
+    then for the D doors found now followed by those K: scans (D + K,) int64, first place
+    (D + K, 2), spread (D + K,))."""
+    d, m = doors.shape[0], mem.shape[0]
+    match = door_matches(doors, mem, same, cos_angle)
+    scans = np.ones(d + m, dtype=np.int64)
+    first = np.empty((d + m, 2))
+    spread = np.zeros(d + m)
+    found = np.zeros(m, dtype=np.bool_)
+    for i in range(d):
+        best = -1
+        for j in range(m):
+            if match[i, j]:
+                found[j] = True
+                if best < 0 or mem_scans[j] > mem_scans[best]:
+                    best = j
+        if best < 0:
+            first[i, 0], first[i, 1] = rx, ry
+            continue
+        scans[i] = mem_scans[best] + 1
+        first[i, 0], first[i, 1] = mem_first[best, 0], mem_first[best, 1]
+        spread[i] = max(mem_spread[best], math.hypot(rx - mem_first[best, 0], ry - mem_first[best, 1]))
+    rows = np.empty(m, dtype=np.int64)
+    k = 0
+    for j in range(m):
+        if found[j] or mem_scans[j] < min_scans or not mem_spread[j] >= min_spread:
+            continue
+        if not (_near_a_wall(mem[j, 0], mem[j, 1], walls, reach) and _near_a_wall(mem[j, 2], mem[j, 3], walls, reach)):
+            continue
+        if _closed(mem[j], walls, reach) or _stood_in(mem[j], reach, has_view, ranges, valid, vx, vy, va, a0, inc):
+            continue
+        rows[k] = j
+        scans[d + k], spread[d + k] = mem_scans[j], mem_spread[j]
+        first[d + k, 0], first[d + k, 1] = mem_first[j, 0], mem_first[j, 1]
+        k += 1
+    return rows[:k].copy(), scans[:d + k].copy(), first[:d + k].copy(), spread[:d + k].copy()
