@@ -49,14 +49,11 @@ def _near_a_wall(px: float, py: float, walls: np.ndarray, reach: float) -> bool:
 def _closed(door: np.ndarray, walls: np.ndarray, reach: float) -> bool:
     px, py = door[0], door[1]
     rx, ry = door[2] - px, door[3] - py
-    mx, my = px + 0.5 * rx, py + 0.5 * ry
+    if _near_a_wall(px + 0.5 * rx, py + 0.5 * ry, walls, reach):
+        return True  # a wall at its middle
     for w in range(walls.shape[0]):
         qx, qy = walls[w, 0], walls[w, 1]
         ex, ey = walls[w, 2] - qx, walls[w, 3] - qy
-        t = ((mx - qx) * ex + (my - qy) * ey) / max(ex * ex + ey * ey, 1e-12)
-        t = min(max(t, 0.0), 1.0)
-        if math.hypot(qx + t * ex - mx, qy + t * ey - my) <= reach:
-            return True  # a wall at its middle
         den = rx * ey - ry * ex
         if abs(den) < 1e-12:
             continue
