@@ -84,3 +84,15 @@ def test_carry_answers_as_its_python():
         got, want = carry(*args), jit.py_func(carry)(*args)
         for a, b in zip(got, want, strict=True):
             np.testing.assert_array_equal(a, b)
+
+
+def test_the_page_draws_a_remembered_door_apart():
+    from pico_studio.core.world_model import WorldModel
+    from pico_studio.ui import style
+    from pico_studio.ui.scene_data import _door_prims
+
+    wm = WorldModel(doors=np.array([DOOR, [2.0, 0.0, 2.9, 0.0]]), door_kind=["jambs", "bay"],
+                    door_remembered=np.array([False, True]))
+    colours = _door_prims(wm, (0.0, 0.0, 0.0))["doors"].colors
+    assert colours is not None
+    assert tuple(colours[0]) == style.DOOR and tuple(colours[1]) == style.DOOR_REMEMBERED

@@ -60,6 +60,9 @@ class WorldModel:
     doors: np.ndarray = field(default_factory=lambda: _empty(4))  # (D, 4)
     # (D,) "jambs" (two convex ends), "end_face" (T-opening) or "bay" (seen through: identify.bay_deep_rays)
     door_kind: list[str] = field(default_factory=list)
+    # (D,) bool: the door is remembered (door_memory: found from places apart, open still), not
+    # found in this scan
+    door_remembered: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     object_walls: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # (W,) local wall is a small object's
     objects: np.ndarray = field(default_factory=lambda: _empty(4))  # (O, 4) static objects' boxes xmin, ymin, xmax, ymax
     dynamic_obstacles: np.ndarray = field(default_factory=lambda: _empty(4))  # (K, 4) moving objects' boxes

@@ -328,7 +328,13 @@ def _door_prims(wm: WorldModel, zero: tuple[float, float, float] | None) -> dict
     names = [str(k) for k in (kinds if kinds is not None else [])]
     names = names if len(names) == len(possible) else [""] * len(possible)
     colours = np.array([style.POSSIBLE_DOOR_KIND.get(k, style.POSSIBLE_DOOR) for k in names], np.uint8).reshape(-1, 3)
-    return {"doors": Prim(S, doors), "possible_doors": Prim(S, possible, colours)}
+    # the perceptor's doors come first (the combined map's promoted ones after): a remembered
+    # one, not found in this scan, in its own colour
+    remembered = np.zeros(len(doors), dtype=bool)
+    mine = np.asarray(wm.door_remembered, dtype=bool).reshape(-1)[: len(doors)]
+    remembered[: len(mine)] = mine
+    door_colours = np.where(remembered[:, None], style.DOOR_REMEMBERED, style.DOOR).astype(np.uint8).reshape(-1, 3)
+    return {"doors": Prim(S, doors, door_colours), "possible_doors": Prim(S, possible, colours)}
 
 
 def _combined_prims(combined: CombinedMap | None, global_map: GlobalMap | None) -> dict[str, Prim]:

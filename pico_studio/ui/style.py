@@ -38,6 +38,7 @@ COMBINED_MATCHED: RGB = OI_GREEN
 COMBINED_UNMATCHED: RGB = (200, 0, 60)  # crimson
 COMBINED_UNSEEN: RGB = (161, 164, 226)  # periwinkle dashes over a map wall not seen yet
 DOOR: RGB = (165, 190, 36)  # lime (the tone curve cannot show Okabe-Ito's yellow on lines)
+DOOR_REMEMBERED: RGB = (80, 130, 60)  # moss: a door remembered, not found in this scan
 POSSIBLE_DOOR: RGB = (240, 140, 115)  # salmon
 POSSIBLE_DOOR_KIND: dict[str, RGB] = {  # core.perception.identify.POSSIBLE_DOOR_KINDS
     "convex_loose": POSSIBLE_DOOR,
@@ -105,7 +106,7 @@ LEGEND: list[tuple[str, list[tuple[RGB, str]]]] = [
     ("Local map", [(LOCAL_WALL, "walls")] + [(ENDPOINT[k], f"{ENDPOINT_NAMES[k]} end point / corner") for k in range(4)]),
     ("Combined map", [(COMBINED_MATCHED, "matched wall"), (COMBINED_UNMATCHED, "unmatched wall"),
                       (COMBINED_UNSEEN, "map wall never seen (dashed)")]),
-    ("Doors (global frame when localised)", [(DOOR, "door")] + [(c, POSSIBLE_DOOR_KIND_NAMES[k]) for k, c in POSSIBLE_DOOR_KIND.items()]),
+    ("Doors (global frame when localised)", [(DOOR, "door"), (DOOR_REMEMBERED, "door remembered: found from places apart, not in this scan")] + [(c, POSSIBLE_DOOR_KIND_NAMES[k]) for k, c in POSSIBLE_DOOR_KIND.items()]),
     ("Scan corners (seed 002)", [(SPIKE_CORNER, "spike corner"), (VECTOR_CORNER_INNER, "vector corner, inner"),
                                  (VECTOR_CORNER_OUTER, "vector corner, outer")]),
     ("Robot", [(ROBOT_TRUE, "true pose (simulated, or a recording's corrected poses)"), (ROBOT_ESTIMATE, "estimated pose")]),
@@ -146,7 +147,7 @@ LAYER_COLOURS: dict[str, list[RGB]] = {
     "local": [LOCAL_WALL, *ENDPOINT.values()],
     "current": [CURRENT_MAP],
     "scan_corners": [SPIKE_CORNER, VECTOR_CORNER_INNER, VECTOR_CORNER_OUTER],
-    "doors": [DOOR, *POSSIBLE_DOOR_KIND.values()],
+    "doors": [DOOR, DOOR_REMEMBERED, *POSSIBLE_DOOR_KIND.values()],
     "laser": [LASER],
     "proximity": [PROXIMITY, PROXIMITY_FLAGGED],
     "robot": [ROBOT_TRUE, ROBOT_ESTIMATE],

@@ -166,6 +166,7 @@ def _perceive(
         current_map_covariance=segs.covariance, current_map_rms=segs.rms, spike_corners=spikes, vector_corners=vec,
         vector_corner_inner=inner, local_map=LocalMap(local.walls[idx], ident.endpoint_property),
         corners=ident.corners, corner_convex=ident.corner_convex, doors=doors, door_kind=door_kind,
+        door_remembered=np.arange(len(doors)) >= len(ident.doors),
         object_walls=ident.object_wall, objects=objs.static_boxes, dynamic_obstacles=objs.dynamic_boxes,
         dynamic_points=dynamic_points, possible_doors=ident.possible_doors,
         possible_door_kind=ident.possible_door_kind, entrance=entrance, hallway=hallway, room=room,
