@@ -59,31 +59,27 @@ def test_no_memory_when_off():
     assert not _kept(_found([(-0.5, -1.0), (0.2, -1.2), (0.8, -1.4)], off), params=off)
 
 
-def test_still_open_answers_as_its_python():
-    from pico_studio import jit
-    from pico_studio.core.perception.door_memory_kernels import still_open
-    from pico_studio.core.perception.identify import _view_arrays
-
-    doors = np.array([DOOR, [0.0, 0.0, 0.0, 1.0], [2.0, 0.0, 2.9, 0.3]])
-    for walls, solid in ((WALLS, SOLID), (np.vstack([WALLS, [[0.3, 0.02, 0.6, 0.02]]]), SOLID),
-                         (WALLS, SOLID + [[0.2, 0.05, 0.7, 0.05]]), (WALLS[:1], SOLID)):
-        args = (doors, walls, 0.1, *_view_arrays(laser_view(solid, (0.5, -1.0), 1.57)))
-        np.testing.assert_array_equal(still_open(*args), jit.py_func(still_open)(*args))
-
-
 def test_carry_answers_as_its_python():
     from pico_studio import jit
     from pico_studio.core.perception.door_memory_kernels import carry
     from pico_studio.core.perception.identify import _view_arrays
 
     mem = np.array([DOOR, [0.0, 0.0, 0.0, 1.0], [2.0, 0.0, 2.9, 0.3]])
-    scans, first, spread = np.array([5, 1, 4], dtype=np.int64), np.zeros((3, 2)), np.array([1.2, 0.0, 0.4])
-    for found in (np.zeros((0, 4)), np.array([[0.02, 0.0, 0.9, 0.01]]), np.array([[5.0, 5.0, 6.0, 5.0]])):
-        args = (found, mem, scans, first, spread, 0.5, -1.0, 0.25, 0.95, 3, 1.0, WALLS, 0.1,
-                *_view_arrays(laser_view(SOLID, (0.5, -1.0), 1.57)))
+    scans, first, spread = np.array([5, 1, 4], dtype=np.int64), np.zeros((3, 2)), np.array([1.2, 0.0, 1.4])
+    cases = [(found, WALLS, SOLID) for found in (np.zeros((0, 4)), np.array([[0.02, 0.0, 0.9, 0.01]]),
+                                                np.array([[5.0, 5.0, 6.0, 5.0]]))]
+    # the remembered doors closed by a wall in the doorway, someone standing in it, a jamb gone
+    cases += [(np.zeros((0, 4)), np.vstack([WALLS, [[0.3, 0.02, 0.6, 0.02]]]), SOLID),
+              (np.zeros((0, 4)), WALLS, SOLID + [[0.2, 0.05, 0.7, 0.05]]), (np.zeros((0, 4)), WALLS[:1], SOLID)]
+    kept = []
+    for found, walls, solid in cases:
+        args = (found, mem, scans, first, spread, 0.5, -1.0, 0.25, 0.95, 3, 1.0, walls, 0.1,
+                *_view_arrays(laser_view(solid, (0.5, -1.0), 1.57)))
         got, want = carry(*args), jit.py_func(carry)(*args)
         for a, b in zip(got, want, strict=True):
             np.testing.assert_array_equal(a, b)
+        kept.append(got[0].tolist())
+    assert kept[0] == [0] and kept[3:] == [[], [], []]  # the doorway open, then closed three ways
 
 
 def test_the_page_draws_a_remembered_door_apart():

@@ -6,7 +6,7 @@ inside the room backs it, its far jamb hides behind the near one. Driving past, 
 such a doorway, loses it for a few metres, finds it again. So a door found in at least
 `door_memory_scans` scans in a row, from places at least `door_memory_spread` apart (one place
 only — a robot turning on the spot — is one judgement, made again and again), is remembered:
-found no more, it stays a door of its kind while it stays open (`door_memory_kernels.still_open`:
+found no more, it stays a door of its kind while it stays open (`door_memory_kernels._open`:
 its ends on the local map's walls, no wall across or in it, no beam ending in it). Found again it
 takes the new judgement's geometry. A door found elsewhere than before is a new one: the same
 door is one whose middle lies within half a door's least width (`door_min_width`) and whose

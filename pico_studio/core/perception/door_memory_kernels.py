@@ -1,5 +1,5 @@
-"""Door memory's compiled loops (door_memory says when a door is remembered and why):
-`carry` takes the records on by one scan, `still_open` says whether a remembered door is.
+"""Door memory's compiled loop (door_memory says when a door is remembered and why): `carry`
+takes the records on by one scan, `_open` saying whether a remembered door still is.
 
 Carrying. A door found now takes the record of the same door (middles within `same`, directions
 within the angle: |u_f . u_m| >= cos_angle, as `geometry.door_matches`; of several, the one
@@ -80,30 +80,20 @@ def _stood_in(door: np.ndarray, reach: float, has_view: bool, ranges: np.ndarray
     return hits >= 2
 
 
-def _example() -> tuple:
-    doors = np.array([[1.0, -0.4, 1.0, 0.4], [1.0, 1.0, 1.0, 2.0]])
-    walls = np.array([[1.0, -2.0, 1.0, -0.4], [1.0, 0.4, 1.0, 2.5]])
-    ranges = np.full(5, 3.0)
-    return doors, walls, 0.1, True, ranges, np.ones(5, dtype=np.bool_), 0.0, 0.0, 0.0, -1.0, 0.5
-
-
-@kernel(_example)
-def still_open(doors: np.ndarray, walls: np.ndarray, reach: float, has_view: bool, ranges: np.ndarray,
-               valid: np.ndarray, vx: float, vy: float, va: float, a0: float, inc: float) -> np.ndarray:
-    """(M,) bool: each remembered door (M, 4) is still open (the module docstring)."""
-    out = np.zeros(doors.shape[0], dtype=np.bool_)
-    for m in range(doors.shape[0]):
-        out[m] = _near_a_wall(doors[m, 0], doors[m, 1], walls, reach) \
-            and _near_a_wall(doors[m, 2], doors[m, 3], walls, reach) \
-            and not _closed(doors[m], walls, reach) \
-            and not _stood_in(doors[m], reach, has_view, ranges, valid, vx, vy, va, a0, inc)
-    return out
+@njit
+def _open(door: np.ndarray, walls: np.ndarray, reach: float, has_view: bool, ranges: np.ndarray, valid: np.ndarray,
+          vx: float, vy: float, va: float, a0: float, inc: float) -> bool:
+    """Is a remembered door still open (the module docstring)?"""
+    return _near_a_wall(door[0], door[1], walls, reach) and _near_a_wall(door[2], door[3], walls, reach) \
+        and not _closed(door, walls, reach) and not _stood_in(door, reach, has_view, ranges, valid, vx, vy, va, a0, inc)
 
 
 def _example_carry() -> tuple:
-    doors, walls, reach, has_view, ranges, valid, vx, vy, va, a0, inc = _example()
+    doors = np.array([[1.0, -0.4, 1.0, 0.4], [1.0, 1.0, 1.0, 2.0]])
+    walls = np.array([[1.0, -2.0, 1.0, -0.4], [1.0, 0.4, 1.0, 2.5]])
+    ranges = np.full(5, 3.0)
     return (doors[:1], doors, np.array([3, 4], dtype=np.int64), np.zeros((2, 2)), np.array([1.5, 1.5]), 1.0, 0.0,
-            0.25, 0.95, 3, 1.0, walls, reach, has_view, ranges, valid, vx, vy, va, a0, inc)
+            0.25, 0.95, 3, 1.0, walls, 0.1, True, ranges, np.ones(5, dtype=np.bool_), 0.0, 0.0, 0.0, -1.0, 0.5)
 
 
 @kernel(_example_carry)
@@ -136,11 +126,8 @@ def carry(doors: np.ndarray, mem: np.ndarray, mem_scans: np.ndarray, mem_first: 
     rows = np.empty(m, dtype=np.int64)
     k = 0
     for j in range(m):
-        if found[j] or mem_scans[j] < min_scans or not mem_spread[j] >= min_spread:
-            continue
-        if not (_near_a_wall(mem[j, 0], mem[j, 1], walls, reach) and _near_a_wall(mem[j, 2], mem[j, 3], walls, reach)):
-            continue
-        if _closed(mem[j], walls, reach) or _stood_in(mem[j], reach, has_view, ranges, valid, vx, vy, va, a0, inc):
+        if found[j] or mem_scans[j] < min_scans or not mem_spread[j] >= min_spread \
+                or not _open(mem[j], walls, reach, has_view, ranges, valid, vx, vy, va, a0, inc):
             continue
         rows[k] = j
         scans[d + k], spread[d + k] = mem_scans[j], mem_spread[j]
