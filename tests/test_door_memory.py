@@ -17,24 +17,31 @@ DOOR = [0.0, 0.0, 0.9, 0.0]
 SOLID = [[-3.0, 0.0, 0.0, 0.0], [0.9, 0.0, 4.0, 0.0], [-3.0, 3.0, 4.0, 3.0]]  # the room behind it open to y 3
 
 
-def _found(places: list[tuple[float, float]], params=PARAMS) -> DoorMemory:
+def _apart(walls: np.ndarray) -> np.ndarray:
+    return np.full((len(walls), 2), -1, dtype=np.int64)  # no wall joins another
+
+
+def _found(places: list[tuple[float, float]], params=PARAMS, door=DOOR, walls=WALLS, connected=None) -> DoorMemory:
     memory = DoorMemory()
+    connected = _apart(walls) if connected is None else connected
     for xy in places:
-        doors, kinds, memory = remember(memory, np.array([DOOR]), ["jambs"], WALLS, None, xy, params)
-        assert has_gap(doors, DOOR, 0.01) and kinds == ["jambs"]
+        doors, kinds, memory = remember(memory, np.array([door]), ["jambs"], walls, connected, None, xy, params)
+        assert has_gap(doors, door, 0.01) and kinds == ["jambs"]
     return memory
 
 
-def _kept(memory: DoorMemory, walls: np.ndarray = WALLS, view=None, params=PARAMS) -> bool:
-    doors, kinds, memory = remember(memory, np.zeros((0, 4)), [], walls, view, (0.5, -1.0), params)
+def _kept(memory: DoorMemory, walls: np.ndarray = WALLS, view=None, params=PARAMS, door=DOOR, connected=None,
+          robot=(0.5, -1.0)) -> bool:
+    connected = _apart(walls) if connected is None else connected
+    doors, kinds, memory = remember(memory, np.zeros((0, 4)), [], walls, connected, view, robot, params)
     assert len(kinds) == len(doors)
-    return has_gap(doors, DOOR, 0.01)
+    return has_gap(doors, door, 0.01)
 
 
 def test_a_door_found_from_places_apart_stays_a_door():
     memory = _found([(-0.5, -1.0), (0.2, -1.2), (0.8, -1.4)])
-    doors, kinds, after = remember(memory, np.zeros((0, 4)), [], WALLS, laser_view(SOLID, (1.0, -1.2), 1.57),
-                                   (1.0, -1.2), PARAMS)
+    doors, kinds, after = remember(memory, np.zeros((0, 4)), [], WALLS, _apart(WALLS),
+                                   laser_view(SOLID, (1.0, -1.2), 1.57), (1.0, -1.2), PARAMS)
     assert has_gap(doors, DOOR, 0.01) and kinds == ["jambs"]
     assert _kept(after)  # and the scan after
 
@@ -52,6 +59,25 @@ def test_a_closed_door_or_a_lost_jamb_is_forgotten():
     standing = laser_view(SOLID + [[0.2, 0.05, 0.7, 0.05]], (0.5, -1.0), 1.57)  # someone in the doorway
     assert not _kept(memory, view=standing)
     assert _kept(memory, view=laser_view(SOLID, (0.5, -1.0), 1.57))  # nothing there: kept
+
+
+def test_a_corridor_mouth_is_forgotten_once_its_side_is_seen():
+    # a room (y > 0) whose wall along y 0 ends at P (1.2, 0) and turns there into a corridor's
+    # side running 3 m down; the corridor's other side is the room's left wall x 0 running
+    # straight on. From the room, the side unseen, the mouth P -> M is a doorway in shape
+    mouth = [1.2, 0.0, 0.0, 0.0]
+    room, face, side = [5.0, 0.0, 1.2, 0.0], [0.0, 4.0, 0.0, -3.0], [1.2, 0.0, 1.2, -3.0]
+    unseen = np.array([room, face])
+    memory = _found([(2.0, 1.5), (2.6, 1.8), (3.2, 2.0)], door=mouth, walls=unseen)
+    assert _kept(memory, unseen, door=mouth, robot=(3.5, 2.0))  # its side unseen: kept
+    seen = np.array([room, face, side])
+    joined = np.array([[-1, 2], [-1, -1], [0, -1]], dtype=np.int64)  # P: the room's wall turns into the side
+    assert not _kept(memory, seen, door=mouth, connected=joined, robot=(3.5, 2.0))
+    assert not _kept(memory, seen, door=mouth, connected=joined, robot=(0.6, -1.5))  # from the corridor too
+    # a doorway in a thick wall: its jamb turns into an end cap 0.2 m long, then the wall's other face
+    thick = np.array([room, face, [1.2, 0.0, 1.2, -0.2], [1.2, -0.2, 5.0, -0.2]])
+    capped = np.array([[-1, 2], [-1, -1], [0, 3], [2, -1]], dtype=np.int64)
+    assert _kept(memory, thick, door=mouth, connected=capped, robot=(3.5, 2.0))
 
 
 def test_no_memory_when_off():
@@ -73,7 +99,7 @@ def test_carry_answers_as_its_python():
               (np.zeros((0, 4)), WALLS, SOLID + [[0.2, 0.05, 0.7, 0.05]]), (np.zeros((0, 4)), WALLS[:1], SOLID)]
     kept = []
     for found, walls, solid in cases:
-        args = (found, mem, scans, first, spread, 0.5, -1.0, 0.25, 0.95, 3, 1.0, walls, 0.1,
+        args = (found, mem, scans, first, spread, 0.5, -1.0, 0.25, 0.95, 3, 1.0, walls, _apart(walls), 0.1, 0.35,
                 *_view_arrays(laser_view(solid, (0.5, -1.0), 1.57)))
         got, want = carry(*args), jit.py_func(carry)(*args)
         for a, b in zip(got, want, strict=True):

@@ -144,8 +144,8 @@ def _perceive(
     view = View(scan.ranges, scan.angles, scan.valid, loc.pose, _tracked_beams(scan, objs.held))
     ident = identify(local.walls[idx], conn, local.seen_end[idx], loc.pose[:2], params.identify, view,
                      state.door_evidence, None if local.viewpoint is None else local.viewpoint[idx])
-    doors, door_kind, door_memory = remember(state.door_memory, ident.doors, ident.door_kind, local.walls[idx], view,
-                                             loc.pose[:2], params.identify)
+    doors, door_kind, door_memory = remember(state.door_memory, ident.doors, ident.door_kind, local.walls[idx], conn,
+                                             view, loc.pose[:2], params.identify)
     lap("identify")
     est = entrance_in_scan(segs.segments, params.entrance)
     history = state.entrance_history
