@@ -401,7 +401,8 @@ class IdentifyParams:
         3, lo=0, hi=100, step=1,
         help="A door found in at least this many scans in a row, from places door_memory_spread apart, is "
         "remembered: found no more (seen edge-on, its back or far jamb hidden) it stays a door while its ends "
-        "stay on the local map's walls and nothing closes it (0: no memory)",
+        "stay on the local map's walls, nothing closes it and neither end is a corridor's mouth's corner "
+        "(0: no memory)",
     )
     door_memory_spread: float = param(
         1.0, lo=0.0, hi=20.0, step=0.1, unit="m",

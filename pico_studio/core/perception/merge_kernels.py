@@ -89,7 +89,7 @@ def similar(a: np.ndarray, i: int, b: np.ndarray, j: int, cos_angle: float, dist
 @njit
 def lies_along(walls: np.ndarray, i: int, k: int, cos_angle: float, distance: float) -> bool:
     """Is the shorter wall k a piece of wall i: within `cos_angle` of its direction, both ends
-    within `distance` of its line and between its ends (a corner's fragment left beside the
+    within `distance` of its line and at most `distance` past its ends (a corner's fragment left beside the
     wall it belongs to: seen from both ways, the long wall's far end strays off the short one's
     line by more than `distance`)."""
     dax, day, la = direction(walls, i)
